@@ -1,0 +1,14 @@
+#pragma once
+// Sub-commands of the softtled executable; each registers its options on the CLI11 app
+// and returns the function main() runs when it is chosen.
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
+namespace softtled {
+using Command = std::function<int()>;
+Command add_mesh_command(CLI::App& app);
+Command add_run_command(CLI::App& app);
+}  // namespace softtled

@@ -1,0 +1,74 @@
+#pragma once
+// One scene, assembled: scene -> surface -> tet mesh -> rest state -> live state.
+// The app owns a Simulation and calls step()/advance(); the viewer edits params() live.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene.h"
+#include "solver.h"
+#include "tet_mesh.h"
+
+namespace softtled {
+
+struct Diagnostics {
+  double t = 0;
+  double centroid[3] = {0, 0, 0};  // mass-weighted [m]
+  double min_gap = 0;              // smallest signed node-plane distance [m] (inf: no planes)
+  double ke = 0, se = 0, pe = 0;   // kinetic, strain, gravitational energy [J]
+  int n_contact = 0, n_stick = 0;  // nodes projected this step, of which sticking
+  double max_u = 0;                // largest displacement magnitude [m]
+  std::vector<double> tracked;     // 3 per tracked node: displacement [m]
+};
+
+struct TimeStepInfo {
+  double c = 0;        // dilatational wave speed (eq. 10) [m/s]
+  double min_Le = 0;   // smallest element characteristic length [m]
+  double dt_cr = 0;    // min_Le / c (eq. 9) [s]
+  double dt = 0;       // step in use [s]
+};
+
+double dilatational_wave_speed(double E, double nu, double rho);
+
+// The surface the scene describes, in metres, rotated and placed.
+SurfaceMesh scene_surface(const Scene& s);
+TetgenOptions scene_tetgen_options(const Scene& s);
+std::vector<PlaneSpec> scene_planes(const Scene& s);
+
+class Simulation {
+ public:
+  // backend: "cpu", "cuda" or "auto" (solver_factory.h).
+  explicit Simulation(const Scene& scene, const std::string& backend = "cpu");
+
+  const Scene& scene() const { return scene_; }
+  const TetMesh& mesh() const { return mesh_; }
+  Solver& solver() { return *solver_; }
+  const PhysicsParams& params() const { return params_; }
+  const TimeStepInfo& time_step() const { return ts_; }
+  const std::vector<int>& tracked_nodes() const { return tracked_; }
+
+  // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
+  // Returns a warning text when dt exceeds dt_cr, empty otherwise.
+  std::string set_params(const PhysicsParams& p);
+
+  void step(long n);
+  void reset();  // back to the initial state (the viewer's "drop again")
+  double time() const { return double(nsteps_) * params_.dt + t_offset_; }
+  long steps() const { return nsteps_; }
+  Diagnostics diagnostics();
+
+ private:
+  void apply_initial_state();
+
+  Scene scene_;
+  TetMesh mesh_;
+  std::unique_ptr<Solver> solver_;
+  PhysicsParams params_;
+  TimeStepInfo ts_;
+  std::vector<int> tracked_;
+  long nsteps_ = 0;
+  double t_offset_ = 0;  // time accumulated before the last dt change
+  HostState scratch_;
+};
+
+}  // namespace softtled

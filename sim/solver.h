@@ -1,0 +1,65 @@
+#pragma once
+// The per-body solver interface both backends implement. step() is the hot path:
+//   element stage (tet_forces.h) -> node stage (central_difference.h, plane_contact.h)
+// The CPU backend (tled_cpu.cpp) loops over those functions with OpenMP; the CUDA
+// backend launches them.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tet_mesh.h"
+
+namespace softtled {
+
+struct PlaneSpec {
+  double point[3];   // [m]
+  double normal[3];  // unit, pointing to the free side
+};
+
+// Everything that may change while the simulation runs (the viewer edits these live).
+struct PhysicsParams {
+  double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
+  double alpha = 10;           // mass-proportional damping [1/s]
+  double dt = 1e-5;            // time step [s]
+  double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
+  std::vector<PlaneSpec> planes;
+  int contact_mode = 0;        // ContactMode
+  double mu = 0.5;             // Coulomb coefficient
+};
+
+// Host copy of the live state, struct-of-arrays, always in double.
+struct HostState {
+  std::vector<double> u;               // 3 x nnode
+  std::vector<double> du;              // 3 x nnode, u(t) - u(t - dt)
+  std::vector<std::uint8_t> contact;   // nnode, ContactState
+};
+
+enum class Precision { kFloat, kDouble };
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string backend() const = 0;
+  virtual Precision precision() const = 0;
+  virtual void set_params(const PhysicsParams& p) = 0;
+  virtual void step(long nsteps) = 0;
+  virtual void get_state(HostState& s) const = 0;
+  virtual void set_state(const HostState& s) = 0;
+  virtual double strain_energy() const = 0;
+  // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
+  virtual void set_external_forces(const std::vector<double>& f) = 0;
+  virtual const std::vector<double>& lumped_mass() const = 0;  // nnode [kg]
+
+  // Render hand-off (surface_render.h): kRenderFloatsPerVertex floats per boundary node
+  // into dst, which is host memory for the CPU backend and device memory (a mapped GL
+  // buffer) when render_buffer_on_device() is true.
+  virtual bool render_buffer_on_device() const = 0;
+  virtual void write_render_vertices(float* dst) = 0;
+};
+
+// flags: NodeFlag byte per node.
+std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
+                                        const std::vector<std::uint8_t>& flags, Precision prec);
+
+}  // namespace softtled

@@ -1,0 +1,51 @@
+#pragma once
+// TLED element stage (Miller et al. 2007, Taylor et al. 2008): deformation gradient from
+// the precomputed shape-function derivatives, Neo-Hookean stress, corner forces
+//   f_a = V0 * P * dh_a/dX          (P = F S, first Piola-Kirchhoff)
+// written per corner; the per-node gather sums them later without atomics.
+#include "body_view.h"
+#include "mat3.h"
+#include "neo_hookean.h"
+#include "sim_hd.h"
+
+namespace softtled {
+
+// F = I + sum_a u_a (x) dh_a/dX, built from displacements so float keeps F - I accurate.
+template <class T>
+SIM_HD inline Mat3<T> deformation_gradient(const TetMeshView<T>& m, const T* u, int e) {
+  Mat3<T> F = identity3<T>();
+  const int n = m.nnode;
+  for (int a = 0; a < 4; ++a) {
+    const int node = m.tet[a * m.ntet + e];
+    const T ua[3] = {u[node], u[n + node], u[2 * n + node]};
+    const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
+                    m.dhdX[(a * 3 + 2) * m.ntet + e]};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F(i, j) += ua[i] * g[j];
+  }
+  return F;
+}
+
+template <class T>
+SIM_HD inline void tet_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                                     const T* u, T* fcorner, int e) {
+  const Mat3<T> F = deformation_gradient(m, u, e);
+  const Mat3<T> P = neo_hookean_pk1(mat, F);
+  const T V0 = m.vol[e];
+  const int stride = 4 * m.ntet;
+  for (int a = 0; a < 4; ++a) {
+    const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
+                    m.dhdX[(a * 3 + 2) * m.ntet + e]};
+    const int s = a * m.ntet + e;
+    for (int i = 0; i < 3; ++i)
+      fcorner[i * stride + s] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
+  }
+}
+
+template <class T>
+SIM_HD inline T tet_strain_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
+                                  int e) {
+  return m.vol[e] * neo_hookean_energy_density(mat, deformation_gradient(m, u, e));
+}
+
+}  // namespace softtled

@@ -1,0 +1,40 @@
+#pragma once
+// Linear 4-node tetrahedral mesh with its extracted boundary.
+#include <string>
+#include <vector>
+
+namespace softtled {
+
+struct TetMesh {
+  std::vector<double> X;              // 3 x nnode, interleaved rest positions [m]
+  std::vector<int> tet;               // 4 x ntet, interleaved; every tet has positive volume
+  std::vector<int> boundary_tri;      // 3 x nbtri, faces of exactly one tet, normal outward
+  std::vector<int> surface_nodes;     // sorted nodes touched by boundary_tri
+  int nnode() const { return static_cast<int>(X.size() / 3); }
+  int ntet() const { return static_cast<int>(tet.size() / 4); }
+  int nbtri() const { return static_cast<int>(boundary_tri.size() / 3); }
+};
+
+// Builds a mesh from nodes and tets: flips negatively oriented tets, rejects degenerate
+// ones (InputError naming the element), extracts the boundary.
+TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet);
+
+double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
+
+// Counts in the form of the paper's Table I.
+struct MeshCounts {
+  long faces = 0, edges = 0, boundary_faces = 0, boundary_edges = 0;
+};
+MeshCounts count_faces_and_edges(const TetMesh& m);
+
+// Element quality: characteristic length Le = smallest altitude (3 V / largest face area),
+// which is the length that bounds the explicit step (eq. 9).
+struct MeshQuality {
+  double min_Le = 0, median_Le = 0, min_dihedral_deg = 0;
+  int worst_element = -1;  // element with min_Le
+};
+MeshQuality measure_quality(const TetMesh& m);
+
+void write_tetgen_files(const TetMesh& m, const std::string& base);  // base.node, base.ele
+
+}  // namespace softtled

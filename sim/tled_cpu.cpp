@@ -1,0 +1,129 @@
+// CPU backend: OpenMP loops over the same SIM_HD functions the CUDA backend launches.
+// Each loop iteration writes only its own element's corners or its own node, and the
+// gather sums in a fixed order, so results are bitwise identical for any thread count.
+#include <algorithm>
+#include <stdexcept>
+
+#include "central_difference.h"
+#include "neo_hookean.h"
+#include "rest_state.h"
+#include "solver.h"
+#include "surface_render.h"
+#include "surface_topology.h"
+#include "tet_forces.h"
+
+namespace softtled {
+namespace {
+
+template <class T>
+class CpuSolver final : public Solver {
+ public:
+  CpuSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags)
+      : rest_(build_rest_state<T>(mesh, rho, flags)), surf_(build_surface_topology(mesh)) {
+    const int n = rest_.nnode;
+    u_.assign(3 * n, T(0));
+    du_.assign(3 * n, T(0));
+    fcorner_.assign(12 * rest_.ntet, T(0));
+    contact_.assign(n, 0);
+    mesh_ = rest_.view();
+  }
+
+  std::string backend() const override { return "cpu"; }
+  Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
+
+  void set_params(const PhysicsParams& p) override {
+    mat_ = neo_hookean_from_E_nu<T>(p.E, p.nu);
+    step_ = make_step_params<T>(p.dt, p.alpha, p.g);
+    if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
+    step_.contact.nplanes = int(p.planes.size());
+    for (std::size_t i = 0; i < p.planes.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        step_.contact.planes[i].p[k] = T(p.planes[i].point[k]);
+        step_.contact.planes[i].n[k] = T(p.planes[i].normal[k]);
+      }
+    step_.contact.mode = p.contact_mode;
+    step_.contact.mu = T(p.mu);
+  }
+
+  void step(long nsteps) override {
+    const TetMeshView<T> m = mesh_;
+    const BodyStateView<T> b = view();
+    const NeoHookean<T> mat = mat_;
+    const StepParams<T> sp = step_;
+    const int ne = m.ntet, n = m.nnode;
+#pragma omp parallel
+    for (long s = 0; s < nsteps; ++s) {
+#pragma omp for schedule(static)
+      for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
+#pragma omp for schedule(static)
+      for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+    }
+  }
+
+  void get_state(HostState& s) const override {
+    s.u.assign(u_.begin(), u_.end());
+    s.du.assign(du_.begin(), du_.end());
+    s.contact = contact_;
+  }
+
+  void set_state(const HostState& s) override {
+    if (s.u.size() != u_.size() || s.du.size() != du_.size()) throw std::invalid_argument("set_state: size");
+    std::transform(s.u.begin(), s.u.end(), u_.begin(), [](double v) { return T(v); });
+    std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
+    if (s.contact.size() == contact_.size()) contact_ = s.contact;
+  }
+
+  double strain_energy() const override {
+    double se = 0;
+#pragma omp parallel for reduction(+ : se)
+    for (int e = 0; e < rest_.ntet; ++e) se += double(tet_strain_energy(mesh_, mat_, u_.data(), e));
+    return se;
+  }
+
+  void set_external_forces(const std::vector<double>& f) override {
+    if (f.empty()) {
+      fext_.clear();
+      return;
+    }
+    if (f.size() != u_.size()) throw std::invalid_argument("set_external_forces: size");
+    fext_.assign(f.begin(), f.end());
+  }
+
+  const std::vector<double>& lumped_mass() const override { return rest_.mass; }
+
+  bool render_buffer_on_device() const override { return false; }
+  void write_render_vertices(float* dst) override {
+    const SurfaceView sv = surf_.view();
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
+  }
+
+ private:
+  BodyStateView<T> view() {
+    BodyStateView<T> b;
+    b.u = u_.data();
+    b.du = du_.data();
+    b.fcorner = fcorner_.data();
+    b.contact = contact_.data();
+    b.fext = fext_.empty() ? nullptr : fext_.data();
+    return b;
+  }
+
+  RestArrays<T> rest_;
+  SurfaceTopology surf_;
+  TetMeshView<T> mesh_;
+  std::vector<T> u_, du_, fcorner_, fext_;
+  std::vector<std::uint8_t> contact_;
+  NeoHookean<T> mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
+  StepParams<T> step_{};
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
+                                        const std::vector<std::uint8_t>& flags, Precision prec) {
+  if (prec == Precision::kFloat) return std::make_unique<CpuSolver<float>>(mesh, rho, flags);
+  return std::make_unique<CpuSolver<double>>(mesh, rho, flags);
+}
+
+}  // namespace softtled
