@@ -88,6 +88,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   solver_ = make_solver(backend, mesh_, scene_.rho, flags,
                         scene_.precision == "float" ? Precision::kFloat : Precision::kDouble, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
+  solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
   params_.nu = scene_.nu;
   params_.alpha = scene_.alpha;

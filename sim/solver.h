@@ -56,10 +56,17 @@ class Solver {
   // buffer) when render_buffer_on_device() is true.
   virtual bool render_buffer_on_device() const = 0;
   virtual void write_render_vertices(float* dst) = 0;
+
+  // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
+  virtual void set_cpu_threads(int /*threads*/) {}
 };
 
-// flags: NodeFlag byte per node.
+// flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic
+// (one thread per ~kTetsPerThread elements: below that, two barriers per step cost more
+// than the work they split).
+constexpr int kTetsPerThread = 16384;
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
-                                        const std::vector<std::uint8_t>& flags, Precision prec);
+                                        const std::vector<std::uint8_t>& flags, Precision prec,
+                                        int threads = 0);
 
 }  // namespace softtled

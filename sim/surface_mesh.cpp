@@ -22,8 +22,8 @@ double enclosed_volume(const SurfaceMesh& s) {
 
 void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   auto fail = [&](const std::string& msg) { throw InputError(what + ": " + msg); };
-  if (s.npoint() < 4 || s.ntri() < 4) fail("empty or too small surface (" + std::to_string(s.npoint()) +
-                                           " points, " + std::to_string(s.ntri()) + " triangles)");
+  if (s.npoint() == 0 || s.ntri() == 0)
+    fail("empty surface (" + std::to_string(s.npoint()) + " points, " + std::to_string(s.ntri()) + " triangles)");
   for (double v : s.xyz)
     if (!std::isfinite(v)) fail("a vertex coordinate is NaN or infinite");
   const int n = s.npoint();

@@ -19,8 +19,9 @@ double tet_signed_volume(const double* a, const double* b, const double* c, cons
           u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
 }
 
-// Faces of tet (0,1,2,3) oriented outward when the tet is positive: face opposite corner a.
-static const int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+// Faces of tet (0,1,2,3) oriented outward (counter-clockwise seen from outside) when the
+// tet is positive, i.e. (X1-X0) x (X2-X0) . (X3-X0) > 0: face opposite corner a.
+static const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
 TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet) {
   TetMesh m;

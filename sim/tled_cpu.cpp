@@ -1,6 +1,8 @@
 // CPU backend: OpenMP loops over the same SIM_HD functions the CUDA backend launches.
 // Each loop iteration writes only its own element's corners or its own node, and the
 // gather sums in a fixed order, so results are bitwise identical for any thread count.
+#include <omp.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -18,8 +20,9 @@ namespace {
 template <class T>
 class CpuSolver final : public Solver {
  public:
-  CpuSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags)
+  CpuSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, int threads)
       : rest_(build_rest_state<T>(mesh, rho, flags)), surf_(build_surface_topology(mesh)) {
+    set_cpu_threads(threads);
     const int n = rest_.nnode;
     u_.assign(3 * n, T(0));
     du_.assign(3 * n, T(0));
@@ -28,7 +31,10 @@ class CpuSolver final : public Solver {
     mesh_ = rest_.view();
   }
 
-  std::string backend() const override { return "cpu"; }
+  std::string backend() const override { return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s)" : ")"); }
+  void set_cpu_threads(int threads) override {
+    threads_ = threads > 0 ? threads : std::clamp(rest_.ntet / kTetsPerThread, 1, omp_get_max_threads());
+  }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
   void set_params(const PhysicsParams& p) override {
@@ -51,7 +57,7 @@ class CpuSolver final : public Solver {
     const NeoHookean<T> mat = mat_;
     const StepParams<T> sp = step_;
     const int ne = m.ntet, n = m.nnode;
-#pragma omp parallel
+#pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
 #pragma omp for schedule(static)
       for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
@@ -75,7 +81,7 @@ class CpuSolver final : public Solver {
 
   double strain_energy() const override {
     double se = 0;
-#pragma omp parallel for reduction(+ : se)
+#pragma omp parallel for reduction(+ : se) num_threads(threads_)
     for (int e = 0; e < rest_.ntet; ++e) se += double(tet_strain_energy(mesh_, mat_, u_.data(), e));
     return se;
   }
@@ -94,7 +100,7 @@ class CpuSolver final : public Solver {
   bool render_buffer_on_device() const override { return false; }
   void write_render_vertices(float* dst) override {
     const SurfaceView sv = surf_.view();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads_)
     for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
   }
 
@@ -109,6 +115,7 @@ class CpuSolver final : public Solver {
     return b;
   }
 
+  int threads_ = 1;
   RestArrays<T> rest_;
   SurfaceTopology surf_;
   TetMeshView<T> mesh_;
@@ -121,9 +128,10 @@ class CpuSolver final : public Solver {
 }  // namespace
 
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
-                                        const std::vector<std::uint8_t>& flags, Precision prec) {
-  if (prec == Precision::kFloat) return std::make_unique<CpuSolver<float>>(mesh, rho, flags);
-  return std::make_unique<CpuSolver<double>>(mesh, rho, flags);
+                                        const std::vector<std::uint8_t>& flags, Precision prec,
+                                        int threads) {
+  if (prec == Precision::kFloat) return std::make_unique<CpuSolver<float>>(mesh, rho, flags, threads);
+  return std::make_unique<CpuSolver<double>>(mesh, rho, flags, threads);
 }
 
 }  // namespace softtled
