@@ -48,9 +48,12 @@ Command add_run_command(CLI::App& app) {
     const Scene s = load_scene(o->scene, o->set);
     Simulation sim(s, o->backend);
     const TimeStepInfo& ts = sim.time_step();
-    std::fprintf(stderr, "mesh: %d nodes, %d tets, %zu surface nodes; c = %.3g m/s, Le_min = %.4g mm, dt_cr = %.4g us, dt = %.4g us (%s, %s)\n",
+    std::fprintf(stderr,
+                 "mesh: %d nodes, %d tets, %zu surface nodes; c = %.3g m/s, Le_min = %.4g mm\n"
+                 "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
-                 ts.dt_cr * 1e6, ts.dt * 1e6, sim.solver().backend().c_str(), s.precision.c_str());
+                 ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6, ts.dt * 1e6, ts.dt / ts.dt_cr,
+                 sim.solver().backend().c_str(), s.precision.c_str());
     std::ofstream csv;
     if (!o->csv.empty()) {
       csv.open(o->csv);
@@ -68,11 +71,16 @@ Command add_run_command(CLI::App& app) {
     int max_contact = 0;
     for (long done = 0; done < total;) {
       const long n = std::min(every, total - done);
-      sim.step(n);
+      try {
+        sim.advance(n, n);
+      } catch (const SimulationDiverged& e) {
+        if (tty) std::fprintf(stderr, "\n");
+        std::fprintf(stderr, "softtled: %s\n", e.what());
+        if (csv) write_csv_row(csv, sim.diagnostics());  // the rolled-back, last healthy state
+        return 4;
+      }
       done += n;
       d = sim.diagnostics();
-      if (!std::isfinite(d.ke) || !std::isfinite(d.centroid[1]))
-        throw InputError("simulation diverged at t = " + std::to_string(d.t) + " s (NaN); reduce time.dt or time.lambda");
       if (csv) write_csv_row(csv, d);
       min_gap = std::min(min_gap, d.min_gap);
       max_ke = std::max(max_ke, d.ke);

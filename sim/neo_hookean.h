@@ -10,6 +10,11 @@
 
 namespace softtled {
 
+enum MaterialModel : int {
+  kTaylorNeoHookean = 0,  // the paper's model (TLED form above)
+  kStableNeoHookean = 1,  // Smith, de Goes & Kim, "Stable Neo-Hookean Flesh Simulation", TOG 2018
+};
+
 template <class T>
 struct NeoHookean {
   T mu;     // shear modulus [Pa]
@@ -19,11 +24,22 @@ struct NeoHookean {
   // produces NaN. The volumetric term needs no guard: kappa (J-1) cof(F) is smooth
   // through J = 0 and always pushes J back towards 1.
   T J_floor;
+  int model = kTaylorNeoHookean;
+  // Stable Neo-Hookean constants (Smith et al. eq. 14, with their Lame re-parameterisation
+  // mu' = 4/3 mu, lambda' = lambda + 5/6 mu so small strains match linear elasticity):
+  T snh_mu = T(0), snh_lambda = T(0), snh_alpha = T(1);
 };
 
 template <class T>
-inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu) {
-  return NeoHookean<T>{T(E / (2.0 * (1.0 + nu))), T(E / (3.0 * (1.0 - 2.0 * nu))), T(0.05)};
+inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTaylorNeoHookean) {
+  const double mu = E / (2.0 * (1.0 + nu)), lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  NeoHookean<T> m{T(mu), T(E / (3.0 * (1.0 - 2.0 * nu))), T(0.05)};
+  m.model = model;
+  const double smu = 4.0 / 3.0 * mu, slam = lambda + 5.0 / 6.0 * mu;
+  m.snh_mu = T(smu);
+  m.snh_lambda = T(slam);
+  m.snh_alpha = T(1.0 + smu / slam - smu / (4.0 * slam));
+  return m;
 }
 
 // cof(F) = J F^-T, defined for any F (also singular or inverted).
@@ -44,8 +60,27 @@ SIM_HD inline Mat3<T> cofactor3(const Mat3<T>& F) {
 
 // First Piola-Kirchhoff stress P = F S, written with cof(F) so it needs no inverse:
 //   P = mu J^(-2/3) (F - I1/3 cof(F)/J) + kappa (J-1) cof(F)
+// Stable Neo-Hookean: W = mu/2 (Ic - 3) + lambda/2 (J - a)^2 - mu/2 log(Ic + 1),
+//   P = mu (1 - 1/(Ic + 1)) F + lambda (J - a) cof(F)
+// smooth and finite for every F, inverted or not: no guard needed.
+template <class T>
+SIM_HD inline Mat3<T> stable_neo_hookean_pk1(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  const Mat3<T> cof = cofactor3(F);
+  const T J = F(0, 0) * cof(0, 0) + F(0, 1) * cof(0, 1) + F(0, 2) * cof(0, 2);
+  T Ic = T(0);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Ic += F(i, j) * F(i, j);
+  const T a = mat.snh_mu * (T(1) - T(1) / (Ic + T(1)));
+  const T c = mat.snh_lambda * (J - mat.snh_alpha);
+  Mat3<T> P;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P(i, j) = a * F(i, j) + c * cof(i, j);
+  return P;
+}
+
 template <class T>
 SIM_HD inline Mat3<T> neo_hookean_pk1(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  if (mat.model == kStableNeoHookean) return stable_neo_hookean_pk1(mat, F);
   const Mat3<T> cof = cofactor3(F);
   const T J = F(0, 0) * cof(0, 0) + F(0, 1) * cof(0, 1) + F(0, 2) * cof(0, 2);
   T I1 = T(0);
@@ -84,6 +119,12 @@ SIM_HD inline T neo_hookean_energy_density(const NeoHookean<T>& mat, const Mat3<
   T I1 = T(0);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) I1 += F(i, j) * F(i, j);
+  if (mat.model == kStableNeoHookean) {
+    const T d = J - mat.snh_alpha, a0 = T(1) - mat.snh_alpha;
+    // Shifted so W(I) = 0: the constant terms of Smith et al.'s energy at rest removed.
+    return mat.snh_mu / T(2) * (I1 - T(3)) + mat.snh_lambda / T(2) * (d * d - a0 * a0) -
+           mat.snh_mu / T(2) * (log(I1 + T(1)) - log(T(4)));
+  }
   const T Jd = J > mat.J_floor ? J : mat.J_floor;
   return mat.mu / T(2) * (I1 / cbrt(Jd * Jd) - T(3)) + mat.kappa / T(2) * (J - T(1)) * (J - T(1));
 }

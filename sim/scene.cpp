@@ -192,7 +192,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.tetgen.keep_boundary = r.boolean("mesh.keep_boundary", false);
   s.tetgen.switches = r.str("mesh.switches", "");
 
-  r.str("material.model", "neo_hookean", {"neo_hookean"});
+  s.material_model = r.str("material.model", s.material_model, {"neo_hookean", "stable_neo_hookean"});
   s.E = r.num("material.E", s.E, 0, INFINITY, true);
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
@@ -224,6 +224,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     }
   }
   s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
+  s.allow_unstable = r.boolean("time.allow_unstable", false);
   s.duration = r.num("time.duration", s.duration, 0, INFINITY);
   s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);
 

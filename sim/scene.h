@@ -29,6 +29,7 @@ struct Scene {
   TetgenOptions tetgen;        // max_volume here in [units^3]
 
   // [material]
+  std::string material_model = "neo_hookean";  // neo_hookean | stable_neo_hookean
   double E = 3000, nu = 0.49, rho = 1000;  // [Pa, -, kg/m^3]
 
   // [damping]
@@ -56,6 +57,7 @@ struct Scene {
   bool dt_auto = true;
   double dt = 0;        // [s] when not auto
   double lambda = 0.5;  // dt = lambda * dt_cr for auto
+  bool allow_unstable = false;  // run a fixed dt above dt_cr (the watchdog still stops divergence)
   double duration = 0.2;
   double output_every = 1e-3;
 

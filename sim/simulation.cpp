@@ -5,8 +5,10 @@
 #include <limits>
 
 #include "body_view.h"
+#include "neo_hookean.h"
 #include "plane_contact.h"
 #include "solver_factory.h"
+#include "stable_step.h"
 #include "surface_generators.h"
 #include "surface_io.h"
 #include "tetgen_mesher.h"
@@ -90,6 +92,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
+  params_.material_model = scene_.material_model == "stable_neo_hookean" ? kStableNeoHookean : kTaylorNeoHookean;
   params_.nu = scene_.nu;
   params_.alpha = scene_.alpha;
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
@@ -97,8 +100,28 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.contact_mode = scene_.contact_mode == "sliding" ? kSliding : scene_.contact_mode == "static" ? kStatic : kCoulomb;
   params_.mu = scene_.mu;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
-  const std::string warn = set_params(params_);
-  if (!warn.empty()) std::fprintf(stderr, "warning: %s\n", warn.c_str());
+  params_.dt_auto = scene_.dt_auto;
+  params_.lambda = scene_.lambda;
+  {
+    PhysicsParams p = params_;
+    params_.dt = -1;  // force the time-continuity bookkeeping in set_params
+    const double requested = p.dt;
+    const std::string warn = set_params(p);
+    if (!scene_.dt_auto && requested > ts_.dt_cr) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "time.dt = %.4g s exceeds the stable step %.4g s (Le/c = %.4g s, 2/omega_max = %.4g s); "
+                    "use time.dt = \"auto\" or at most %.4g s, or set time.allow_unstable = true to run anyway",
+                    requested, ts_.dt_cr, ts_.dt_le, ts_.dt_eigen, ts_.dt_cr);
+      if (!scene_.allow_unstable) throw InputError(scene_.source + ": " + buf);
+      std::fprintf(stderr, "warning: %s\n", buf);
+      params_.dt = requested;  // the user insisted: run at the requested step
+      ts_.dt = requested;
+      solver_->set_params(params_);
+    } else if (!warn.empty()) {
+      std::fprintf(stderr, "warning: %s\n", warn.c_str());
+    }
+  }
   // Tracked nodes: the node nearest each requested rest point.
   for (const auto& q : scene_.track_points) {
     double best = std::numeric_limits<double>::infinity();
@@ -118,25 +141,45 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 
 std::string Simulation::set_params(const PhysicsParams& p) {
   PhysicsParams q = p;
+  if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) || q.alpha < 0)
+    throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, alpha >= 0");
   ts_.c = dilatational_wave_speed(q.E, q.nu, scene_.rho);
-  ts_.min_Le = measure_quality(mesh_).min_Le;
-  ts_.dt_cr = ts_.min_Le / ts_.c;
-  if (scene_.dt_auto && !(q.dt > 0)) q.dt = scene_.lambda * ts_.dt_cr;
+  if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
+  ts_.dt_le = ts_.min_Le / ts_.c;
+  if (q.nu != eigen_nu_ || q.material_model != eigen_model_) {
+    eigen_scale_ = rest_eigen_scale(mesh_, q.nu, q.material_model);
+    eigen_nu_ = q.nu;
+    eigen_model_ = q.material_model;
+  }
+  ts_.dt_eigen = 2.0 / std::sqrt(eigen_scale_ * q.E / scene_.rho);
+  ts_.dt_cr = std::min(ts_.dt_le, ts_.dt_eigen);
+  std::string warning;
+  if (!(q.lambda > 0 && q.lambda <= 1)) throw InputError("lambda must lie in (0, 1]");
+  if (q.dt_auto) {
+    q.dt = q.lambda * ts_.dt_cr;
+  } else if (q.dt > ts_.dt_cr) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "dt = %.3g s exceeds the stable step %.3g s: clamped to %.3g s (lambda = %.2f)", q.dt,
+                  ts_.dt_cr, q.lambda * ts_.dt_cr, q.lambda);
+    warning = buf;
+    q.dt = q.lambda * ts_.dt_cr;
+  }
   if (!(q.dt > 0) || !std::isfinite(q.dt)) throw InputError("time step must be positive and finite");
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;
   }
+  if (params_.dt > 0 && q.dt != params_.dt) {
+    // The increment state du is a displacement per step: rescale it so the velocity
+    // du / dt carries over to the new step.
+    solver_->get_state(scratch_);
+    for (double& v : scratch_.du) v *= q.dt / params_.dt;
+    solver_->set_state(scratch_);
+  }
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
-  if (q.dt > ts_.dt_cr) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "dt = %.3g s exceeds the critical step Le/c = %.3g s (lambda = %.2f): expect instability",
-                  q.dt, ts_.dt_cr, q.dt / ts_.dt_cr);
-    return buf;
-  }
-  return {};
+  return warning;
 }
 
 void Simulation::apply_initial_state() {
@@ -151,9 +194,120 @@ void Simulation::apply_initial_state() {
   solver_->set_state(s);
   nsteps_ = 0;
   t_offset_ = 0;
+  last_good_ = s;
+  last_good_steps_ = 0;
+  last_good_offset_ = 0;
+  // Energy scale for the watchdog: initial kinetic energy plus what gravity could release
+  // over the body's size plus its height above the lowest plane, and a floor of 1 nJ.
+  const Diagnostics d = diagnostics();
+  energy0_ = d.ke + d.se + d.pe;
+  double mass = 0, lo = 1e300, hi = -1e300;
+  for (double m : solver_->lumped_mass()) mass += m;
+  for (int i = 0; i < n; ++i) lo = std::min(lo, mesh_.X[3 * i + 1]), hi = std::max(hi, mesh_.X[3 * i + 1]);
+  const double g = std::sqrt(params_.g[0] * params_.g[0] + params_.g[1] * params_.g[1] + params_.g[2] * params_.g[2]);
+  double drop = hi - lo;
+  for (const auto& pl : params_.planes)
+    for (int i = 0; i < n; ++i) {
+      const double* x = &mesh_.X[3 * i];
+      drop = std::max(drop, std::fabs(pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) +
+                                      pl.normal[2] * (x[2] - pl.point[2])) + (hi - lo));
+    }
+  energy_scale_ = std::max(1e-9, d.ke + mass * g * drop);
 }
 
 void Simulation::reset() { apply_initial_state(); }
+
+void Simulation::set_state(const HostState& s) {
+  solver_->set_state(s);
+  last_good_ = s;
+  last_good_steps_ = nsteps_;
+  last_good_offset_ = t_offset_;
+  const Diagnostics d = diagnostics();
+  energy0_ = d.ke + d.se + d.pe;
+  energy_scale_ = std::max(energy_scale_, d.ke + d.se);
+}
+
+void Simulation::advance(long n, long check_every) {
+  if (check_every <= 0) check_every = n;
+  for (long done = 0; done < n;) {
+    const long k = std::min(check_every, n - done);
+    solver_->step(k);
+    nsteps_ += k;
+    done += k;
+    check_health();
+  }
+}
+
+void Simulation::check_health() {
+  solver_->get_state(scratch_);
+  const int n = mesh_.nnode();
+  auto diverged = [&](const std::string& problem, int element, const std::string& cause) {
+    // Roll back to the last healthy state so what the user sees (and can export) is sane.
+    solver_->set_state(last_good_);
+    const double t_bad = time();
+    nsteps_ = last_good_steps_;
+    t_offset_ = last_good_offset_;
+    char buf[700];
+    std::snprintf(buf, sizeof buf, "watchdog stopped the run at t = %.6g s: %s; dt = %.4g s = %.2f x dt_cr (%.4g s). "
+                  "Likely cause: %s. State rolled back to t = %.6g s.",
+                  t_bad, problem.c_str(), params_.dt, params_.dt / ts_.dt_cr, ts_.dt_cr, cause.c_str(), time());
+    SimulationDiverged e(buf);
+    e.element = element;
+    throw e;
+  };
+  const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
+  const std::string dt_cause = "the time step is above the stability limit; use time.dt = \"auto\" or a smaller lambda";
+  for (std::size_t j = 0; j < scratch_.u.size(); ++j)
+    if (!std::isfinite(scratch_.u[j]) || !std::isfinite(scratch_.du[j])) {
+      const int node = int(j % n);
+      int element = -1;
+      for (int e = 0; e < mesh_.ntet() && element < 0; ++e)
+        for (int a = 0; a < 4; ++a)
+          if (mesh_.tet[4 * e + a] == node) element = e;
+      diverged("node " + std::to_string(node) + " (element " + std::to_string(element) + ") has a NaN/Inf displacement",
+               element, unstable_dt ? dt_cause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model");
+    }
+  // Inverted elements: J <= 0 is unphysical for the Taylor model (its guard keeps forces
+  // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
+  if (params_.material_model == kTaylorNeoHookean) {
+    for (int e = 0; e < mesh_.ntet(); ++e) {
+      double F[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+      const int* t = &mesh_.tet[4 * e];
+      // F = I + grad u; grad u from the rest edge matrix: [u1-u0 u2-u0 u3-u0] Dm^-1.
+      double D[3][3], Du[3][3];
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) {
+          D[k][c] = mesh_.X[3 * t[c + 1] + k] - mesh_.X[3 * t[0] + k];
+          Du[k][c] = D[k][c] + scratch_.u[k * n + t[c + 1]] - scratch_.u[k * n + t[0]];
+        }
+      (void)F;
+      auto det = [](const double A[3][3]) {
+        return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+               A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+      };
+      const double J = det(Du) / det(D);
+      if (!(J > 0)) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
+        diverged(buf, e, unstable_dt ? dt_cause
+                                     : "the load crushes elements inside out; use material.model = \"stable_neo_hookean\", "
+                                       "a stiffer material or a finer mesh");
+      }
+    }
+  }
+  // Energy gained from nowhere: with damping and passive contact the total energy can
+  // only fall; user drag forces add a little per check, a blow-up adds more than the
+  // whole energy scale of the scene between two checks.
+  const Diagnostics d = diagnostics();
+  const double e_total = d.ke + d.se + d.pe;
+  if (!std::isfinite(e_total) || e_total - energy0_ > energy_scale_)
+    diverged("total energy grew by " + std::to_string(e_total - energy0_) + " J since the last check (scale " + std::to_string(energy_scale_) + " J)",
+             -1, unstable_dt ? dt_cause : "numerical blow-up; try a smaller lambda");
+  energy0_ = e_total;
+  last_good_ = scratch_;
+  last_good_steps_ = nsteps_;
+  last_good_offset_ = t_offset_;
+}
 
 void Simulation::step(long n) {
   solver_->step(n);

@@ -20,8 +20,11 @@ struct PlaneSpec {
 // Everything that may change while the simulation runs (the viewer edits these live).
 struct PhysicsParams {
   double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
+  int material_model = 0;      // MaterialModel (neo_hookean.h)
   double alpha = 10;           // mass-proportional damping [1/s]
-  double dt = 1e-5;            // time step [s]
+  double dt = 1e-5;            // time step [s] (ignored when dt_auto)
+  bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
+  double lambda = 0.5;         // Courant-like factor for dt_auto
   double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
   std::vector<PlaneSpec> planes;
   int contact_mode = 0;        // ContactMode

@@ -38,7 +38,7 @@ class CpuSolver final : public Solver {
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
   void set_params(const PhysicsParams& p) override {
-    mat_ = neo_hookean_from_E_nu<T>(p.E, p.nu);
+    mat_ = neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
     step_ = make_step_params<T>(p.dt, p.alpha, p.g);
     if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
     step_.contact.nplanes = int(p.planes.size());
