@@ -11,4 +11,5 @@ namespace softtled {
 using Command = std::function<int()>;
 Command add_mesh_command(CLI::App& app);
 Command add_run_command(CLI::App& app);
+Command add_bench_command(CLI::App& app);  // cmd_bench.cpp
 }  // namespace softtled

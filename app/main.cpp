@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   std::map<std::string, softtled::Command> commands;
   commands["mesh"] = softtled::add_mesh_command(app);
   commands["run"] = softtled::add_run_command(app);
+  commands["bench"] = softtled::add_bench_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
