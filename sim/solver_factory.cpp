@@ -1,6 +1,10 @@
 #include "solver_factory.h"
 
 #include "surface_mesh.h"
+#if defined(SOFTTLED_HAVE_CUDA)
+#include "cuda/cuda_solver.h"
+#include "cuda/device_info.h"
+#endif
 
 namespace softtled {
 
@@ -8,11 +12,21 @@ std::unique_ptr<Solver> make_solver(const std::string& backend, const TetMesh& m
                                     const std::vector<std::uint8_t>& flags, Precision prec,
                                     std::string* note) {
   if (backend == "cpu") return make_cpu_solver(mesh, rho, flags, prec);
+#if defined(SOFTTLED_HAVE_CUDA)
+  if (backend == "cuda") return make_cuda_solver(mesh, rho, flags, prec);  // InputError when no device
   if (backend == "auto") {
-    if (note) *note = "no CUDA backend in this build: running on the CPU";
+    std::string why;
+    if (cuda::device_count(&why) > 0) return make_cuda_solver(mesh, rho, flags, prec);
+    if (note) *note = "backend auto: " + why + "; running on the CPU";
     return make_cpu_solver(mesh, rho, flags, prec);
   }
-  if (backend == "cuda") throw InputError("backend 'cuda': this build has no CUDA backend");
+#else
+  if (backend == "auto") {
+    if (note) *note = "backend auto: no CUDA backend in this build; running on the CPU";
+    return make_cpu_solver(mesh, rho, flags, prec);
+  }
+  if (backend == "cuda") throw InputError("backend 'cuda': this build has no CUDA backend (configure with -DSOFTTLED_CUDA=ON)");
+#endif
   throw InputError("unknown backend '" + backend + "' (use cpu, cuda or auto)");
 }
 

@@ -1,0 +1,418 @@
+// `softtled bench`: time per explicit step in the form of the paper's Table II (Li, Guo et
+// al., section IV.D: 8000 iterations, columns M, f, u, u', total), for the CPU or the
+// CUDA backend, and a sweep over refined tori against the device's copy bandwidth.
+//
+// Measured: warm-up, then `samples` chunks of steps, each timed (device events on the
+// GPU, wall clock on the CPU); median, min, max, p10, p90 of us/step. The scene runs as
+// in a real simulation (the torus falls and hits the floor), so contact costs what it
+// costs. Per-stage times replay one kernel (or one OpenMP loop) alone many times.
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "sim/central_difference.h"
+#include "sim/rest_state.h"
+#include "sim/scene.h"
+#include "sim/simulation.h"
+#include "sim/surface_mesh.h"
+#include "sim/surface_render.h"
+#include "sim/tet_forces.h"
+#if defined(SOFTTLED_HAVE_CUDA)
+#include "sim/cuda/cuda_solver.h"
+#include "sim/cuda/device_info.h"
+#endif
+
+namespace softtled {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Stats {
+  double median = 0, min = 0, max = 0, p10 = 0, p90 = 0;
+};
+
+Stats stats_of(std::vector<double> v) {
+  Stats s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  auto q = [&](double f) { return v[std::min(v.size() - 1, std::size_t(std::lround(f * double(v.size() - 1))))]; };
+  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  s.min = v.front();
+  s.max = v.back();
+  s.p10 = q(0.1);
+  s.p90 = q(0.9);
+  return s;
+}
+
+struct StageRow {
+  double forces = 0, update = 0, contact = 0, render = 0;  // us per call
+  bool valid = false;
+};
+
+struct Result {
+  std::string label, backend, device, precision, mode;
+  int ntet = 0, nnode = 0, nsurf = 0, threads = 0;
+  double dt = 0;
+  long steps = 0;
+  int samples = 0;
+  Stats us;                 // per step
+  double wall_us = 0;       // host wall clock over all timed steps, per step
+  double bytes = 0;         // per step, compulsory (see step_bytes)
+  StageRow stages;
+  std::vector<std::pair<std::string, Stats>> modes;  // CUDA execution modes compared
+};
+
+// Bytes one step must move through DRAM in this two-stage algorithm (each array read or
+// written once): element stage reads tet, dhdX, vol and u, writes the corner forces; node
+// stage reads the gather table and the corner forces, flags, 1/m, u, du (X0 for contact
+// nodes), writes u, du and the contact state.
+double step_bytes(long ntet, long nnode, long ncontact, int real) {
+  const double T = real;
+  const double elem = ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T;
+  const double node = (nnode + 1) * 4.0 + ntet * 4 * 4.0 + ntet * 12 * T + nnode * (1 + T + 4 * 3 * T + 1) + ncontact * 3 * T;
+  return elem + node;
+}
+
+std::vector<std::uint8_t> contact_flags(const Scene& s, const TetMesh& m) {
+  std::vector<std::uint8_t> f(m.nnode(), 0);
+  if (s.contact_nodes == "all") {
+    for (auto& x : f) x |= kNodeContact;
+  } else {
+    for (int i : m.surface_nodes) f[i] |= kNodeContact;
+  }
+  return f;
+}
+
+// The CPU backend's loops, stage by stage, over the same SIM_HD functions (tled_cpu.cpp
+// runs both stages inside one parallel region; here each is timed alone).
+template <class T>
+StageRow cpu_stages(Simulation& sim, int threads, int reps) {
+  const Scene& sc = sim.scene();
+  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()));
+  const TetMeshView<T> m = r.view();
+  HostState hs;
+  sim.solver().get_state(hs);
+  std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
+  std::vector<std::uint8_t> contact(hs.contact);
+  BodyStateView<T> b;
+  b.u = u.data();
+  b.du = du.data();
+  b.fcorner = fc.data();
+  b.contact = contact.data();
+  const PhysicsParams& pp = sim.params();
+  const NeoHookean<T> mat = neo_hookean_from_E_nu<T>(pp.E, pp.nu, pp.material_model);
+  StepParams<T> sp = make_step_params<T>(pp.dt, pp.alpha, pp.g);
+  sp.contact.nplanes = int(std::min<std::size_t>(pp.planes.size(), kMaxPlanes));
+  for (int i = 0; i < sp.contact.nplanes; ++i)
+    for (int k = 0; k < 3; ++k) {
+      sp.contact.planes[i].p[k] = T(pp.planes[i].point[k]);
+      sp.contact.planes[i].n[k] = T(pp.planes[i].normal[k]);
+    }
+  sp.contact.mode = pp.contact_mode;
+  sp.contact.mu = T(pp.mu);
+  StepParams<T> sp_free = sp;
+  sp_free.contact.nplanes = 0;
+  const std::vector<T> u0 = u, du0 = du;
+  auto time_loop = [&](auto&& body) {
+    std::vector<double> us;
+    for (int rep = 0; rep < 5; ++rep) {
+      u = u0;
+      du = du0;
+      const auto t0 = Clock::now();
+      for (int k = 0; k < reps; ++k) body();
+      us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / reps);
+    }
+    return stats_of(us).median;
+  };
+  const int ne = r.ntet, n = r.nnode;
+  StageRow s;
+  s.forces = time_loop([&] {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
+  });
+  s.update = time_loop([&] {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int i = 0; i < n; ++i) node_update(m, b, sp_free, i);
+  });
+  const double with_contact = time_loop([&] {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+  });
+  s.contact = std::max(0.0, with_contact - s.update);
+  std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
+  s.render = time_loop([&] { sim.solver().write_render_vertices(buf.data()); });
+  s.valid = true;
+  return s;
+}
+
+struct Opts {
+  std::string scene, backend = "cuda", json, precision = "float", mode = "auto";
+  std::vector<std::string> set;
+  long steps = 8000;
+  int samples = 15, threads = 0, stage_reps = 200;
+  bool sweep = false, compare_modes = true;
+};
+
+int cpu_threads_for(const Simulation& sim, int requested) {
+  return requested > 0 ? requested : std::clamp(sim.mesh().ntet() / kTetsPerThread, 1, omp_get_max_threads());
+}
+
+// steps < 0: adapt the chunk so each sample takes about 25 ms.
+Result measure(const Scene& sc, const std::string& label, const Opts& o, long steps, bool full) {
+  Result r;
+  r.label = label;
+  Simulation sim(sc, o.backend);
+  Solver& solver = sim.solver();
+  r.backend = o.backend;
+  r.precision = sc.precision;
+  r.ntet = sim.mesh().ntet();
+  r.nnode = sim.mesh().nnode();
+  r.nsurf = int(sim.mesh().surface_nodes.size());
+  r.dt = sim.time_step().dt;
+  r.device = "CPU";
+  long ncontact = 0;
+  for (auto f : contact_flags(sc, sim.mesh())) ncontact += (f & kNodeContact) ? 1 : 0;
+  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == "float" ? 4 : 8);
+
+#if defined(SOFTTLED_HAVE_CUDA)
+  auto* gpu = dynamic_cast<cuda::CudaSolverApi*>(&solver);
+#else
+  void* gpu = nullptr;
+#endif
+  std::function<void()> sync = [] {};
+  std::function<double(long)> timed = [&](long n) {
+    const auto t0 = Clock::now();
+    sim.step(n);
+    return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+  };
+#if defined(SOFTTLED_HAVE_CUDA)
+  if (gpu) {
+    if (o.mode != "auto") gpu->set_exec_mode(cuda::parse_exec_mode(o.mode));
+    r.device = gpu->device_name();
+    r.mode = cuda::exec_mode_name(gpu->exec_mode());
+    sync = [gpu] { gpu->synchronize(); };
+    timed = [gpu](long n) { return gpu->time_steps_us(n); };
+  }
+#endif
+  if (!gpu) {
+    r.threads = cpu_threads_for(sim, o.threads);
+    solver.set_cpu_threads(r.threads);
+    r.mode = "openmp x" + std::to_string(r.threads);
+  }
+
+  // Warm-up (module load, graph instantiation, caches), then the chunk size.
+  sim.step(3);
+  sync();
+  long chunk = 0;
+  if (steps > 0) {
+    chunk = std::max(1L, steps / o.samples);
+    sim.step(std::min(chunk, 500L));
+  } else {
+    const double est = std::max(1e-3, timed(20) / 20);
+    chunk = std::max(1L, std::lround(25000.0 / est));
+  }
+  sync();
+  std::vector<double> per_step;
+  const auto w0 = Clock::now();
+  for (int s = 0; s < o.samples; ++s) per_step.push_back(timed(chunk) / double(chunk));
+  sync();
+  r.wall_us = std::chrono::duration<double, std::micro>(Clock::now() - w0).count() / double(chunk * o.samples);
+  r.steps = chunk * o.samples;
+  r.samples = o.samples;
+  r.us = stats_of(per_step);
+  std::fprintf(stderr, "  %-5s %8d tets: %.3f us/step median (%s, %s)\n", label.c_str(), r.ntet, r.us.median, r.device.c_str(),
+               r.mode.c_str());
+
+  if (!full) return r;
+#if defined(SOFTTLED_HAVE_CUDA)
+  if (gpu) {
+    const cuda::StageTimes t = gpu->time_stages(o.stage_reps);
+    r.stages.forces = t.forces_us;
+    r.stages.update = t.update_only_us;
+    r.stages.contact = std::max(0.0, t.update_contact_us - t.update_only_us);
+    r.stages.render = t.render_us;
+    r.stages.valid = true;
+    if (o.compare_modes) {
+      const cuda::ExecMode keep = gpu->exec_mode();
+      for (cuda::ExecMode m : {cuda::ExecMode::kPlain, cuda::ExecMode::kGraph, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kPersistent}) {
+        sim.reset();
+        gpu->set_exec_mode(m);
+        gpu->step(200);
+        gpu->synchronize();
+        std::vector<double> v;
+        for (int s = 0; s < o.samples; ++s) v.push_back(gpu->time_steps_us(chunk) / double(chunk));
+        r.modes.emplace_back(cuda::exec_mode_name(m), stats_of(v));
+      }
+      gpu->set_exec_mode(keep);
+    }
+  }
+#endif
+  if (!gpu) {
+    const int reps = std::max(1, int(std::min<long>(o.stage_reps, 200000 / std::max(1, r.ntet / 100 + 1))));
+    r.stages = sc.precision == "float" ? cpu_stages<float>(sim, r.threads, reps) : cpu_stages<double>(sim, r.threads, reps);
+  }
+  return r;
+}
+
+std::string json_str(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::string json_stats(const Stats& s) {
+  char b[256];
+  std::snprintf(b, sizeof b, "{\"median\": %.5g, \"min\": %.5g, \"max\": %.5g, \"p10\": %.5g, \"p90\": %.5g}", s.median, s.min,
+                s.max, s.p10, s.p90);
+  return b;
+}
+
+std::string json_result(const Result& r, double copy_gbs) {
+  std::ostringstream j;
+  char b[512];
+  j << "{\"label\": " << json_str(r.label) << ", \"backend\": " << json_str(r.backend) << ", \"device\": " << json_str(r.device)
+    << ", \"precision\": " << json_str(r.precision) << ", \"mode\": " << json_str(r.mode);
+  std::snprintf(b, sizeof b,
+                ", \"tets\": %d, \"nodes\": %d, \"surface_nodes\": %d, \"dt_us\": %.6g, \"steps\": %ld, \"samples\": %d, "
+                "\"us_per_step\": ",
+                r.ntet, r.nnode, r.nsurf, r.dt * 1e6, r.steps, r.samples);
+  j << b << json_stats(r.us);
+  std::snprintf(b, sizeof b,
+                ", \"wall_us_per_step\": %.5g, \"steps_per_s\": %.6g, \"real_time_factor\": %.5g, \"bytes_per_step\": %.6g, "
+                "\"achieved_GBps\": %.5g",
+                r.wall_us, 1e6 / r.us.median, r.dt * 1e6 / r.us.median, r.bytes, r.bytes / r.us.median * 1e-3);
+  j << b;
+  if (copy_gbs > 0) {
+    std::snprintf(b, sizeof b, ", \"copy_GBps\": %.5g, \"roofline_fraction\": %.4g", copy_gbs,
+                  r.bytes / r.us.median * 1e-3 / copy_gbs);
+    j << b;
+  }
+  if (r.stages.valid) {
+    std::snprintf(b, sizeof b,
+                  ", \"stages_us\": {\"forces\": %.5g, \"update\": %.5g, \"contact\": %.5g, \"render_write\": %.5g}",
+                  r.stages.forces, r.stages.update, r.stages.contact, r.stages.render);
+    j << b;
+  }
+  if (!r.modes.empty()) {
+    j << ", \"modes_us_per_step\": {";
+    for (std::size_t i = 0; i < r.modes.size(); ++i)
+      j << (i ? ", " : "") << json_str(r.modes[i].first) << ": " << json_stats(r.modes[i].second);
+    j << "}";
+  }
+  j << "}";
+  return j.str();
+}
+
+}  // namespace
+
+Command add_bench_command(CLI::App& app) {
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("bench", "time the explicit step (paper's Table II); --sweep over refined tori");
+  c->add_option("--scene", o->scene, "scene file (TOML)")->required();
+  c->add_option("--backend", o->backend, "cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+  c->add_option("--steps", o->steps, "timed steps for the scene (paper: 8000)")->check(CLI::PositiveNumber);
+  c->add_option("--json", o->json, "write the results as JSON");
+  c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
+  c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
+  c->add_option("--mode", o->mode, "CUDA execution: auto, plain, graph, graph-pdl, persistent");
+  c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)");
+  c->add_option("--samples", o->samples, "timed chunks per measurement")->check(CLI::Range(3, 1000));
+  c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(CLI::Range(1, 100000));
+  c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
+  return [o]() {
+    std::vector<std::string> set = o->set;
+    set.push_back("solver.precision=" + o->precision);
+    const Scene sc = load_scene(o->scene, set);
+#if !defined(SOFTTLED_HAVE_CUDA)
+    if (o->backend == "cuda") throw InputError("backend 'cuda': this build has no CUDA backend");
+#endif
+    double copy_gbs = 0;
+#if defined(SOFTTLED_HAVE_CUDA)
+    if (o->backend == "cuda") {
+      std::string why;
+      if (cuda::device_count(&why) <= 0) throw InputError("backend 'cuda': " + why);
+      const cuda::DeviceInfo d = cuda::device_info();
+      std::printf("device: %s, %d SMs, %.0f MB L2, CUDA driver %d runtime %d\n", d.name.c_str(), d.sm_count,
+                  double(d.l2_bytes) / 1e6, d.driver_version, d.runtime_version);
+      copy_gbs = cuda::measure_copy_bandwidth_gbs();
+      std::printf("measured copy bandwidth: %.0f GB/s (1 GiB float4 copy, read + write)\n", copy_gbs);
+    }
+#endif
+    const Result main = measure(sc, "scene", *o, o->steps, true);
+    const double paper_iters = 8000;
+    std::printf("\n%s: %d tets, %d nodes, dt = %.4g us, %s, %s, %s\n", o->scene.c_str(), main.ntet, main.nnode, main.dt * 1e6,
+                main.device.c_str(), main.precision.c_str(), main.mode.c_str());
+    std::printf("  us/step: median %.3f  min %.3f  max %.3f  p10 %.3f  p90 %.3f  (%d samples x %ld steps); wall %.3f us/step\n",
+                main.us.median, main.us.min, main.us.max, main.us.p10, main.us.p90, main.samples, main.steps / main.samples,
+                main.wall_us);
+    std::printf("  steps/s: %.4g   real-time factor at dt: %.4g   (8000 steps: %.1f ms)\n", 1e6 / main.us.median,
+                main.dt * 1e6 / main.us.median, main.us.median * paper_iters * 1e-3);
+    if (main.stages.valid) {
+      std::printf("  per stage (us/call; ms per 8000 in brackets), as Table II: M precomputed | f %.3f [%.1f] | u %.3f [%.1f] | "
+                  "u' contact %.3f [%.1f] | render write %.3f [%.1f]\n",
+                  main.stages.forces, main.stages.forces * 8, main.stages.update, main.stages.update * 8, main.stages.contact,
+                  main.stages.contact * 8, main.stages.render, main.stages.render * 8);
+    }
+    for (const auto& m : main.modes)
+      std::printf("  mode %-10s median %.3f us/step (min %.3f, max %.3f)\n", m.first.c_str(), m.second.median, m.second.min,
+                  m.second.max);
+
+    std::vector<Result> rows;
+    if (o->sweep) {
+      struct Level {
+        const char* label;
+        std::vector<std::string> set;
+      };
+      const std::vector<Level> levels = {
+          {"7k", {}},
+          {"28k", {"body.segments=[120,25]", "mesh.max_volume=0.15"}},
+          {"100k", {"body.segments=[182,38]", "mesh.max_volume=0.028"}},
+          {"1M", {"body.segments=[360,72]", "mesh.max_volume=0.0018"}},
+      };
+      std::fprintf(stderr, "sweep (meshing the refined tori takes a while)\n");
+      for (const Level& l : levels) {
+        std::vector<std::string> s2 = set;
+        s2.insert(s2.end(), l.set.begin(), l.set.end());
+        rows.push_back(measure(load_scene(o->scene, s2), l.label, *o, -1, false));
+      }
+      std::printf("\nsweep (%s, %s): bytes each step must move vs %s\n", o->backend.c_str(), o->precision.c_str(),
+                  copy_gbs > 0 ? "the measured copy bandwidth" : "(no device bandwidth on the CPU)");
+      std::printf("  %-5s %9s %8s %11s %10s %10s %10s %9s %9s\n", "mesh", "tets", "nodes", "us/step", "steps/s", "MB/step",
+                  "GB/s", "roofline", "RT factor");
+      for (const Result& r : rows) {
+        const double gbs = r.bytes / r.us.median * 1e-3;
+        char roof[32] = "-";
+        if (copy_gbs > 0) std::snprintf(roof, sizeof roof, "%.0f%%", 100 * gbs / copy_gbs);
+        std::printf("  %-5s %9d %8d %11.3f %10.4g %10.3f %10.1f %9s %9.3g\n", r.label.c_str(), r.ntet, r.nnode, r.us.median,
+                    1e6 / r.us.median, r.bytes * 1e-6, gbs, roof, r.dt * 1e6 / r.us.median);
+      }
+    }
+    if (!o->json.empty()) {
+      std::ofstream f(o->json);
+      if (!f) throw InputError(o->json + ": cannot write");
+      f << "{\"scene\": " << json_str(o->scene) << ", \"copy_GBps\": " << copy_gbs << ",\n \"result\": " << json_result(main, copy_gbs);
+      if (!rows.empty()) {
+        f << ",\n \"sweep\": [";
+        for (std::size_t i = 0; i < rows.size(); ++i) f << (i ? ",\n  " : "\n  ") << json_result(rows[i], copy_gbs);
+        f << "]";
+      }
+      f << "}\n";
+    }
+    return 0;
+  };
+}
+
+}  // namespace softtled

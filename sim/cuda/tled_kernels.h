@@ -1,0 +1,75 @@
+#pragma once
+// Host-callable launchers for the CUDA kernels in tled_step.cu (plain C++: no CUDA
+// syntax here, so the solver's host code compiles with the ordinary C++ compiler).
+// Each kernel is one thread per element, node or render vertex and calls the same SIM_HD
+// function the CPU backend loops over:
+//   element stage  tet_corner_forces   (tet_forces.h)
+//   node stage     node_update         (central_difference.h; plane contact fused in)
+//   render         write_render_vertex (surface_render.h)
+// Launchers return the launch's cudaError_t; the caller checks it.
+#include <cuda_runtime_api.h>
+
+#include <cstdint>
+
+#include "sim/body_view.h"
+#include "sim/central_difference.h"
+#include "sim/neo_hookean.h"
+#include "sim/surface_render.h"
+
+namespace softtled::cuda {
+
+// Everything one explicit step reads, by value (kernel parameters).
+template <class T>
+struct StepArgs {
+  TetMeshView<T> m;
+  BodyStateView<T> b;
+  NeoHookean<T> mat;
+  StepParams<T> p;
+};
+
+struct LaunchShape {
+  int grid = 1;
+  int block = 256;
+  // Programmatic dependent launch (sm_90): the next kernel in the stream may be
+  // scheduled while this one runs; it waits (griddepcontrol.wait) before touching data.
+  bool pdl = false;
+};
+
+// Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
+// that would leave multiprocessors idle, so a small mesh spreads over the whole chip.
+inline LaunchShape shape_for(int n, int nsm, bool pdl) {
+  LaunchShape s;
+  s.block = 256;
+  while (s.block > 32 && (n + s.block - 1) / s.block < nsm) s.block /= 2;
+  s.grid = n > 0 ? (n + s.block - 1) / s.block : 1;
+  s.pdl = pdl;
+  return s;
+}
+
+template <class T>
+cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+template <class T>
+cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+
+// One cooperative launch running nsteps whole steps, grid-wide barriers between stages.
+template <class T>
+cudaError_t launch_persistent_steps(cudaStream_t s, int grid, int block, const StepArgs<T>& a, int nsteps);
+// Largest cooperative grid for that block size (blocks per SM x SMs).
+template <class T>
+int persistent_max_grid(int block, int nsm);
+
+template <class T>
+cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
+                                   const T* u, const std::uint8_t* contact, float* dst);
+
+// out[e] = strain energy of element e, in double.
+template <class T>
+cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                                  const T* u, double* out);
+
+// Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
+// fixed tree order into partials (kSumBlocks of them), then one block reduces those.
+constexpr int kSumBlocks = 128;
+cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out);
+
+}  // namespace softtled::cuda
