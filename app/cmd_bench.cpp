@@ -233,30 +233,51 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   std::fprintf(stderr, "  %-5s %8d tets: %.3f us/step median (%s, %s)\n", label.c_str(), r.ntet, r.us.median, r.device.c_str(),
                r.mode.c_str());
 
-  if (!full) return r;
 #if defined(SOFTTLED_HAVE_CUDA)
   if (gpu) {
-    const cuda::StageTimes t = gpu->time_stages(o.stage_reps);
-    r.stages.forces = t.forces_us;
-    r.stages.update = t.update_only_us;
-    r.stages.contact = std::max(0.0, t.update_contact_us - t.update_only_us);
-    r.stages.render = t.render_us;
-    r.stages.valid = true;
+    if (full) {
+      const cuda::StageTimes t = gpu->time_stages(o.stage_reps);
+      r.stages.forces = t.forces_us;
+      r.stages.update = t.update_only_us;
+      r.stages.contact = std::max(0.0, t.update_contact_us - t.update_only_us);
+      r.stages.render = t.render_us;
+      r.stages.valid = true;
+    }
+    auto timed_samples = [&](cuda::CudaSolverApi* api) {
+      api->step(std::min(chunk, 200L));
+      api->synchronize();
+      std::vector<double> v;
+      for (int s = 0; s < o.samples; ++s) v.push_back(api->time_steps_us(chunk) / double(chunk));
+      return stats_of(v);
+    };
     if (o.compare_modes) {
       const cuda::ExecMode keep = gpu->exec_mode();
       for (cuda::ExecMode m : {cuda::ExecMode::kPlain, cuda::ExecMode::kGraph, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kPersistent}) {
         sim.reset();
         gpu->set_exec_mode(m);
-        gpu->step(200);
-        gpu->synchronize();
-        std::vector<double> v;
-        for (int s = 0; s < o.samples; ++s) v.push_back(gpu->time_steps_us(chunk) / double(chunk));
-        r.modes.emplace_back(cuda::exec_mode_name(m), stats_of(v));
+        r.modes.emplace_back(cuda::exec_mode_name(m), timed_samples(gpu));
       }
       gpu->set_exec_mode(keep);
     }
+    if (!full) {
+      // The same mesh without the Morton renumbering (TetGen's numbering), same mode.
+      cuda::Options opt = cuda::options_from_env();
+      opt.reorder = false;
+      opt.mode = gpu->exec_mode();
+      auto plain = make_cuda_solver(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()),
+                                    sc.precision == "float" ? Precision::kFloat : Precision::kDouble, opt);
+      plain->set_params(sim.params());
+      sim.reset();
+      HostState st;
+      sim.solver().get_state(st);
+      plain->set_state(st);
+      r.modes.emplace_back(std::string(cuda::exec_mode_name(opt.mode)) + ",tetgen-order",
+                           timed_samples(dynamic_cast<cuda::CudaSolverApi*>(plain.get())));
+    }
+    return r;
   }
 #endif
+  if (!full) return r;
   if (!gpu) {
     const int reps = std::max(1, int(std::min<long>(o.stage_reps, 200000 / std::max(1, r.ntet / 100 + 1))));
     r.stages = sc.precision == "float" ? cpu_stages<float>(sim, r.threads, reps) : cpu_stages<double>(sim, r.threads, reps);
@@ -333,6 +354,7 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(CLI::Range(1, 100000));
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   return [o]() {
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
     std::vector<std::string> set = o->set;
     set.push_back("solver.precision=" + o->precision);
     const Scene sc = load_scene(o->scene, set);
@@ -399,6 +421,10 @@ Command add_bench_command(CLI::App& app) {
         std::printf("  %-5s %9d %8d %11.3f %10.4g %10.3f %10.1f %9s %9.3g\n", r.label.c_str(), r.ntet, r.nnode, r.us.median,
                     1e6 / r.us.median, r.bytes * 1e-6, gbs, roof, r.dt * 1e6 / r.us.median);
       }
+      for (const Result& r : rows)
+        for (const auto& m : r.modes)
+          std::printf("  %-5s mode %-22s median %10.3f us/step (min %.3f, max %.3f)\n", r.label.c_str(), m.first.c_str(),
+                      m.second.median, m.second.min, m.second.max);
     }
     if (!o->json.empty()) {
       std::ofstream f(o->json);
