@@ -16,6 +16,10 @@ int main(int argc, char** argv) {
   commands["mesh"] = softtled::add_mesh_command(app);
   commands["run"] = softtled::add_run_command(app);
   commands["bench"] = softtled::add_bench_command(app);
+#ifdef SOFTTLED_HAVE_RENDER
+  commands["render"] = softtled::add_render_command(app);
+  commands["view"] = softtled::add_view_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,122 @@
+// `softtled render`: headless frames of a scene at given simulation times, one PNG each,
+// through an EGL offscreen context (no window system; never calls glfwInit).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "commands.h"
+#include "render/headless.h"
+#include "sim/scene.h"
+#include "sim/simulation.h"
+
+namespace softtled {
+
+namespace {
+std::vector<double> parse_times(const std::string& s) {
+  std::vector<double> t;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !(v >= 0)) throw std::invalid_argument(item);
+      t.push_back(v);
+    } catch (const std::exception&) {
+      throw InputError("--at '" + s + "': expected non-negative times in seconds separated by commas, e.g. 0.02,0.05,0.2");
+    }
+  }
+  if (t.empty()) throw InputError("--at: no times given");
+  for (std::size_t i = 1; i < t.size(); ++i)
+    if (t[i] < t[i - 1]) throw InputError("--at: times must be in increasing order");
+  return t;
+}
+
+void parse_size(const std::string& s, int& w, int& h) {
+  if (std::sscanf(s.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+    throw InputError("--size '" + s + "': expected WxH between 16 and 8192, e.g. 960x720");
+}
+}  // namespace
+
+Command add_render_command(CLI::App& app) {
+  struct Opts {
+    std::string scene, at, out = "out/render", size = "960x720", backend = "cpu", context = "egl", color = "shaded", stem;
+    std::vector<std::string> set;
+    float azimuth = 30, elevation = 18, zoom = 1;
+    int samples = 4;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("render", "render a scene headless (EGL) to one PNG per simulation time");
+  c->add_option("--scene", o->scene, "scene file (TOML)")->required();
+  c->add_option("--at", o->at, "simulation times [s], comma-separated, e.g. 0.02,0.05,0.2")->required();
+  c->add_option("--out", o->out, "output directory")->capture_default_str();
+  c->add_option("--size", o->size, "image size WxH")->capture_default_str();
+  c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
+  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")->capture_default_str();
+  c->add_option("--context", o->context, "GL context: egl (offscreen) or glfw (hidden window, needs a display)")->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")->capture_default_str();
+  c->add_option("--azimuth", o->azimuth, "camera azimuth about +y [deg]")->capture_default_str();
+  c->add_option("--elevation", o->elevation, "camera elevation [deg]")->capture_default_str();
+  c->add_option("--zoom", o->zoom, "camera zoom factor")->capture_default_str();
+  c->add_option("--samples", o->samples, "MSAA samples (0 to 8)")->capture_default_str();
+  c->add_option("--stem", o->stem, "PNG file name stem (default: the scene file's name)");
+  return [o]() {
+    HeadlessOptions h;
+    h.times = parse_times(o->at);
+    parse_size(o->size, h.width, h.height);
+    if (o->color == "shaded") h.style.color = ColorMode::kShaded;
+    else if (o->color == "displacement") h.style.color = ColorMode::kDisplacement;
+    else if (o->color == "contact") h.style.color = ColorMode::kContact;
+    else throw InputError("--color '" + o->color + "': use shaded, displacement or contact");
+    if (o->context != "egl" && o->context != "glfw") throw InputError("--context '" + o->context + "': use egl or glfw");
+    if (!(o->zoom > 0)) throw InputError("--zoom must be positive");
+    h.samples = o->samples;
+    h.azimuth_deg = o->azimuth;
+    h.elevation_deg = o->elevation;
+    h.zoom = o->zoom;
+    h.out_dir = o->out;
+    h.stem = o->stem.empty() ? std::filesystem::path(o->scene).stem().string() : o->stem;
+    h.context.backend = o->context;
+    h.context.cuda_device = o->backend == "cpu" ? -1 : 0;
+    std::error_code ec;
+    std::filesystem::create_directories(h.out_dir, ec);
+    if (ec) throw InputError(h.out_dir + ": cannot create directory: " + ec.message());
+
+    const Scene s = load_scene(o->scene, o->set);
+    Simulation sim(s, o->backend);
+    const TimeStepInfo& ts = sim.time_step();
+    std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
+                sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.dt * 1e6, ts.dt_cr * 1e6,
+                sim.solver().backend().c_str());
+    HeadlessInfo info;
+    bool header = false;
+    double draw_total = 0, upload_total = 0;
+    long steps_total = 0;
+    double sim_total = 0;
+    const auto frames = render_headless(sim, h, &info, [&](const HeadlessFrame& f) {
+      if (!header) {
+        std::printf("GL renderer: %s\nGL context: %s, %s, %dx%d, MSAA %d\nrender vertices: %s\n", info.renderer.c_str(),
+                    o->context.c_str(), info.platform.c_str(), h.width, h.height, info.samples, info.vertex_path.c_str());
+        header = true;
+      }
+      std::printf("t = %.4f s: %s  (%ld steps in %.3f s; frame %.2f ms = vertices %.2f + draw/readback %.2f; png %.1f ms)\n", f.t,
+                  f.path.c_str(), f.steps, f.sim_s, (f.upload_s + f.draw_s) * 1e3, f.upload_s * 1e3, f.draw_s * 1e3,
+                  f.png_s * 1e3);
+      std::fflush(stdout);
+      draw_total += f.draw_s;
+      upload_total += f.upload_s;
+      steps_total += f.steps;
+      sim_total += f.sim_s;
+    });
+    const double n = double(frames.size());
+    std::printf("frame time: %.2f ms mean (vertices %.2f ms, draw/readback %.2f ms) over %zu frames; simulation %.1f us/step\n",
+                (draw_total + upload_total) / n * 1e3, upload_total / n * 1e3, draw_total / n * 1e3, frames.size(),
+                steps_total ? sim_total / double(steps_total) * 1e6 : 0.0);
+    std::printf("PNGs in %s\n", h.out_dir.c_str());
+    return 0;
+  };
+}
+
+}  // namespace softtled

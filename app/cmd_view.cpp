@@ -1,0 +1,54 @@
+// `softtled view`: the interactive viewer (viewer_app.h).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+#include "commands.h"
+#include "sim/surface_mesh.h"
+#include "viewer_app.h"
+
+namespace softtled {
+
+namespace {
+// The default scene: $SOFTTLED_ASSETS, ./assets, then the source tree this was built from.
+std::string default_scene() {
+  std::vector<std::string> roots;
+  if (const char* a = std::getenv("SOFTTLED_ASSETS")) roots.push_back(a);
+  roots.push_back("assets");
+#ifdef SOFTTLED_SOURCE_DIR
+  roots.push_back(std::string(SOFTTLED_SOURCE_DIR) + "/assets");
+#endif
+  for (const auto& r : roots) {
+    const std::string p = r + "/scenes/torus_drop.toml";
+    if (std::filesystem::exists(p)) return p;
+  }
+  throw InputError("no --scene given and assets/scenes/torus_drop.toml not found (set SOFTTLED_ASSETS)");
+}
+}  // namespace
+
+Command add_view_command(CLI::App& app) {
+  auto o = std::make_shared<ViewerOptions>();
+  auto size = std::make_shared<std::string>("1280x800");
+  CLI::App* c = app.add_subcommand("view", "open the interactive viewer (GLFW window, Dear ImGui panel)");
+  c->add_option("--scene", o->scene, "scene file (TOML); default assets/scenes/torus_drop.toml");
+  c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
+  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")->capture_default_str();
+  c->add_option("--size", *size, "window size WxH")->capture_default_str();
+  c->add_flag("--paused", o->paused, "start paused");
+  c->add_option("--substeps", o->substeps, "fixed steps per frame (default: follow wall time)");
+  c->add_option("--time-scale", o->time_scale, "simulated seconds per wall second when following wall time")->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")->capture_default_str();
+  c->add_option("--screenshot-dir", o->screenshot_dir, "where P writes softtled_view_NNN.png")->capture_default_str();
+  c->add_option("--quit-after", o->quit_after, "close after this many seconds (for tests)");
+  return [o, size]() {
+    if (std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2 || o->width < 320 || o->height < 240)
+      throw InputError("--size '" + *size + "': expected WxH of at least 320x240");
+    if (o->scene.empty()) o->scene = default_scene();
+    if (!(o->time_scale > 0)) throw InputError("--time-scale must be positive");
+    return run_viewer(*o);
+  };
+}
+
+}  // namespace softtled

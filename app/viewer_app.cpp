@@ -1,0 +1,592 @@
+#include "viewer_app.h"
+
+// clang-format off
+#include "render/gl.h"  // GLEW before GLFW and the ImGui backends
+#include <GLFW/glfw3.h>
+// clang-format on
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <future>
+#include <limits>
+#include <memory>
+
+#include "render/body_buffer.h"
+#include "render/gl_context.h"
+#include "render/headless.h"
+#include "render/image.h"
+#include "render/offscreen_target.h"
+#include "render/scene_renderer.h"
+#include "sim/plane_contact.h"
+#include "sim/simulation.h"
+#include "sim/surface_topology.h"
+#include "viewer_camera.h"
+#include "viewer_panel.h"
+#include "viewer_picking.h"
+
+namespace softtled {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+int contact_mode_of(const std::string& s) { return s == "static" ? kStatic : s == "coulomb" ? kCoulomb : kSliding; }
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& o) : opt_(o) {
+    scene_ = load_scene(o.scene, o.set);
+    sim_ = std::make_unique<Simulation>(scene_, o.backend);
+    settings_from_scene();
+    set_.paused = o.paused;
+    if (o.substeps > 0) set_.fixed_substeps = true, set_.substeps = o.substeps;
+    set_.time_scale = o.time_scale;
+    if (o.color == "displacement") set_.style.color = ColorMode::kDisplacement;
+    else if (o.color == "contact") set_.style.color = ColorMode::kContact;
+    else if (o.color != "shaded") throw InputError("--color '" + o.color + "': use shaded, displacement or contact");
+
+    ContextOptions co;
+    co.backend = "glfw";
+    co.width = o.width;
+    co.height = o.height;
+    co.title = "SoftTLED - " + std::filesystem::path(o.scene).filename().string();
+    ctx_ = make_gl_context(co);
+    win_ = ctx_->glfw_window();
+
+    // Key presses are queued by our own callback (ImGui's backend chains to it): Dear
+    // ImGui 1.86 only sees key state once per frame, so a press and release within one
+    // frame (fast typing, xdotool) would otherwise be lost.
+    glfwSetWindowUserPointer(win_, this);
+    glfwSetKeyCallback(win_, [](GLFWwindow* w, int key, int, int action, int) {
+      auto* v = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      if (action == GLFW_PRESS || action == GLFW_REPEAT) v->keys_.push_back({key, action == GLFW_REPEAT});
+    });
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working directory
+    ImGui::StyleColorsDark();
+    ImGui::GetStyle().WindowRounding = 4;
+    ImGui_ImplGlfw_InitForOpenGL(win_, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+
+    renderer_ = std::make_unique<SceneRenderer>();
+    attach_simulation();
+    cam_ = default_camera(*sim_);
+    cam_.distance *= 1.3f;
+    st_.renderer = gl_renderer_string();
+    log("window %dx%d, GL renderer: %s", o.width, o.height, st_.renderer.c_str());
+    log("scene %s: %d nodes, %d tets, backend %s, dt %.3f us (dt_cr %.3f us)", o.scene.c_str(), sim_->mesh().nnode(),
+        sim_->mesh().ntet(), sim_->solver().backend().c_str(), sim_->time_step().dt * 1e6, sim_->time_step().dt_cr * 1e6);
+  }
+
+  ~Viewer() {
+    if (rebuild_.valid()) rebuild_.wait();
+    body_.reset();
+    renderer_.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    ctx_.reset();
+  }
+
+  int run() {
+    const auto start = Clock::now();
+    auto last = Clock::now();
+    auto window_t0 = Clock::now();
+    long window_frames = 0, window_steps = 0;
+    double window_sim = 0;
+    bool first = true;
+    while (!glfwWindowShouldClose(win_)) {
+      glfwPollEvents();
+      const double wall_dt = since(last);
+      last = Clock::now();
+
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      int fb_w = 0, fb_h = 0, win_w = 0, win_h = 0;
+      ctx_->framebuffer_size(fb_w, fb_h);
+      glfwGetWindowSize(win_, &win_w, &win_h);
+      // Centre the scene in the part of the window the panel leaves free.
+      cam_.shift_x = set_.show_panel && win_w > 0 ? std::min(0.6f, 368.f / float(win_w)) : 0.f;
+
+      PanelActions act;
+      handle_keys(act);
+      draw_panel(set_, st_, act, win_h);
+      handle_mouse(win_w, win_h);
+      apply(act);
+      poll_rebuild();
+
+      const double t_before = sim_->time();
+      const long steps = advance(wall_dt, act.step);
+      st_.steps_last_frame = steps;
+      if (steps > 0 || dirty_) update_stats(steps > 0);
+      body_->update(sim_->solver());
+      st_.vertex_path = body_->path();
+
+      if (fb_w > 0 && fb_h > 0) {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        std::vector<OverlayLine> lines;
+        if (drag_.active) {
+          sim_->solver().get_state(state_);
+          lines.push_back({drag_.grab_point(sim_->mesh(), state_), drag_.target, {1.f, 0.85f, 0.1f}});
+        }
+        const Vec3 focus{float(st_.diag.centroid[0]), float(st_.diag.centroid[1]), float(st_.diag.centroid[2])};
+        renderer_->draw(cam_, fb_w, fb_h, *body_, sim_->params().planes, focus, plane_half_, set_.style, lines);
+      }
+      ImGui::Render();
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      if (act.screenshot && fb_w > 0) screenshot(fb_w, fb_h);
+      ctx_->swap_buffers();
+      if (first) {
+        log("first frame drawn");
+        first = false;
+      }
+
+      // Rates over half-second windows.
+      ++window_frames;
+      window_steps += steps;
+      window_sim += sim_->time() - t_before > 0 ? sim_->time() - t_before : 0;
+      const double w = since(window_t0);
+      if (w > 0.5) {
+        st_.fps = window_frames / w;
+        st_.steps_per_s = window_steps / w;
+        st_.rtf = window_sim / w;
+        window_frames = window_steps = 0;
+        window_sim = 0;
+        window_t0 = Clock::now();
+      }
+      if (opt_.quit_after > 0 && since(start) > opt_.quit_after) {
+        log("quit after %.1f s", opt_.quit_after);
+        glfwSetWindowShouldClose(win_, 1);
+      }
+    }
+    log("closed at t = %.4f s after %ld steps", sim_->time(), sim_->steps());
+    return 0;
+  }
+
+ private:
+  template <class... A>
+  void log(const char* fmt, A... a) {
+    std::printf("view: ");
+    std::printf(fmt, a...);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+
+  void settings_from_scene() {
+    const Scene& s = sim_->scene();
+    set_.E = float(s.E);
+    set_.nu = float(s.nu);
+    set_.alpha = float(s.alpha);
+    set_.rho = float(s.rho);
+    set_.segments[0] = s.segments[0];
+    set_.segments[1] = s.segments[1];
+    for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
+    set_.contact_mode = contact_mode_of(s.contact_mode);
+    set_.mu = float(s.mu);
+    set_.floor = s.floor;
+    set_.slope = s.slope;
+    set_.slope_deg = float(s.slope_angle_deg);
+    slope_now_ = set_.slope_deg;
+    slope_was_on_ = set_.slope;
+    st_.slope_now = slope_now_;
+    set_.lambda = float(s.dt_auto ? s.lambda : sim_->time_step().dt / sim_->time_step().dt_cr);
+    set_.lock_lambda = s.dt_auto;
+    set_.dt_us = float(sim_->time_step().dt * 1e6);
+    const double u3 = s.length_unit * 1e3;
+    set_.max_volume_mm3 = float(s.tetgen.max_volume * u3 * u3 * u3);
+    st_.shape = s.shape;
+  }
+
+  // After the Simulation is created or replaced: GL buffers, counts, plot, energies.
+  void attach_simulation() {
+    topo_ = build_surface_topology(sim_->mesh());
+    body_.reset();
+    body_ = std::make_unique<BodyVertexBuffer>(topo_);
+    plane_half_ = default_plane_half(*sim_);
+    st_.backend = sim_->solver().backend();
+    st_.precision = sim_->scene().precision;
+    st_.nnode = sim_->mesh().nnode();
+    st_.ntet = sim_->mesh().ntet();
+    st_.nsurf = int(topo_.node.size());
+    st_.ntri = int(topo_.tri.size() / 3);
+    drag_.release();
+    st_.plot.clear();
+    st_.plot.node = sim_->tracked_nodes().empty() ? topo_.node[0] : sim_->tracked_nodes()[0];
+    st_.plot.label = sim_->tracked_nodes().empty() ? "node " + std::to_string(st_.plot.node)
+                                                   : "node " + std::to_string(st_.plot.node) + " (track point 1)";
+    apply_params();
+    on_reset();
+  }
+
+  void on_reset() {
+    budget_ = 0;
+    umax_seen_ = 0;
+    st_.plot.clear();
+    st_.diag = sim_->diagnostics();
+    st_.pe0 = st_.diag.pe;
+    dirty_ = true;
+  }
+
+  // Planes as the simulation sees them now: the slope at slope_now_, which follows the
+  // panel's angle (see turn_slope).
+  std::vector<PlaneSpec> planes_for(float slope_deg) const {
+    Scene s = sim_->scene();
+    s.floor = set_.floor;
+    s.slope = set_.slope;
+    s.slope_angle_deg = slope_deg;
+    return scene_planes(s);
+  }
+  std::vector<PlaneSpec> planes_from_settings() const { return planes_for(slope_now_); }
+
+  // True when no contact node lies behind any of the planes.
+  bool planes_clear_of_body(const std::vector<PlaneSpec>& planes) {
+    sim_->solver().get_state(state_);
+    const TetMesh& m = sim_->mesh();
+    const int n = m.nnode();
+    for (int i : m.surface_nodes)
+      for (const PlaneSpec& pl : planes) {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) d += pl.normal[k] * (m.X[3 * i + k] + state_.u[k * n + i] - pl.point[k]);
+        if (d < -1e-7) return false;
+      }
+    return true;
+  }
+
+  // A new slope angle takes effect at once when the turned plane does not cut into the
+  // body. Otherwise the plane turns towards it at kSlopeRate of simulated time in small
+  // increments (advance), pushing the body like a moving wall: a plane jumping through
+  // the body would project its nodes across millimetres in one step and blow it up.
+  void request_planes() {
+    if (set_.slope && !slope_was_on_) slope_now_ = planes_clear_of_body(planes_for(set_.slope_deg)) ? set_.slope_deg : 0.f;
+    if (!set_.slope || planes_clear_of_body(planes_for(set_.slope_deg))) slope_now_ = set_.slope_deg;
+    slope_was_on_ = set_.slope;
+    st_.slope_now = slope_now_;
+    apply_params();
+  }
+
+  // Turns the slope one increment; returns the largest number of steps before the next.
+  long turn_slope(double dt) {
+    if (!set_.slope || slope_now_ == set_.slope_deg) return std::numeric_limits<long>::max();
+    constexpr double kSlopeRate = 300;      // [deg per simulated second]
+    constexpr double kMaxIncrement = 0.05;  // [deg] per plane update
+    const long chunk = std::max(1L, long(kMaxIncrement / (kSlopeRate * dt)));
+    const float delta = float(kSlopeRate * dt * double(chunk));
+    const float diff = set_.slope_deg - slope_now_;
+    slope_now_ = std::fabs(diff) <= delta ? set_.slope_deg : slope_now_ + (diff > 0 ? delta : -delta);
+    st_.slope_now = slope_now_;
+    apply_params();
+    return chunk;
+  }
+
+  void apply_params() {
+    PhysicsParams p = sim_->params();
+    p.E = set_.E;
+    p.nu = std::min(set_.nu, 0.4999f);
+    p.alpha = set_.alpha;
+    p.contact_mode = set_.contact_mode;
+    p.mu = set_.mu;
+    p.planes = planes_from_settings();
+    const double dt_cr = sim_->time_step().min_Le / dilatational_wave_speed(p.E, p.nu, sim_->scene().rho);
+    p.dt = set_.lock_lambda ? set_.lambda * dt_cr : std::max(1e-3f, set_.dt_us) * 1e-6;
+    const double old_dt = sim_->params().dt;
+    try {
+      st_.warning = sim_->set_params(p);
+    } catch (const InputError& e) {
+      st_.warning = e.what();
+      return;
+    }
+    if (p.dt != old_dt && sim_->steps() + sim_->time() > 0) {
+      // du is the increment over one step: keep the velocity du/dt across the change.
+      sim_->solver().get_state(state_);
+      for (double& v : state_.du) v *= p.dt / old_dt;
+      sim_->solver().set_state(state_);
+    }
+    if (set_.lock_lambda) set_.dt_us = float(p.dt * 1e6);
+    dirty_ = true;
+  }
+
+  void apply(PanelActions& a) {
+    if (a.planes) request_planes();
+    if (a.params || a.planes) {
+      apply_params();
+      if (set_.contact_mode != logged_mode_) {
+        log("contact mode %s", contact_mode_name(set_.contact_mode));
+        logged_mode_ = set_.contact_mode;
+      }
+      if (a.planes) log("planes: floor %s, slope %s at %.1f deg", set_.floor ? "on" : "off", set_.slope ? "on" : "off", set_.slope_deg);
+    }
+    if (a.reset) {
+      sim_->reset();
+      drag_.release();
+      sim_->solver().set_external_forces({});
+      on_reset();
+      log("drop again");
+    }
+    if (a.rebuild) start_rebuild();
+  }
+
+  void handle_keys(PanelActions& a) {
+    const ImGuiIO& io = ImGui::GetIO();
+    std::vector<KeyPress> keys;
+    keys.swap(keys_);
+    if (io.WantCaptureKeyboard) return;  // typing into the panel
+    for (const KeyPress& k : keys) {
+      if (k.repeat && k.key != GLFW_KEY_LEFT_BRACKET && k.key != GLFW_KEY_RIGHT_BRACKET) continue;
+      switch (k.key) {
+        case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(win_, 1); break;
+        case GLFW_KEY_SPACE:
+          set_.paused = !set_.paused;
+          log(set_.paused ? "paused" : "running");
+          break;
+        case GLFW_KEY_N: a.step = true; break;
+        case GLFW_KEY_R: a.reset = true; break;
+        case GLFW_KEY_F:
+          set_.contact_mode = (set_.contact_mode + 1) % 3;
+          a.params = true;
+          break;
+        case GLFW_KEY_C:
+          set_.style.color = ColorMode((int(set_.style.color) + 1) % 3);
+          log("colour map %s", color_mode_name(set_.style.color));
+          break;
+        case GLFW_KEY_S:
+          set_.slope = !set_.slope;
+          a.planes = true;
+          break;
+        case GLFW_KEY_LEFT_BRACKET:
+        case GLFW_KEY_RIGHT_BRACKET:
+          set_.slope_deg = std::clamp(set_.slope_deg + (k.key == GLFW_KEY_RIGHT_BRACKET ? 5.f : -5.f), -60.f, 60.f);
+          set_.slope = true;
+          a.planes = true;
+          break;
+        case GLFW_KEY_P: a.screenshot = true; break;
+        case GLFW_KEY_TAB: set_.show_panel = !set_.show_panel; break;
+        default: break;
+      }
+    }
+  }
+
+  void handle_mouse(int w, int h) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float mx = io.MousePos.x, my = io.MousePos.y;
+    if (!io.WantCaptureMouse) {
+      if (ImGui::IsMouseClicked(0)) {
+        mouse_ = try_grab(mx, my, w, h) ? Mouse::kPull : Mouse::kOrbit;
+      } else if (ImGui::IsMouseClicked(1) || ImGui::IsMouseClicked(2)) {
+        mouse_ = Mouse::kPan;
+      }
+      if (io.MouseWheel != 0.f) camera_zoom(cam_, io.MouseWheel);
+    }
+    const bool left = ImGui::IsMouseDown(0), other = ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
+    if (mouse_ == Mouse::kOrbit && left) camera_orbit(cam_, io.MouseDelta.x, io.MouseDelta.y);
+    if (mouse_ == Mouse::kPan && other) camera_pan(cam_, io.MouseDelta.x, io.MouseDelta.y, h);
+    if (mouse_ == Mouse::kPull && left) {
+      Vec3 o, d;
+      cam_.ray(mx, my, w, h, o, d);
+      const float den = dot(d, drag_.plane_normal);
+      if (std::fabs(den) > 1e-6f) {
+        const float t = dot(drag_plane_point_ - o, drag_.plane_normal) / den;
+        if (t > 0) drag_.target = o + d * t;
+      }
+    }
+    if ((mouse_ == Mouse::kOrbit || mouse_ == Mouse::kPull) && !left) {
+      if (mouse_ == Mouse::kPull) {
+        drag_.release();
+        sim_->solver().set_external_forces({});
+        log("released");
+      }
+      mouse_ = Mouse::kNone;
+    }
+    if (mouse_ == Mouse::kPan && !other) mouse_ = Mouse::kNone;
+  }
+
+  bool try_grab(float mx, float my, int w, int h) {
+    Vec3 o, d;
+    cam_.ray(mx, my, w, h, o, d);
+    sim_->solver().get_state(state_);
+    node_positions(sim_->mesh(), state_, topo_.node, pos_);
+    const PickHit hit = pick_surface(o, d, pos_, topo_.tri);
+    if (!hit.hit) return false;
+    const int tri_nodes[3] = {topo_.node[topo_.tri[3 * hit.tri]], topo_.node[topo_.tri[3 * hit.tri + 1]],
+                              topo_.node[topo_.tri[3 * hit.tri + 2]]};
+    drag_.stiffness = set_.drag_stiffness;
+    drag_.max_force = 0.1f;
+    drag_.grab(sim_->mesh(), state_, sim_->solver().lumped_mass(), topo_.node, tri_nodes, hit.point,
+               set_.drag_radius_mm * 1e-3f, cam_.target - cam_.eye());
+    drag_plane_point_ = hit.point;
+    // The plot follows the picked node (the heaviest-weighted grabbed node).
+    const auto best = std::max_element(drag_.weight.begin(), drag_.weight.end()) - drag_.weight.begin();
+    st_.plot.node = drag_.nodes[best];
+    st_.plot.label = "node " + std::to_string(st_.plot.node) + " (picked)";
+    st_.plot.clear();
+    log("picked node %d at (%.2f, %.2f, %.2f) mm, %zu nodes grabbed", st_.plot.node, hit.point.x * 1e3, hit.point.y * 1e3,
+        hit.point.z * 1e3, drag_.nodes.size());
+    return true;
+  }
+
+  // Steps the simulation for this frame; returns the number of steps taken.
+  long advance(double wall_dt, bool single) {
+    const double dt = sim_->params().dt;
+    long steps = 0;
+    if (single) {
+      steps = set_.substeps;
+    } else if (set_.paused) {
+      return 0;
+    } else if (set_.fixed_substeps) {
+      steps = set_.substeps;
+    } else {
+      budget_ += std::min(wall_dt, 0.1) * set_.time_scale;
+      const long want = long(budget_ / dt);
+      const long cap = std::max(1L, long(set_.max_step_ms * 1e-3 / std::max(cost_per_step_, 1e-8)));
+      steps = std::min(want, cap);
+      budget_ = want > cap ? 0 : budget_ - steps * dt;
+    }
+    long done = 0;
+    while (done < steps) {
+      long chunk = std::min(steps - done, turn_slope(dt));
+      if (drag_.active) {
+        chunk = std::min(chunk, std::max(1L, long(drag_.max_hold_time() / dt)));
+        sim_->solver().get_state(state_);
+        drag_.forces(sim_->mesh(), state_, dt, force_);
+        sim_->solver().set_external_forces(force_);
+      }
+      const auto t0 = Clock::now();
+      sim_->step(chunk);
+      const double c = since(t0) / double(chunk);
+      cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
+      done += chunk;
+    }
+    st_.ms_per_step = cost_per_step_ * 1e3;
+    return steps;
+  }
+
+  void update_stats(bool advanced) {
+    dirty_ = false;
+    st_.diag = sim_->diagnostics();
+    st_.sim_time = sim_->time();
+    st_.ts = sim_->time_step();
+    if (!std::isfinite(st_.diag.ke) && !set_.paused) {
+      set_.paused = true;
+      st_.warning = "simulation diverged (NaN): paused; lower lambda or dt, then Drop again";
+      log("diverged at t = %.4f s: paused", st_.sim_time);
+    }
+    umax_seen_ = std::max(umax_seen_, float(st_.diag.max_u));
+    set_.style.umax = set_.auto_umax ? std::max(umax_seen_, 1e-4f) : set_.umax_mm * 1e-3f;
+    if (advanced || st_.plot.t.empty()) {
+      sim_->solver().get_state(state_);
+      const int n = sim_->mesh().nnode(), i = st_.plot.node;
+      st_.plot.push(float(st_.sim_time), float(state_.u[i] * 1e3), float(state_.u[n + i] * 1e3), float(state_.u[2 * n + i] * 1e3));
+    }
+  }
+
+  void start_rebuild() {
+    if (rebuild_.valid()) return;
+    Scene s = sim_->scene();
+    s.rho = set_.rho;
+    s.segments = {set_.segments[0], set_.segments[1]};
+    s.divisions = {set_.divisions[0], set_.divisions[1], set_.divisions[2]};
+    const double mm_per_unit = s.length_unit * 1e3;
+    s.tetgen.max_volume = set_.max_volume_mm3 / (mm_per_unit * mm_per_unit * mm_per_unit);
+    s.E = set_.E;
+    s.nu = set_.nu;
+    s.alpha = set_.alpha;
+    s.contact_mode = contact_mode_name(set_.contact_mode);
+    s.mu = set_.mu;
+    s.floor = set_.floor;
+    s.slope = set_.slope;
+    s.slope_angle_deg = set_.slope_deg;
+    const std::string backend = opt_.backend;
+    rebuild_t0_ = Clock::now();
+    st_.rebuild_error.clear();
+    st_.rebuilding = true;
+    log("re-meshing: segments %dx%d, rho %.0f", s.segments[0], s.segments[1], s.rho);
+    rebuild_ = std::async(std::launch::async, [s, backend] { return std::make_unique<Simulation>(s, backend); });
+  }
+
+  void poll_rebuild() {
+    if (!rebuild_.valid()) return;
+    st_.rebuild_elapsed = since(rebuild_t0_);
+    if (rebuild_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    st_.rebuilding = false;
+    try {
+      auto next = rebuild_.get();
+      sim_ = std::move(next);
+      attach_simulation();
+      log("re-meshed in %.2f s: %d nodes, %d tets, dt_cr %.3f us", st_.rebuild_elapsed, sim_->mesh().nnode(), sim_->mesh().ntet(),
+          sim_->time_step().dt_cr * 1e6);
+    } catch (const std::exception& e) {
+      st_.rebuild_error = e.what();
+      log("re-mesh failed: %s", e.what());
+    }
+  }
+
+  void screenshot(int w, int h) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    const Image im = read_framebuffer(w, h);
+    std::error_code ec;
+    std::filesystem::create_directories(opt_.screenshot_dir, ec);
+    char name[64];
+    std::snprintf(name, sizeof name, "softtled_view_%03d.png", screenshot_count_++);
+    const std::string path = (std::filesystem::path(opt_.screenshot_dir) / name).string();
+    try {
+      write_png(path, im);
+      st_.screenshot = path;
+      log("screenshot %s", path.c_str());
+    } catch (const std::exception& e) {
+      st_.screenshot = e.what();
+    }
+  }
+
+  enum class Mouse { kNone, kOrbit, kPan, kPull };
+  struct KeyPress {
+    int key;
+    bool repeat;
+  };
+
+  ViewerOptions opt_;
+  Scene scene_;
+  std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<GlContext> ctx_;
+  GLFWwindow* win_ = nullptr;
+  std::unique_ptr<SceneRenderer> renderer_;
+  std::unique_ptr<BodyVertexBuffer> body_;
+  SurfaceTopology topo_;
+  Camera cam_;
+  float plane_half_ = 0.05f;
+  ViewerSettings set_;
+  ViewerStats st_;
+  DragSpring drag_;
+  Vec3 drag_plane_point_;
+  Mouse mouse_ = Mouse::kNone;
+  HostState state_;
+  std::vector<float> pos_;
+  std::vector<double> force_;
+  std::future<std::unique_ptr<Simulation>> rebuild_;
+  Clock::time_point rebuild_t0_;
+  double budget_ = 0, cost_per_step_ = 0;
+  float umax_seen_ = 0;
+  bool dirty_ = true;
+  float slope_now_ = 0;       // slope angle the simulation uses [deg]
+  bool slope_was_on_ = false;
+  int logged_mode_ = -1;
+  int screenshot_count_ = 0;
+  std::vector<KeyPress> keys_;  // filled by the GLFW key callback between frames
+};
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& o) {
+  Viewer v(o);
+  return v.run();
+}
+
+}  // namespace softtled

@@ -1,0 +1,188 @@
+#include "viewer_panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "sim/plane_contact.h"
+
+namespace softtled {
+
+const char* contact_mode_name(int mode) {
+  return mode == kStatic ? "static" : mode == kCoulomb ? "coulomb" : "sliding";
+}
+
+const char* color_mode_name(ColorMode c) {
+  return c == ColorMode::kDisplacement ? "displacement" : c == ColorMode::kContact ? "contact" : "shaded";
+}
+
+namespace {
+void plot_component(const char* name, const std::vector<float>& v, ImU32 color) {
+  if (v.empty()) return;
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  float a = *lo, b = *hi;
+  if (b - a < 0.02f) a -= 0.01f, b += 0.01f;
+  char overlay[64], id[16];
+  std::snprintf(overlay, sizeof overlay, "%s %+.3f mm", name, v.back());
+  std::snprintf(id, sizeof id, "##u%s", name);
+  ImGui::PushStyleColor(ImGuiCol_PlotLines, color);
+  ImGui::PlotLines(id, v.data(), int(v.size()), 0, overlay, a, b, ImVec2(ImGui::GetContentRegionAvail().x, 52));
+  ImGui::PopStyleColor();
+}
+}  // namespace
+
+void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int window_h) {
+  if (!s.show_panel) return;
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(360, float(std::max(200, window_h - 16))), ImGuiCond_Always);
+  ImGui::Begin("SoftTLED", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushItemWidth(190);
+
+  // ---- run control and performance
+  if (ImGui::Button(s.paused ? "Run  (space)" : "Pause (space)")) s.paused = !s.paused;
+  ImGui::SameLine();
+  if (ImGui::Button("Step (N)")) a.step = true;
+  ImGui::SameLine();
+  if (ImGui::Button("Drop again (R)")) a.reset = true;
+  ImGui::Text("t = %.4f s   %s", st.sim_time, s.paused ? "[paused]" : "");
+  ImGui::Text("%.0f fps   %.0f steps/s   %.2f ms/step", st.fps, st.steps_per_s, st.ms_per_step);
+  ImGui::Text("real-time factor %.3f", st.rtf);
+  ImGui::TextDisabled("%s (%s), vertices via %s", st.backend.c_str(), st.precision.c_str(), st.vertex_path.c_str());
+  ImGui::TextDisabled("%d nodes, %d tets, %d surface tris", st.nnode, st.ntet, st.ntri);
+
+  if (ImGui::CollapsingHeader("Time step", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Text("dt = %.3f us   dt_cr = Le/c = %.3f us", st.ts.dt * 1e6, st.ts.dt_cr * 1e6);
+    if (ImGui::Checkbox("dt = lambda x dt_cr", &s.lock_lambda)) a.params = true;
+    if (s.lock_lambda) {
+      if (ImGui::SliderFloat("lambda", &s.lambda, 0.05f, 1.5f, "%.2f")) a.params = true;
+    } else {
+      if (ImGui::InputFloat("dt [us]", &s.dt_us, 0.1f, 1.0f, "%.3f", ImGuiInputTextFlags_EnterReturnsTrue)) a.params = true;
+    }
+    if (!st.warning.empty()) ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "%s", st.warning.c_str());
+    int mode = s.fixed_substeps ? 1 : 0;
+    if (ImGui::RadioButton("follow wall time", &mode, 0)) s.fixed_substeps = false;
+    ImGui::SameLine();
+    if (ImGui::RadioButton("fixed substeps", &mode, 1)) s.fixed_substeps = true;
+    if (s.fixed_substeps) {
+      ImGui::SliderInt("steps / frame", &s.substeps, 1, 5000, "%d", ImGuiSliderFlags_Logarithmic);
+    } else {
+      ImGui::SliderFloat("time scale", &s.time_scale, 0.001f, 2.0f, "%.3f", ImGuiSliderFlags_Logarithmic);
+      ImGui::SliderFloat("budget [ms]", &s.max_step_ms, 2.0f, 100.0f, "%.0f");
+    }
+    ImGui::TextDisabled("%ld steps this frame", st.steps_last_frame);
+  }
+
+  if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (ImGui::SliderFloat("E [Pa]", &s.E, 300.f, 300000.f, "%.0f", ImGuiSliderFlags_Logarithmic)) a.params = true;
+    if (ImGui::SliderFloat("nu", &s.nu, 0.0f, 0.499f, "%.3f")) a.params = true;
+    if (ImGui::SliderFloat("alpha [1/s]", &s.alpha, 0.0f, 200.f, "%.1f")) a.params = true;
+    ImGui::SliderFloat("rho [kg/m3]", &s.rho, 100.f, 5000.f, "%.0f", ImGuiSliderFlags_Logarithmic);
+    ImGui::SameLine();
+    ImGui::TextDisabled("(rebuild)");
+  }
+
+  if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (int m = 0; m < 3; ++m) {
+      if (m) ImGui::SameLine();
+      if (ImGui::RadioButton(contact_mode_name(m), &s.contact_mode, m)) a.params = true;
+    }
+    ImGui::TextDisabled("F cycles the mode");
+    if (s.contact_mode == kCoulomb && ImGui::SliderFloat("mu", &s.mu, 0.0f, 2.0f, "%.2f")) a.params = true;
+    if (ImGui::Checkbox("floor", &s.floor)) a.planes = true;
+    ImGui::SameLine();
+    if (ImGui::Checkbox("slope", &s.slope)) a.planes = true;
+    if (ImGui::SliderFloat("slope [deg]", &s.slope_deg, -60.f, 60.f, "%.1f")) a.planes = true;
+    if (s.slope && st.slope_now != s.slope_deg)
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "slope turning: %.1f deg", st.slope_now);
+    else
+      ImGui::TextDisabled("[ and ] turn the slope by 5 deg");
+    ImGui::Text("contacts %d: %d sticking, %d sliding", st.diag.n_contact, st.diag.n_stick, st.diag.n_contact - st.diag.n_stick);
+  }
+
+  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int c = int(s.style.color);
+    ImGui::RadioButton("shaded", &c, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("|u|", &c, 1);
+    ImGui::SameLine();
+    ImGui::RadioButton("contact", &c, 2);
+    s.style.color = ColorMode(c);
+    if (s.style.color == ColorMode::kDisplacement) {
+      ImGui::Checkbox("auto range", &s.auto_umax);
+      if (!s.auto_umax) ImGui::SliderFloat("|u| max [mm]", &s.umax_mm, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
+      ImGui::TextDisabled("0 .. %.2f mm (turbo)", s.style.umax * 1e3);
+    } else if (s.style.color == ColorMode::kContact) {
+      ImGui::TextColored(ImVec4(0.40f, 0.58f, 0.90f, 1), "free");
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(0.15f, 0.78f, 0.30f, 1), "sticking");
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(0.93f, 0.22f, 0.18f, 1), "sliding");
+    }
+    ImGui::Checkbox("shadows", &s.style.shadows);
+    ImGui::SameLine();
+    ImGui::Checkbox("grid", &s.style.grid);
+    ImGui::SameLine();
+    ImGui::Checkbox("edges", &s.style.edges);
+    if (ImGui::Button("Screenshot (P)")) a.screenshot = true;
+    if (!st.screenshot.empty()) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("%s", st.screenshot.c_str());
+    }
+  }
+
+  if (ImGui::CollapsingHeader("Energy", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const Diagnostics& d = st.diag;
+    const double dpe = d.pe - st.pe0;
+    ImGui::Text("kinetic %9.3f uJ   strain %9.3f uJ", d.ke * 1e6, d.se * 1e6);
+    ImGui::Text("gravity %+9.3f uJ   total  %+9.3f uJ", dpe * 1e6, (d.ke + d.se + dpe) * 1e6);
+    ImGui::Text("max |u| %.3f mm   min gap %.3f mm", d.max_u * 1e3, d.min_gap < 1e30 ? d.min_gap * 1e3 : 0.0);
+  }
+
+  if (ImGui::CollapsingHeader("Node displacement", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::TextDisabled("%s (click the body to choose)", st.plot.label.c_str());
+    plot_component("x", st.plot.x, IM_COL32(235, 90, 80, 255));
+    plot_component("y", st.plot.y, IM_COL32(90, 200, 100, 255));
+    plot_component("z", st.plot.z, IM_COL32(100, 150, 255, 255));
+    if (!st.plot.t.empty()) ImGui::TextDisabled("%.4f .. %.4f s", st.plot.t.front(), st.plot.t.back());
+  }
+
+  if (ImGui::CollapsingHeader("Mesh")) {
+    if (st.shape == "torus") {
+      ImGui::SliderInt2("segments", s.segments, 8, 181);
+      if (ImGui::SmallButton("coarse")) s.segments[0] = 45, s.segments[1] = 9;
+      ImGui::SameLine();
+      if (ImGui::SmallButton("medium")) s.segments[0] = 61, s.segments[1] = 13;
+      ImGui::SameLine();
+      if (ImGui::SmallButton("paper 91x19")) s.segments[0] = 91, s.segments[1] = 19;
+      ImGui::SameLine();
+      if (ImGui::SmallButton("fine")) s.segments[0] = 121, s.segments[1] = 25;
+    } else if (st.shape == "box") {
+      ImGui::SliderInt3("divisions", s.divisions, 1, 32);
+    }
+    ImGui::SliderFloat("max tet vol [mm3]", &s.max_volume_mm3, 0.0f, 10.f, s.max_volume_mm3 > 0 ? "%.3f" : "none");
+    if (st.rebuilding) {
+      static const char spin[] = "|/-\\";
+      ImGui::Text("re-meshing with TetGen %c  %.1f s", spin[int(st.rebuild_elapsed * 8) % 4], st.rebuild_elapsed);
+    } else if (ImGui::Button("Re-mesh / apply rho")) {
+      a.rebuild = true;
+    }
+    if (!st.rebuild_error.empty()) ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "%s", st.rebuild_error.c_str());
+  }
+
+  if (ImGui::CollapsingHeader("Drag")) {
+    ImGui::SliderFloat("stiffness [N/m]", &s.drag_stiffness, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderFloat("radius [mm]", &s.drag_radius_mm, 0.2f, 8.f, "%.1f");
+  }
+
+  if (ImGui::CollapsingHeader("Help")) {
+    ImGui::TextWrapped(
+        "Left drag on the body: pull it with a spring. Left drag elsewhere: orbit. Right or middle drag: pan. "
+        "Wheel: zoom.\nKeys: space pause, N step, R drop again, F friction mode, C colour map, S slope on/off, "
+        "[ ] slope angle, P screenshot, Tab panel, Esc quit.");
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+}
+
+}  // namespace softtled

@@ -1,0 +1,115 @@
+#include "viewer_picking.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softtled {
+
+bool ray_triangle(Vec3 o, Vec3 d, Vec3 a, Vec3 b, Vec3 c, float& t) {
+  const Vec3 e1 = b - a, e2 = c - a, p = cross(d, e2);
+  const float det = dot(e1, p);
+  if (std::fabs(det) < 1e-20f) return false;
+  const float inv = 1.f / det;
+  const Vec3 s = o - a;
+  const float u = dot(s, p) * inv;
+  if (u < 0.f || u > 1.f) return false;
+  const Vec3 q = cross(s, e1);
+  const float v = dot(d, q) * inv;
+  if (v < 0.f || u + v > 1.f) return false;
+  t = dot(e2, q) * inv;
+  return t > 0.f;
+}
+
+PickHit pick_surface(Vec3 o, Vec3 d, const std::vector<float>& pos, const std::vector<int>& tri) {
+  PickHit h;
+  auto P = [&](int v) { return Vec3{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]}; };
+  for (std::size_t j = 0; j + 2 < tri.size(); j += 3) {
+    float t;
+    if (ray_triangle(o, d, P(tri[j]), P(tri[j + 1]), P(tri[j + 2]), t) && (!h.hit || t < h.t)) {
+      h.hit = true;
+      h.t = t;
+      h.tri = int(j / 3);
+    }
+  }
+  if (h.hit) h.point = o + d * h.t;
+  return h;
+}
+
+void node_positions(const TetMesh& m, const HostState& s, const std::vector<int>& nodes, std::vector<float>& out) {
+  const int n = m.nnode();
+  out.resize(3 * nodes.size());
+  for (std::size_t j = 0; j < nodes.size(); ++j)
+    for (int k = 0; k < 3; ++k) out[3 * j + k] = float(m.X[3 * nodes[j] + k] + s.u[k * n + nodes[j]]);
+}
+
+namespace {
+Vec3 position(const TetMesh& m, const HostState& s, int i) {
+  const int n = m.nnode();
+  return {float(m.X[3 * i] + s.u[i]), float(m.X[3 * i + 1] + s.u[n + i]), float(m.X[3 * i + 2] + s.u[2 * n + i])};
+}
+}  // namespace
+
+void DragSpring::grab(const TetMesh& m, const HostState& s, const std::vector<double>& mass,
+                      const std::vector<int>& surface_nodes, const int tri_nodes[3], Vec3 point, float radius, Vec3 view_dir) {
+  nodes.clear();
+  weight.clear();
+  offset.clear();
+  for (int i : surface_nodes) {
+    const float r = length(position(m, s, i) - point);
+    if (r < radius) {
+      nodes.push_back(i);
+      const float q = r / radius;
+      weight.push_back((1 - q * q) * (1 - q * q));
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+    if (std::find(nodes.begin(), nodes.end(), tri_nodes[k]) == nodes.end()) {
+      nodes.push_back(tri_nodes[k]);
+      weight.push_back(0.5f);
+    }
+  float wsum = 0;
+  for (float w : weight) wsum += w;
+  grabbed_mass = 0;
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    weight[j] /= wsum;
+    offset.push_back(position(m, s, nodes[j]) - point);
+    grabbed_mass += float(mass[nodes[j]]);
+  }
+  target = point;
+  plane_normal = normalize(view_dir);
+  active = true;
+}
+
+Vec3 DragSpring::grab_point(const TetMesh& m, const HostState& s) const {
+  Vec3 p;
+  for (std::size_t j = 0; j < nodes.size(); ++j) p = p + (position(m, s, nodes[j]) - offset[j]) * weight[j];
+  return p;
+}
+
+void DragSpring::forces(const TetMesh& m, const HostState& s, double dt, std::vector<double>& f) const {
+  const int n = m.nnode();
+  f.assign(3 * std::size_t(n), 0.0);
+  if (!active) return;
+  const double c = std::sqrt(double(stiffness) * std::max(grabbed_mass, 1e-12f));  // half of critical: 2 sqrt(k m) / 2
+  // Cap the total pull (the spring stretched far off-screen must not fling the body).
+  const Vec3 stretch = target - grab_point(m, s);
+  const float pull = stiffness * length(stretch);
+  const float scale = pull > max_force ? max_force / pull : 1.f;
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const int i = nodes[j];
+    const Vec3 x = position(m, s, i);
+    const Vec3 e = target + offset[j] - x;
+    for (int k = 0; k < 3; ++k) {
+      const double v = s.du[k * n + i] / dt;
+      f[k * n + i] = weight[j] * (scale * stiffness * e[k] - c * v);
+    }
+  }
+}
+
+double DragSpring::max_hold_time() const {
+  const double w = std::sqrt(double(stiffness) / std::max(double(grabbed_mass), 1e-12));
+  return std::min(5e-4, 0.3 / w);
+}
+
+}  // namespace softtled
+

@@ -1,0 +1,79 @@
+#include "render/body_buffer.h"
+
+#include <stdexcept>
+
+#include "render/cuda_gl_buffer.h"
+#include "sim/surface_render.h"
+
+namespace softtled {
+
+#ifndef SOFTTLED_RENDER_CUDA_INTEROP
+// Without CUDA the interop object is never created, but unique_ptr still needs its destructor.
+CudaGlBuffer::~CudaGlBuffer() = default;
+#endif
+
+BodyVertexBuffer::BodyVertexBuffer(const SurfaceTopology& topo)
+    : nvert_(int(topo.node.size())), nindex_(int(topo.tri.size())) {
+  glGenVertexArrays(1, &vao_);
+  glBindVertexArray(vao_);
+  glGenBuffers(1, &vbo_);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sizeof(float)) * kRenderFloatsPerVertex * nvert_, nullptr, GL_DYNAMIC_DRAW);
+  const GLsizei stride = sizeof(float) * kRenderFloatsPerVertex;
+  glEnableVertexAttribArray(0);  // position [m]
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
+  glEnableVertexAttribArray(1);  // normal
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);  // |u| [m]
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(6 * sizeof(float)));
+  glEnableVertexAttribArray(3);  // contact state 0 free / 1 stick / 2 slide
+  glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(7 * sizeof(float)));
+  glGenBuffers(1, &ibo_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(sizeof(int)) * nindex_, topo.tri.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  check_gl("creating the body vertex buffer");
+}
+
+BodyVertexBuffer::~BodyVertexBuffer() {
+  cuda_.reset();  // unregister before the GL buffer goes
+  glDeleteBuffers(1, &ibo_);
+  glDeleteBuffers(1, &vbo_);
+  glDeleteVertexArrays(1, &vao_);
+}
+
+void BodyVertexBuffer::update(Solver& solver) {
+  const std::size_t nfloat = std::size_t(kRenderFloatsPerVertex) * nvert_;
+  if (solver.render_buffer_on_device()) {
+#ifdef SOFTTLED_RENDER_CUDA_INTEROP
+    if (!cuda_) cuda_ = std::make_unique<CudaGlBuffer>(vbo_, nfloat * sizeof(float));
+    float* dst = cuda_->map();
+    solver.write_render_vertices(dst);
+    cuda_->unmap();
+    if (cuda_->interop()) {
+      path_ = "interop";
+      return;
+    }
+    host_.resize(nfloat);
+    cuda_->download(host_.data());
+    path_ = "staging";
+#else
+    throw std::runtime_error("the solver writes render vertices on the device, but this build has no CUDA-GL interop");
+#endif
+  } else {
+    host_.resize(nfloat);
+    solver.write_render_vertices(host_.data());
+    path_ = "host";
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(nfloat * sizeof(float)), host_.data());
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void BodyVertexBuffer::draw() const {
+  glBindVertexArray(vao_);
+  glDrawElements(GL_TRIANGLES, nindex_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+}
+
+}  // namespace softtled

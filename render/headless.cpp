@@ -1,0 +1,121 @@
+#include "render/headless.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "render/offscreen_target.h"
+#include "sim/surface_topology.h"
+
+namespace softtled {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void rest_bounds(const Simulation& sim, Vec3& lo, Vec3& hi) {
+  const auto& X = sim.mesh().X;
+  const float inf = std::numeric_limits<float>::infinity();
+  lo = {inf, inf, inf};
+  hi = {-inf, -inf, -inf};
+  for (std::size_t i = 0; i < X.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], float(X[i + k]));
+      hi[k] = std::max(hi[k], float(X[i + k]));
+    }
+}
+}  // namespace
+
+Camera default_camera(const Simulation& sim) {
+  Vec3 lo, hi;
+  rest_bounds(sim, lo, hi);
+  const Vec3 c = (lo + hi) * 0.5f;
+  const float r = 0.5f * length(hi - lo);
+  Camera cam;
+  cam.azimuth_deg = 30;
+  cam.elevation_deg = 18;
+  cam.frame(c - Vec3{0, 0.15f * r, 0}, r, 0.8f);
+  return cam;
+}
+
+float default_plane_half(const Simulation& sim) {
+  Vec3 lo, hi;
+  rest_bounds(sim, lo, hi);
+  return 2.5f * length(hi - lo);
+}
+
+std::string frame_file_name(const std::string& stem, double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "_t%.4f.png", t);
+  return stem + buf;
+}
+
+std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info,
+                                           const std::function<void(const HeadlessFrame&)>& on_frame) {
+  ContextOptions co = o.context;
+  co.width = o.width;
+  co.height = o.height;
+  co.visible = false;
+  auto ctx = make_gl_context(co);
+  if (info) {
+    info->renderer = gl_renderer_string();
+    info->platform = ctx->platform();
+  }
+  {
+    // GL objects live in this scope so they go before the context does.
+    SceneRenderer renderer;
+    BodyVertexBuffer body(build_surface_topology(sim.mesh()));
+    OffscreenTarget target(o.width, o.height, o.samples);
+    if (info) info->samples = target.samples();
+    Camera cam = default_camera(sim);
+    cam.azimuth_deg = o.azimuth_deg;
+    cam.elevation_deg = o.elevation_deg;
+    cam.distance /= std::max(o.zoom, 1e-3f);
+    const float plane_half = default_plane_half(sim);
+    RenderStyle style = o.style;
+    float umax = 0;
+
+    std::vector<HeadlessFrame> frames;
+    for (double t : o.times) {
+      HeadlessFrame f;
+      f.t = t;
+      const double dt = sim.params().dt;
+      const long n = std::max(0L, std::lround((t - sim.time()) / dt));
+      auto t0 = Clock::now();
+      sim.step(n);
+      f.steps = n;
+      f.sim_s = seconds_since(t0);
+      const Diagnostics d = sim.diagnostics();
+      if (!std::isfinite(d.ke)) throw std::runtime_error("simulation diverged before t = " + std::to_string(t) + " s (NaN)");
+      umax = std::max(umax, float(d.max_u));
+      if (o.auto_umax) style.umax = std::max(umax, 1e-4f);
+
+      t0 = Clock::now();
+      body.update(sim.solver());
+      f.upload_s = seconds_since(t0);
+      if (info) info->vertex_path = body.path();
+
+      t0 = Clock::now();
+      target.bind();
+      const Vec3 focus{float(d.centroid[0]), float(d.centroid[1]), float(d.centroid[2])};
+      renderer.draw(cam, o.width, o.height, body, sim.params().planes, focus, plane_half, style);
+      f.image = target.read();
+      f.draw_s = seconds_since(t0);
+
+      if (!o.out_dir.empty()) {
+        t0 = Clock::now();
+        f.path = o.out_dir + "/" + frame_file_name(o.stem, t);
+        write_png(f.path, f.image);
+        f.png_s = seconds_since(t0);
+      }
+      if (on_frame) on_frame(f);
+      frames.push_back(std::move(f));
+    }
+    return frames;
+  }
+}
+
+}  // namespace softtled

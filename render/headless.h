@@ -1,0 +1,61 @@
+#pragma once
+// Offscreen frames of a running Simulation: `softtled render` and the screenshot
+// regression share this. Steps the simulation to each requested time, writes the render
+// vertices into the GL buffer (interop on CUDA), draws with SceneRenderer into an
+// OffscreenTarget and writes one PNG per time.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "render/scene_renderer.h"
+#include "sim/simulation.h"
+
+namespace softtled {
+
+// Camera that frames the body's rest shape and the floor below it, seen slightly from above.
+Camera default_camera(const Simulation& sim);
+// Half side of the drawn planes [m]: a few body sizes.
+float default_plane_half(const Simulation& sim);
+
+struct HeadlessOptions {
+  std::vector<double> times;      // [s], ascending; each must be >= the simulation's time
+  int width = 960, height = 720;
+  int samples = 4;                // MSAA
+  std::string out_dir;            // empty: keep images in memory only
+  std::string stem = "frame";     // files are <out_dir>/<stem>_t<time>.png
+  RenderStyle style;
+  bool auto_umax = true;          // displacement colour range from the largest |u| so far
+  float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // camera relative to default_camera
+  ContextOptions context;         // backend "egl" (default) or "glfw" (hidden window)
+};
+
+struct HeadlessFrame {
+  double t = 0;
+  long steps = 0;                 // steps taken to reach t
+  std::string path;               // PNG written ("" when out_dir is empty)
+  Image image;
+  double sim_s = 0;               // wall time of the steps [s]
+  double upload_s = 0;            // render-vertex hand-off [s]
+  double draw_s = 0;              // draw + resolve + read back [s]
+  double png_s = 0;               // PNG encoding [s]
+};
+
+struct HeadlessInfo {
+  std::string renderer;           // GL_RENDERER / GL_VERSION
+  std::string platform;           // which EGL display
+  std::string vertex_path;        // "interop" | "staging" | "host"
+  int samples = 0;
+};
+
+// Throws std::runtime_error when no context can be made; on_frame sees each frame
+// as soon as it is written (the image is moved into the returned vector afterwards).
+std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info = nullptr,
+                                           const std::function<void(const HeadlessFrame&)>& on_frame = {});
+
+// "frame_t0.0200.png"
+std::string frame_file_name(const std::string& stem, double t);
+
+}  // namespace softtled

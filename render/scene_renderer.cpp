@@ -1,0 +1,185 @@
+#include "render/scene_renderer.h"
+
+#include <cmath>
+
+namespace softtled {
+
+namespace {
+// Unit tangents (t1, t2) with t1 x t2 = n; t1 follows +x where it can, so the slope's
+// grid turns with it.
+void plane_basis(Vec3 n, Vec3& t1, Vec3& t2) {
+  Vec3 ref = std::fabs(n.x) < 0.9f ? Vec3{1, 0, 0} : Vec3{0, 0, 1};
+  t1 = normalize(ref - n * dot(ref, n));
+  t2 = cross(n, t1);
+  t2 = t2 * -1.f;  // right-handed (t1, n, t2) like (x, y, z) for the floor
+}
+}  // namespace
+
+SceneRenderer::SceneRenderer()
+    : body_("body.vert", "body.frag"),
+      flat_("body.vert", "flat.frag"),
+      plane_("plane.vert", "plane.frag"),
+      background_("background.vert", "background.frag"),
+      line_flat_("line.vert", "flat.frag") {
+  const float quad[] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+  glGenVertexArrays(1, &quad_vao_);
+  glBindVertexArray(quad_vao_);
+  glGenBuffers(1, &quad_vbo_);
+  glBindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glGenVertexArrays(1, &empty_vao_);
+  glGenVertexArrays(1, &line_vao_);
+  glBindVertexArray(line_vao_);
+  glGenBuffers(1, &line_vbo_);
+  glBindBuffer(GL_ARRAY_BUFFER, line_vbo_);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glBindVertexArray(0);
+  check_gl("creating the scene renderer");
+}
+
+SceneRenderer::~SceneRenderer() {
+  glDeleteBuffers(1, &quad_vbo_);
+  glDeleteBuffers(1, &line_vbo_);
+  glDeleteVertexArrays(1, &quad_vao_);
+  glDeleteVertexArrays(1, &empty_vao_);
+  glDeleteVertexArrays(1, &line_vao_);
+}
+
+void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body,
+                         const std::vector<PlaneSpec>& planes, Vec3 focus, float plane_half, const RenderStyle& st,
+                         const std::vector<OverlayLine>& lines) {
+  glViewport(0, 0, w, h);
+  glClearColor(0.1f, 0.1f, 0.1f, 1.f);
+  glClearStencil(0);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glDisable(GL_STENCIL_TEST);
+
+  const Mat4 vp = cam.proj(float(w) / float(h > 0 ? h : 1)) * cam.view();
+  const Vec3 eye = cam.eye();
+  const Mat4 identity;
+
+  // Background: no depth.
+  glDisable(GL_DEPTH_TEST);
+  background_.use();
+  const float top[3] = {0.80f, 0.84f, 0.90f}, bottom[3] = {0.50f, 0.54f, 0.61f};
+  background_.set3("u_top", top);
+  background_.set3("u_bottom", bottom);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+
+  // Planes: each marks its visible pixels in the stencil with its index + 1.
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glEnable(GL_STENCIL_TEST);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  plane_.use();
+  plane_.set_mat4("u_view_proj", vp.data());
+  plane_.set3("u_key_dir", st.key_dir.data());
+  const float pc[3] = {0.86f, 0.86f, 0.84f}, lc[3] = {0.45f, 0.47f, 0.50f};
+  plane_.set3("u_color", pc);
+  plane_.set3("u_line_color", lc);
+  plane_.set("u_minor", st.grid_minor);
+  plane_.set("u_major", st.grid_major);
+  plane_.set("u_half", plane_half);
+  plane_.set("u_grid", st.grid ? 1 : 0);
+  glBindVertexArray(quad_vao_);
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const Vec3 n = normalize({float(planes[i].normal[0]), float(planes[i].normal[1]), float(planes[i].normal[2])});
+    const Vec3 p0{float(planes[i].point[0]), float(planes[i].point[1]), float(planes[i].point[2])};
+    Vec3 t1, t2;
+    plane_basis(n, t1, t2);
+    const Vec3 c = focus - n * dot(focus - p0, n);
+    const float origin[2] = {dot(p0 - c, t1), dot(p0 - c, t2)};
+    plane_.set3("u_center", c.data());
+    plane_.set3("u_t1", t1.data());
+    plane_.set3("u_t2", t2.data());
+    plane_.set3("u_normal", n.data());
+    glUniform2fv(plane_.loc("u_origin"), 1, origin);
+    glStencilFunc(GL_ALWAYS, int(i) + 1, 0xFF);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+  }
+
+  // Planar shadows: the body flattened onto each plane along the key light, drawn only
+  // where that plane is the visible surface; the stencil is zeroed as it is drawn, so
+  // overlapping triangles darken a pixel once.
+  if (st.shadows) {
+    flat_.use();
+    flat_.set_mat4("u_view_proj", vp.data());
+    flat_.set("u_color_mode", 0);
+    const float shadow[4] = {0.05f, 0.06f, 0.09f, 0.38f};
+    flat_.set4("u_color", shadow);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
+    glDepthMask(GL_FALSE);
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+      const Vec3 n = normalize({float(planes[i].normal[0]), float(planes[i].normal[1]), float(planes[i].normal[2])});
+      const Vec3 p0{float(planes[i].point[0]), float(planes[i].point[1]), float(planes[i].point[2])};
+      if (dot(n, st.key_dir) < 0.05f) continue;  // light grazing or behind the plane
+      // Lifted a hair above the plane so the shadow wins the depth test.
+      const Mat4 m = planar_shadow(n, dot(n, p0) + 2e-5f, st.key_dir);
+      flat_.set_mat4("u_model", m.data());
+      glStencilFunc(GL_EQUAL, int(i) + 1, 0xFF);
+      body.draw();
+    }
+    glDepthMask(GL_TRUE);
+  }
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+
+  // The body.
+  body_.use();
+  body_.set_mat4("u_view_proj", vp.data());
+  body_.set_mat4("u_model", identity.data());
+  body_.set("u_color_mode", int(st.color));
+  body_.set("u_umax", st.umax);
+  body_.set3("u_base_color", st.base_color.data());
+  body_.set3("u_eye", eye.data());
+  body_.set3("u_key_dir", st.key_dir.data());
+  body.draw();
+
+  if (st.edges) {
+    flat_.use();
+    flat_.set_mat4("u_model", identity.data());
+    const float ec[4] = {0.1f, 0.1f, 0.12f, 0.35f};
+    flat_.set4("u_color", ec);
+    glEnable(GL_BLEND);
+    glEnable(GL_POLYGON_OFFSET_LINE);
+    glPolygonOffset(-1.f, -1.f);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    body.draw();
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_POLYGON_OFFSET_LINE);
+    glDisable(GL_BLEND);
+  }
+
+  if (!lines.empty()) {
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    line_flat_.use();
+    line_flat_.set_mat4("u_view_proj", vp.data());
+    glBindVertexArray(line_vao_);
+    glBindBuffer(GL_ARRAY_BUFFER, line_vbo_);
+    for (const auto& l : lines) {
+      const float pts[6] = {l.a.x, l.a.y, l.a.z, l.b.x, l.b.y, l.b.z};
+      glBufferData(GL_ARRAY_BUFFER, sizeof pts, pts, GL_STREAM_DRAW);
+      const float c[4] = {l.color.x, l.color.y, l.color.z, 1.f};
+      line_flat_.set4("u_color", c);
+      glDrawArrays(GL_LINES, 0, 2);
+      glDrawArrays(GL_POINTS, 0, 2);
+    }
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glEnable(GL_DEPTH_TEST);
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace softtled

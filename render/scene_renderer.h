@@ -1,0 +1,49 @@
+#pragma once
+// Draws one frame: background gradient, contact planes with a grid, planar shadows of the
+// body on each plane (stencil-masked so they never darken twice), the lit body, and
+// optional overlay lines (the viewer's drag spring). Same code for window and offscreen.
+#include <vector>
+
+#include "render/body_buffer.h"
+#include "render/camera.h"
+#include "render/shader.h"
+#include "sim/solver.h"
+
+namespace softtled {
+
+enum class ColorMode : int { kShaded = 0, kDisplacement = 1, kContact = 2 };
+
+struct RenderStyle {
+  ColorMode color = ColorMode::kShaded;
+  float umax = 0.005f;            // |u| at the top of the displacement colour map [m]
+  bool shadows = true;
+  bool grid = true;
+  bool edges = false;             // mesh edges over the body
+  Vec3 base_color{0.92f, 0.48f, 0.33f};
+  Vec3 key_dir = normalize(Vec3{-0.35f, 1.0f, 0.55f});  // towards the key light
+  float grid_minor = 0.002f, grid_major = 0.01f;        // [m]
+};
+
+struct OverlayLine {
+  Vec3 a, b;
+  Vec3 color{1, 1, 1};
+};
+
+class SceneRenderer {
+ public:
+  SceneRenderer();  // needs a current GL 3.3 context; compiles the shaders
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // Draws into the currently bound framebuffer (viewport w x h). Planes are drawn as
+  // squares of half side `plane_half` [m] centred where `focus` projects onto them.
+  void draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body, const std::vector<PlaneSpec>& planes,
+            Vec3 focus, float plane_half, const RenderStyle& style, const std::vector<OverlayLine>& lines = {});
+
+ private:
+  ShaderProgram body_, flat_, plane_, background_, line_flat_;
+  GLuint quad_vao_ = 0, quad_vbo_ = 0, empty_vao_ = 0, line_vao_ = 0, line_vbo_ = 0;
+};
+
+}  // namespace softtled

@@ -1,0 +1,44 @@
+#pragma once
+// GLSL 330 core programs from shaders/*.vert|*.frag. The sources are embedded in the
+// binary at build time (embed_shaders.cmake); SOFTTLED_SHADER_DIR=<dir> reads them from
+// disk instead, so shaders can be edited without a rebuild.
+#include <string>
+
+#include "render/gl.h"
+
+namespace softtled {
+
+struct EmbeddedShader {
+  const char* name;    // file name, e.g. "body.vert"
+  const char* source;
+};
+extern const EmbeddedShader kEmbeddedShaders[];  // ends with {nullptr, nullptr}
+
+// Source text of one shader file; throws std::runtime_error when it does not exist.
+std::string shader_source(const std::string& name);
+
+class ShaderProgram {
+ public:
+  ShaderProgram() = default;
+  // Compiles and links; throws std::runtime_error with the compiler log and file name.
+  ShaderProgram(const std::string& vert, const std::string& frag);
+  ~ShaderProgram();
+  ShaderProgram(const ShaderProgram&) = delete;
+  ShaderProgram& operator=(const ShaderProgram&) = delete;
+  ShaderProgram(ShaderProgram&& o) noexcept : id_(o.id_) { o.id_ = 0; }
+  ShaderProgram& operator=(ShaderProgram&& o) noexcept;
+
+  GLuint id() const { return id_; }
+  void use() const { glUseProgram(id_); }
+  GLint loc(const char* name) const { return glGetUniformLocation(id_, name); }
+  void set(const char* name, float v) const { glUniform1f(loc(name), v); }
+  void set(const char* name, int v) const { glUniform1i(loc(name), v); }
+  void set3(const char* name, const float* v) const { glUniform3fv(loc(name), 1, v); }
+  void set4(const char* name, const float* v) const { glUniform4fv(loc(name), 1, v); }
+  void set_mat4(const char* name, const float* m) const { glUniformMatrix4fv(loc(name), 1, GL_FALSE, m); }
+
+ private:
+  GLuint id_ = 0;
+};
+
+}  // namespace softtled
