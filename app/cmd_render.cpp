@@ -46,6 +46,7 @@ Command add_render_command(CLI::App& app) {
     std::vector<std::string> set;
     float azimuth = 30, elevation = 18, zoom = 1;
     int samples = 4;
+    bool fixed_camera = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("render", "render a scene headless (EGL) to one PNG per simulation time");
@@ -61,6 +62,7 @@ Command add_render_command(CLI::App& app) {
   c->add_option("--elevation", o->elevation, "camera elevation [deg]")->capture_default_str();
   c->add_option("--zoom", o->zoom, "camera zoom factor")->capture_default_str();
   c->add_option("--samples", o->samples, "MSAA samples (0 to 8)")->capture_default_str();
+  c->add_flag("--fixed-camera", o->fixed_camera, "keep the camera still instead of following the body");
   c->add_option("--stem", o->stem, "PNG file name stem (default: the scene file's name)");
   return [o]() {
     HeadlessOptions h;
@@ -76,6 +78,7 @@ Command add_render_command(CLI::App& app) {
     h.azimuth_deg = o->azimuth;
     h.elevation_deg = o->elevation;
     h.zoom = o->zoom;
+    h.follow = !o->fixed_camera;
     h.out_dir = o->out;
     h.stem = o->stem.empty() ? std::filesystem::path(o->scene).stem().string() : o->stem;
     h.context.backend = o->context;

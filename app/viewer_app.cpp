@@ -139,6 +139,9 @@ class Viewer {
           lines.push_back({drag_.grab_point(sim_->mesh(), state_), drag_.target, {1.f, 0.85f, 0.1f}});
         }
         const Vec3 focus{float(st_.diag.centroid[0]), float(st_.diag.centroid[1]), float(st_.diag.centroid[2])};
+        if (set_.follow && have_centroid_) cam_.target = cam_.target + (focus - last_centroid_);
+        last_centroid_ = focus;
+        have_centroid_ = true;
         renderer_->draw(cam_, fb_w, fb_h, *body_, sim_->params().planes, focus, plane_half_, set_.style, lines);
       }
       ImGui::Render();
@@ -575,6 +578,8 @@ class Viewer {
   double budget_ = 0, cost_per_step_ = 0;
   float umax_seen_ = 0;
   bool dirty_ = true;
+  Vec3 last_centroid_;        // for the camera following the body
+  bool have_centroid_ = false;
   float slope_now_ = 0;       // slope angle the simulation uses [deg]
   bool slope_was_on_ = false;
   int logged_mode_ = -1;

@@ -124,6 +124,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::Checkbox("grid", &s.style.grid);
     ImGui::SameLine();
     ImGui::Checkbox("edges", &s.style.edges);
+    ImGui::Checkbox("camera follows the body", &s.follow);
     if (ImGui::Button("Screenshot (P)")) a.screenshot = true;
     if (!st.screenshot.empty()) {
       ImGui::SameLine();

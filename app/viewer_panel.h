@@ -34,6 +34,7 @@ struct ViewerSettings {
   bool paused = false;
   // Display.
   RenderStyle style;
+  bool follow = true;               // camera target follows the body
   bool auto_umax = true;
   float umax_mm = 5;
   // Drag spring.

@@ -77,6 +77,8 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
     const float plane_half = default_plane_half(sim);
     RenderStyle style = o.style;
     float umax = 0;
+    const Diagnostics d0 = sim.diagnostics();
+    Vec3 last_centroid{float(d0.centroid[0]), float(d0.centroid[1]), float(d0.centroid[2])};
 
     std::vector<HeadlessFrame> frames;
     for (double t : o.times) {
@@ -101,6 +103,8 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       t0 = Clock::now();
       target.bind();
       const Vec3 focus{float(d.centroid[0]), float(d.centroid[1]), float(d.centroid[2])};
+      if (o.follow) cam.target = cam.target + (focus - last_centroid);
+      last_centroid = focus;
       renderer.draw(cam, o.width, o.height, body, sim.params().planes, focus, plane_half, style);
       f.image = target.read();
       f.draw_s = seconds_since(t0);

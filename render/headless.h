@@ -29,6 +29,7 @@ struct HeadlessOptions {
   RenderStyle style;
   bool auto_umax = true;          // displacement colour range from the largest |u| so far
   float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // camera relative to default_camera
+  bool follow = true;             // the camera target follows the body's centroid
   ContextOptions context;         // backend "egl" (default) or "glfw" (hidden window)
 };
 
