@@ -9,12 +9,13 @@
 #include "sim/simulation.h"
 #include "sim/surface_io.h"
 #include "sim/tetgen_mesher.h"
+#include "sim/vtu_writer.h"
 
 namespace softtled {
 
 Command add_mesh_command(CLI::App& app) {
   struct Opts {
-    std::string scene, surface, write;
+    std::string scene, surface, write, vtu;
     std::vector<std::string> set;
     bool json = false;
   };
@@ -25,6 +26,7 @@ Command add_mesh_command(CLI::App& app) {
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   c->add_flag("--json", o->json, "print JSON instead of a table");
   c->add_option("--write", o->write, "write BASE.node and BASE.ele");
+  c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file");
   return [o]() {
     Scene s = o->scene.empty() ? parse_scene("", "(defaults)", o->set) : load_scene(o->scene, o->set);
     if (!o->surface.empty()) {
@@ -60,6 +62,7 @@ Command add_mesh_command(CLI::App& app) {
                   s.E, s.nu, s.rho, "dt_cr = Le/c", dt_cr * 1e6);
     }
     if (!o->write.empty()) write_tetgen_files(m, o->write);
+    if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));
     return 0;
   };
 }

@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "sim/scene.h"
 #include "sim/simulation.h"
+#include "sim/vtu_writer.h"
 
 namespace softtled {
 
@@ -35,7 +36,8 @@ void write_csv_row(std::ostream& o, const Diagnostics& d) {
 
 Command add_run_command(CLI::App& app) {
   struct Opts {
-    std::string scene, csv, backend = "cpu";
+    std::string scene, csv, vtu, backend = "cpu";
+    int every = 1;
     std::vector<std::string> set;
   };
   auto o = std::make_shared<Opts>();
@@ -43,7 +45,9 @@ Command add_run_command(CLI::App& app) {
   c->add_option("--scene", o->scene, "scene file (TOML)")->required();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   c->add_option("--csv", o->csv, "write one row per output time");
-  c->add_option("--backend", o->backend, "cpu");
+  c->add_option("--backend", o->backend, "cpu, cuda or auto");
+  c->add_option("--vtu", o->vtu, "write a ParaView series (DIR/frame_*.vtu + DIR/series.pvd)");
+  c->add_option("--every", o->every, "with --vtu: one frame per N output times")->check(CLI::PositiveNumber);
   return [o]() {
     const Scene s = load_scene(o->scene, o->set);
     Simulation sim(s, o->backend);
@@ -60,6 +64,17 @@ Command add_run_command(CLI::App& app) {
       if (!csv) throw InputError(o->csv + ": cannot write");
       write_csv_header(csv, int(sim.tracked_nodes().size()));
     }
+    std::unique_ptr<VtuSeries> vtu;
+    HostState st;
+    int out_index = 0;
+    auto write_frame = [&] {
+      if (!vtu || out_index++ % o->every) return;
+      sim.solver().get_state(st);
+      vtu->add(sim.time(), sim.mesh(), st, sim.time_step().dt,
+               neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
+    };
+    if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
+    write_frame();
     const bool tty = isatty(2);
     const double dt = ts.dt;
     const long total = std::lround(s.duration / dt);
@@ -81,6 +96,7 @@ Command add_run_command(CLI::App& app) {
       }
       done += n;
       d = sim.diagnostics();
+      write_frame();
       if (csv) write_csv_row(csv, d);
       min_gap = std::min(min_gap, d.min_gap);
       max_ke = std::max(max_ke, d.ke);

@@ -113,7 +113,7 @@ class Reader {
           const std::string full = key + "." + std::string(k2.str());
           if (!used_.count(full)) fail(full, "unknown key (see README, 'Scene format')");
         }
-      } else if (!used_.count(key)) {
+      } else if (!used_.count(key) && !(key == "fixed" && used_.count("fixed"))) {
         fail(key, "unknown key (see README, 'Scene format')");
       }
     }
@@ -170,7 +170,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   const std::string units = r.str("units", "mm", {"m", "mm"});
   s.length_unit = units == "mm" ? 1e-3 : 1.0;
 
-  s.shape = r.str("body.shape", s.shape, {"torus", "box", "file"});
+  s.shape = r.str("body.shape", s.shape, {"torus", "box", "sphere", "file"});
+  s.radius = r.num("body.radius", s.radius, 0, INFINITY, true);
+  s.subdivisions = r.integer("body.subdivisions", s.subdivisions, 0, 7);
   s.file = r.str("body.file", "");
   s.major_radius = r.num("body.major_radius", s.major_radius, 0, INFINITY, true);
   s.tube_radius = r.num("body.tube_radius", s.tube_radius, 0, INFINITY, true);
@@ -191,6 +193,47 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.tetgen.max_volume = r.num("mesh.max_volume", 0.0, 0, INFINITY);
   s.tetgen.keep_boundary = r.boolean("mesh.keep_boundary", false);
   s.tetgen.switches = r.str("mesh.switches", "");
+  s.mesh_cache = r.boolean("mesh.cache", true);
+  if (const toml::node* fx = r.get("fixed")) {
+    auto arr = fx->as_array();
+    if (!arr) r.fail("fixed", "expected [[fixed]] tables");
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      auto t = (*arr)[i].as_table();
+      const std::string key = "fixed[" + std::to_string(i) + "]";
+      if (!t) r.fail(key, "expected a table with box_min/box_max or plane_point/plane_normal");
+      auto get3 = [&](const char* name, std::array<double, 3>& out) {
+        auto a = (*t)[name].as_array();
+        if (!a) return false;
+        if (a->size() != 3) r.fail(key + "." + name, "expected 3 numbers");
+        for (int k = 0; k < 3; ++k) {
+          auto v = (*a)[k].value<double>();
+          if (!v || !std::isfinite(*v)) r.fail(key + "." + name, "expected finite numbers");
+          out[k] = *v;
+        }
+        return true;
+      };
+      Scene::FixedSelector f;
+      for (const auto& [k, v] : *t) {
+        (void)v;
+        const std::string name(k.str());
+        if (name != "box_min" && name != "box_max" && name != "plane_point" && name != "plane_normal")
+          r.fail(key + "." + name, "unknown key (use box_min/box_max or plane_point/plane_normal)");
+      }
+      if (get3("box_min", f.a)) {
+        if (!get3("box_max", f.b)) r.fail(key, "box_min needs box_max");
+        f.is_box = true;
+      } else if (get3("plane_point", f.a)) {
+        if (!get3("plane_normal", f.b)) r.fail(key, "plane_point needs plane_normal");
+        const double n = std::sqrt(f.b[0] * f.b[0] + f.b[1] * f.b[1] + f.b[2] * f.b[2]);
+        if (!(n > 0)) r.fail(key + ".plane_normal", "must be non-zero");
+        for (double& x : f.b) x /= n;
+        f.is_box = false;
+      } else {
+        r.fail(key, "needs box_min/box_max or plane_point/plane_normal");
+      }
+      s.fixed.push_back(f);
+    }
+  }
 
   s.material_model = r.str("material.model", s.material_model, {"neo_hookean", "stable_neo_hookean"});
   s.E = r.num("material.E", s.E, 0, INFINITY, true);

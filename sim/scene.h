@@ -14,12 +14,14 @@ struct Scene {
   double length_unit = 1e-3;  // metres per scene length unit ("mm" by default)
 
   // [body]
-  std::string shape = "torus";  // torus | box | file
+  std::string shape = "torus";  // torus | box | sphere | file
   std::string file;             // surface file for shape = "file"
   double major_radius = 7.5, tube_radius = 2.5;  // torus [units]
   std::array<int, 2> segments = {91, 19};
   std::array<double, 3> size = {10, 10, 10};     // box [units]
   std::array<int, 3> divisions = {4, 4, 4};
+  double radius = 5.0;                           // sphere [units]
+  int subdivisions = 3;                          // sphere: icosahedron subdivisions
   double scale = 1.0;                            // applied to a loaded file
   std::array<double, 3> position = {0, 0, 0};    // [units]
   std::array<double, 3> rotation_deg = {0, 0, 0};  // about x, then y, then z
@@ -64,6 +66,15 @@ struct Scene {
   // [solver]
   std::string precision = "double";  // float | double
   int threads = 0;                   // 0: OpenMP default
+
+  // [[fixed]]: nodes held at their rest position, selected by boxes or planes.
+  struct FixedSelector {
+    bool is_box = true;
+    std::array<double, 3> a{}, b{};  // box: min, max corners; plane: point, normal [units]
+  };
+  std::vector<FixedSelector> fixed;
+
+  bool mesh_cache = true;  // [mesh] cache: reuse a TetGen result for the same surface + switches
 
   // [output]
   std::vector<std::array<double, 3>> track_points;  // rest positions [units]; nearest node is tracked

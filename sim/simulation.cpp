@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "body_view.h"
+#include "mesh_cache.h"
 #include "neo_hookean.h"
 #include "plane_contact.h"
 #include "solver_factory.h"
@@ -25,6 +26,8 @@ SurfaceMesh scene_surface(const Scene& s) {
     m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
   } else if (s.shape == "box") {
     m = make_box(s.size[0], s.size[1], s.size[2], s.divisions[0], s.divisions[1], s.divisions[2]);
+  } else if (s.shape == "sphere") {
+    m = make_sphere(s.radius, s.subdivisions);
   } else {
     std::string path = s.file;
     const auto slash = s.source.find_last_of('/');
@@ -79,12 +82,33 @@ std::vector<PlaneSpec> scene_planes(const Scene& s) {
 }
 
 Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(scene) {
-  mesh_ = tetrahedralize_surface(scene_surface(scene_), scene_tetgen_options(scene_));
+  const SurfaceMesh surface = scene_surface(scene_);
+  mesh_ = scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
+                            : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
   std::vector<std::uint8_t> flags(mesh_.nnode(), 0);
   if (scene_.contact_nodes == "all") {
     for (auto& f : flags) f |= kNodeContact;
   } else {
     for (int i : mesh_.surface_nodes) flags[i] |= kNodeContact;
+  }
+  // Fixed nodes: selectors are in scene units and world coordinates (after placement).
+  for (std::size_t k = 0; k < scene_.fixed.size(); ++k) {
+    const auto& f = scene_.fixed[k];
+    const double u = scene_.length_unit, tol = 1e-9;
+    int count = 0;
+    for (int i = 0; i < mesh_.nnode(); ++i) {
+      const double* x = &mesh_.X[3 * i];
+      bool in;
+      if (f.is_box) {
+        in = true;
+        for (int d = 0; d < 3; ++d) in = in && x[d] >= f.a[d] * u - tol && x[d] <= f.b[d] * u + tol;
+      } else {
+        in = f.b[0] * (x[0] - f.a[0] * u) + f.b[1] * (x[1] - f.a[1] * u) + f.b[2] * (x[2] - f.a[2] * u) <= tol;
+      }
+      if (in) flags[i] |= kNodeFixed, ++count;
+    }
+    if (count == 0) throw InputError(scene_.source + ": fixed[" + std::to_string(k) + "] selects no node");
+    n_fixed_ += count;
   }
   std::string note;
   solver_ = make_solver(backend, mesh_, scene_.rho, flags,

@@ -56,6 +56,7 @@ class Simulation {
   const PhysicsParams& params() const { return params_; }
   const TimeStepInfo& time_step() const { return ts_; }
   const std::vector<int>& tracked_nodes() const { return tracked_; }
+  int fixed_node_count() const { return n_fixed_; }
 
   // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
   // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
@@ -85,6 +86,7 @@ class Simulation {
   PhysicsParams params_;
   TimeStepInfo ts_;
   std::vector<int> tracked_;
+  int n_fixed_ = 0;
   long nsteps_ = 0;
   double t_offset_ = 0;  // time accumulated before the last dt change
   HostState scratch_;

@@ -4,6 +4,8 @@
 #include <map>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 namespace softtled {
 
@@ -67,6 +69,43 @@ SurfaceMesh make_box(double lx, double ly, double lz, int nx, int ny, int nz) {
     }
   }
   check_and_orient_closed_surface(s, "box generator");
+  return s;
+}
+
+SurfaceMesh make_sphere(double r, int levels) {
+  if (!(r > 0)) throw InputError("sphere: radius must be positive");
+  if (levels < 0 || levels > 7) throw InputError("sphere: subdivision levels must be 0..7");
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<double> v = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
+                           0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+  std::vector<int> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                        3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      const int id = int(v.size() / 3);
+      for (int k = 0; k < 3; ++k) v.push_back(0.5 * (v[3 * a + k] + v[3 * b + k]));
+      mid[key] = id;
+      return id;
+    };
+    std::vector<int> g;
+    for (std::size_t i = 0; i < f.size(); i += 3) {
+      const int a = f[i], b = f[i + 1], c = f[i + 2];
+      const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      g.insert(g.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+    }
+    f.swap(g);
+  }
+  SurfaceMesh s;
+  for (std::size_t i = 0; i < v.size(); i += 3) {
+    const double n = std::sqrt(v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2]);
+    s.xyz.insert(s.xyz.end(), {r * v[i] / n, r * v[i + 1] / n, r * v[i + 2] / n});
+  }
+  s.tri = f;
+  check_and_orient_closed_surface(s, "sphere generator");
   return s;
 }
 

@@ -14,4 +14,8 @@ SurfaceMesh make_torus(double R, double r, int nu, int nv);
 // (nx, ny, nz) divisions along its two directions.
 SurfaceMesh make_box(double lx, double ly, double lz, int nx, int ny, int nz);
 
+// Sphere of radius r centred at the origin: an icosahedron subdivided `levels` times,
+// vertices pushed to the sphere (20 * 4^levels triangles).
+SurfaceMesh make_sphere(double r, int levels);
+
 }  // namespace softtled
