@@ -6,6 +6,7 @@
 #include <cuda_runtime_api.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -409,9 +410,19 @@ class CudaSolver final : public CudaSolverApi {
     if (it != graphs_.end()) return it->second;
     const StepArgs<T> a = args(step_);
     const bool pdl = mode_ == ExecMode::kGraphPdl;
-    cudaGraphExec_t exec = capture([&] {
-      for (int s = 0; s < k; ++s) enqueue_step(a, pdl);
-    });
+    cudaGraphExec_t exec = nullptr;
+    try {
+      exec = capture([&] {
+        for (int s = 0; s < k; ++s) enqueue_step(a, pdl);
+      });
+    } catch (const CudaError& e) {
+      if (!pdl) throw;
+      // A driver that cannot capture programmatic launches: plain graphs instead.
+      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using plain graphs\n", e.what());
+      clear_graphs();
+      mode_ = ExecMode::kGraph;
+      return graph(k);
+    }
     graphs_[k] = exec;
     return exec;
   }

@@ -32,7 +32,7 @@ __device__ __forceinline__ void pdl_wait() {
 // the wait, while the previous kernel still runs. Only read-only rest data is prefetched:
 // live data (u, du, fcorner) is read after the wait.
 __device__ __forceinline__ void prefetch_l1(const void* p) {
-  asm volatile("prefetch.global.L1 [%0];" ::"l"(p));
+  asm volatile("prefetch.L1 [%0];" ::"l"(p));  // generic address
 }
 
 template <class T>
