@@ -371,6 +371,7 @@ class Viewer {
           a.planes = true;
           break;
         case GLFW_KEY_P: a.screenshot = true; break;
+        case GLFW_KEY_M: a.rebuild = true; break;
         case GLFW_KEY_TAB: set_.show_panel = !set_.show_panel; break;
         default: break;
       }
@@ -523,6 +524,8 @@ class Viewer {
       auto next = rebuild_.get();
       sim_ = std::move(next);
       attach_simulation();
+      slope_was_on_ = false;  // the new body starts at rest: place the slope again (request_planes)
+      request_planes();
       log("re-meshed in %.2f s: %d nodes, %d tets, dt_cr %.3f us", st_.rebuild_elapsed, sim_->mesh().nnode(), sim_->mesh().ntet(),
           sim_->time_step().dt_cr * 1e6);
     } catch (const std::exception& e) {

@@ -165,7 +165,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     if (st.rebuilding) {
       static const char spin[] = "|/-\\";
       ImGui::Text("re-meshing with TetGen %c  %.1f s", spin[int(st.rebuild_elapsed * 8) % 4], st.rebuild_elapsed);
-    } else if (ImGui::Button("Re-mesh / apply rho")) {
+    } else if (ImGui::Button("Re-mesh / apply rho (M)")) {
       a.rebuild = true;
     }
     if (!st.rebuild_error.empty()) ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "%s", st.rebuild_error.c_str());
@@ -180,7 +180,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::TextWrapped(
         "Left drag on the body: pull it with a spring. Left drag elsewhere: orbit. Right or middle drag: pan. "
         "Wheel: zoom.\nKeys: space pause, N step, R drop again, F friction mode, C colour map, S slope on/off, "
-        "[ ] slope angle, P screenshot, Tab panel, Esc quit.");
+        "[ ] slope angle, M re-mesh, P screenshot, Tab panel, Esc quit.");
   }
   ImGui::PopItemWidth();
   ImGui::End();

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The viewer tested as a person would, under Xvfb: start `softtled view`, wait for the
 # first frame, click on the body and pull it, press F (friction: sliding -> static) and
-# ] twice (slope on, 20 -> 30 deg), take a screenshot of the X screen, quit with Esc.
+# ] twice (slope on, 20 -> 30 deg), M (re-mesh with TetGen), take a screenshot of the X
+# screen, P (the viewer's own screenshot), quit with Esc.
 # Passes when the viewer logged each input, exited cleanly, and the screenshot shows the
 # body (orange pixels right of the panel) and the panel (dark pixels, ImGui blue headers).
 # Usage: view_smoke.sh SOFTTLED PNG_PROBE ASSETS OUT_DIR. Exit 77 (skip) when xvfb-run,
@@ -43,7 +44,10 @@ xdotool key f
 xdotool key bracketright
 sleep 0.2
 xdotool key bracketright
-sleep 4
+sleep 0.5
+xdotool key m
+for i in \$(seq 200); do grep -q -e "re-meshed" -e "re-mesh failed" "\$log" && break; sleep 0.1; done
+sleep 3
 import -window root "$out/screen.png" || fail "import failed"
 xdotool key p
 for i in \$(seq 100); do grep -q "screenshot " "\$log" && break; sleep 0.1; done
@@ -64,6 +68,7 @@ grep -q "released" "$log" || fail "releasing the mouse did not release the body"
 grep -q "contact mode static" "$log" || fail "F did not switch to static friction"
 grep -q "slope on at 30.0 deg" "$log" || fail "] ] did not turn the slope to 30 deg"
 grep -q "screenshot .*softtled_view_000.png" "$log" || fail "P did not write a screenshot"
+grep -q "re-meshed in" "$log" || fail "M did not re-mesh"
 
 check() {  # check PNG: body right of the panel, panel on the left
   local png=$1 scene panel
