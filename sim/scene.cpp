@@ -236,6 +236,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   }
 
   s.material_model = r.str("material.model", s.material_model, {"neo_hookean", "stable_neo_hookean"});
+  s.element = r.str("material.element", s.element, {"T4", "T4ANP"});
+  if (s.element == "T4ANP" && s.material_model != "neo_hookean")
+    r.fail("material.element", "T4ANP is implemented for the neo_hookean model only");
   s.E = r.num("material.E", s.E, 0, INFINITY, true);
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");

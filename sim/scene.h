@@ -32,6 +32,7 @@ struct Scene {
 
   // [material]
   std::string material_model = "neo_hookean";  // neo_hookean | stable_neo_hookean
+  std::string element = "T4";                  // T4 | T4ANP
   double E = 3000, nu = 0.49, rho = 1000;  // [Pa, -, kg/m^3]
 
   // [damping]

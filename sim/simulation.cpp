@@ -116,6 +116,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
+  params_.element = scene_.element == "T4ANP" ? kT4ANP : kT4;
   params_.material_model = scene_.material_model == "stable_neo_hookean" ? kStableNeoHookean : kTaylorNeoHookean;
   params_.nu = scene_.nu;
   params_.alpha = scene_.alpha;

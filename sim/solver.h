@@ -21,6 +21,7 @@ struct PlaneSpec {
 struct PhysicsParams {
   double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
   int material_model = 0;      // MaterialModel (neo_hookean.h)
+  int element = 0;             // ElementType: 0 linear tet (T4), 1 average nodal pressure (T4ANP, anp.h)
   double alpha = 10;           // mass-proportional damping [1/s]
   double dt = 1e-5;            // time step [s] (ignored when dt_auto)
   bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
@@ -39,6 +40,7 @@ struct HostState {
 };
 
 enum class Precision { kFloat, kDouble };
+enum ElementType : int { kT4 = 0, kT4ANP = 1 };
 
 class Solver {
  public:

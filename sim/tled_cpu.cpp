@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "anp.h"
 #include "central_difference.h"
 #include "neo_hookean.h"
 #include "rest_state.h"
@@ -27,6 +28,8 @@ class CpuSolver final : public Solver {
     u_.assign(3 * n, T(0));
     du_.assign(3 * n, T(0));
     fcorner_.assign(12 * rest_.ntet, T(0));
+    vol_now_.assign(rest_.ntet, T(0));
+    p_node_.assign(n, T(0));
     contact_.assign(n, 0);
     mesh_ = rest_.view();
   }
@@ -49,6 +52,7 @@ class CpuSolver final : public Solver {
       }
     step_.contact.mode = p.contact_mode;
     step_.contact.mu = T(p.mu);
+    element_ = p.element;
   }
 
   void step(long nsteps) override {
@@ -57,6 +61,22 @@ class CpuSolver final : public Solver {
     const NeoHookean<T> mat = mat_;
     const StepParams<T> sp = step_;
     const int ne = m.ntet, n = m.nnode;
+    T* vol_now = vol_now_.data();
+    T* p_node = p_node_.data();
+    if (element_ == kT4ANP) {
+#pragma omp parallel num_threads(threads_)
+      for (long s = 0; s < nsteps; ++s) {
+#pragma omp for schedule(static)
+        for (int e = 0; e < ne; ++e) anp_element_volume(m, b.u, vol_now, e);
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i) anp_node_pressure(m, mat, vol_now, p_node, i);
+#pragma omp for schedule(static)
+        for (int e = 0; e < ne; ++e) anp_corner_forces(m, mat, b.u, p_node, b.fcorner, e);
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+      }
+      return;
+    }
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
 #pragma omp for schedule(static)
@@ -120,6 +140,8 @@ class CpuSolver final : public Solver {
   SurfaceTopology surf_;
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
+  std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
+  int element_ = kT4;
   std::vector<std::uint8_t> contact_;
   NeoHookean<T> mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
   StepParams<T> step_{};
