@@ -120,16 +120,23 @@ class Viewer {
       PanelActions act;
       handle_keys(act);
       draw_panel(set_, st_, act, win_h);
+      if (set_.show_panel) draw_plot_window(st_, win_w, win_h);
       handle_mouse(win_w, win_h);
       apply(act);
       poll_rebuild();
 
       const double t_before = sim_->time();
+      const auto t_step = Clock::now();
       const long steps = advance(wall_dt, act.step);
+      body_->update(sim_->solver());  // waits for the steps on a GPU backend
+      if (steps > 0) {  // cost per step, for the wall-time budget
+        const double c = since(t_step) / double(steps);
+        cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
+        st_.ms_per_step = cost_per_step_ * 1e3;
+      }
+      st_.vertex_path = body_->path();
       st_.steps_last_frame = steps;
       if (steps > 0 || dirty_) update_stats(steps > 0);
-      body_->update(sim_->solver());
-      st_.vertex_path = body_->path();
 
       if (fb_w > 0 && fb_h > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -462,13 +469,9 @@ class Viewer {
         drag_.forces(sim_->mesh(), state_, dt, force_);
         sim_->solver().set_external_forces(force_);
       }
-      const auto t0 = Clock::now();
       sim_->step(chunk);
-      const double c = since(t0) / double(chunk);
-      cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
       done += chunk;
     }
-    st_.ms_per_step = cost_per_step_ * 1e3;
     return steps;
   }
 

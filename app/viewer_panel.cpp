@@ -27,7 +27,7 @@ void plot_component(const char* name, const std::vector<float>& v, ImU32 color) 
   std::snprintf(overlay, sizeof overlay, "%s %+.3f mm", name, v.back());
   std::snprintf(id, sizeof id, "##u%s", name);
   ImGui::PushStyleColor(ImGuiCol_PlotLines, color);
-  ImGui::PlotLines(id, v.data(), int(v.size()), 0, overlay, a, b, ImVec2(ImGui::GetContentRegionAvail().x, 52));
+  ImGui::PlotLines(id, v.data(), int(v.size()), 0, overlay, a, b, ImVec2(ImGui::GetContentRegionAvail().x, 50));
   ImGui::PopStyleColor();
 }
 }  // namespace
@@ -140,14 +140,6 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::Text("max |u| %.3f mm   min gap %.3f mm", d.max_u * 1e3, d.min_gap < 1e30 ? d.min_gap * 1e3 : 0.0);
   }
 
-  if (ImGui::CollapsingHeader("Node displacement", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::TextDisabled("%s (click the body to choose)", st.plot.label.c_str());
-    plot_component("x", st.plot.x, IM_COL32(235, 90, 80, 255));
-    plot_component("y", st.plot.y, IM_COL32(90, 200, 100, 255));
-    plot_component("z", st.plot.z, IM_COL32(100, 150, 255, 255));
-    if (!st.plot.t.empty()) ImGui::TextDisabled("%.4f .. %.4f s", st.plot.t.front(), st.plot.t.back());
-  }
-
   if (ImGui::CollapsingHeader("Mesh")) {
     if (st.shape == "torus") {
       ImGui::SliderInt2("segments", s.segments, 8, 181);
@@ -183,6 +175,20 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
         "[ ] slope angle, M re-mesh, P screenshot, Tab panel, Esc quit.");
   }
   ImGui::PopItemWidth();
+  ImGui::End();
+}
+
+void draw_plot_window(const ViewerStats& st, int window_w, int window_h) {
+  const float w = 430, h = 232;
+  ImGui::SetNextWindowPos(ImVec2(float(window_w) - w - 8, float(window_h) - h - 8), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.8f);
+  ImGui::Begin("Node displacement (Fig. 4)", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+  ImGui::TextDisabled("%s; click the body to choose", st.plot.label.c_str());
+  plot_component("x", st.plot.x, IM_COL32(235, 90, 80, 255));
+  plot_component("y", st.plot.y, IM_COL32(90, 200, 100, 255));
+  plot_component("z", st.plot.z, IM_COL32(100, 150, 255, 255));
+  if (!st.plot.t.empty()) ImGui::TextDisabled("t = %.4f .. %.4f s", st.plot.t.front(), st.plot.t.back());
   ImGui::End();
 }
 

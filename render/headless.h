@@ -38,7 +38,7 @@ struct HeadlessFrame {
   long steps = 0;                 // steps taken to reach t
   std::string path;               // PNG written ("" when out_dir is empty)
   Image image;
-  double sim_s = 0;               // wall time of the steps [s]
+  double sim_s = 0;               // wall time of the steps and the diagnostics read-back [s]
   double upload_s = 0;            // render-vertex hand-off [s]
   double draw_s = 0;              // draw + resolve + read back [s]
   double png_s = 0;               // PNG encoding [s]

@@ -4,7 +4,7 @@
 # ] twice (slope on, 20 -> 30 deg), M (re-mesh with TetGen), take a screenshot of the X
 # screen, P (the viewer's own screenshot), quit with Esc.
 # Passes when the viewer logged each input, exited cleanly, and the screenshot shows the
-# body (orange pixels right of the panel) and the panel (dark pixels, ImGui blue headers).
+# body (orange pixels right of the panel, above the plot window) and the panel (dark pixels, ImGui blue headers).
 # Usage: view_smoke.sh SOFTTLED PNG_PROBE ASSETS OUT_DIR. Exit 77 (skip) when xvfb-run,
 # xdotool or ImageMagick's import is missing.
 set -u
@@ -31,7 +31,7 @@ grep -q "first frame drawn" "\$log" || fail "no first frame within 30 s"
 sleep 1
 import -window root "$out/start.png" || fail "import failed"
 # Find the body on screen as a person would, and grab its left rim.
-read bx0 by0 bx1 by1 < <("$probe" "$out/start.png" 380 0 1280 800 | sed -n 's/^body_bbox=//p' | tr , ' ')
+read bx0 by0 bx1 by1 < <("$probe" "$out/start.png" 380 0 1280 550 | sed -n 's/^body_bbox=//p' | tr , ' ')
 [ -n "\${bx0:-}" ] || fail "no body on the first screenshot"
 x=\$(( bx0 + (bx1 - bx0) / 12 )); y=\$(( (by0 + by1) / 2 ))
 xdotool mousemove \$x \$y mousedown 1
@@ -72,7 +72,7 @@ grep -q "re-meshed in" "$log" || fail "M did not re-mesh"
 
 check() {  # check PNG: body right of the panel, panel on the left
   local png=$1 scene panel
-  scene=$("$probe" "$png" 380 0 1280 800)
+  scene=$("$probe" "$png" 380 0 1280 550)  # above the plot window
   panel=$("$probe" "$png" 10 10 365 790)
   local body=$(echo "$scene" | sed -n 's/^body_frac=//p')
   local dark=$(echo "$panel" | sed -n 's/^dark_frac=//p')
