@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   std::map<std::string, softtled::Command> commands;
   commands["mesh"] = softtled::add_mesh_command(app);
   commands["run"] = softtled::add_run_command(app);
+  commands["accuracy"] = softtled::add_accuracy_command(app);
   commands["bench"] = softtled::add_bench_command(app);
 #ifdef SOFTTLED_HAVE_RENDER
   commands["render"] = softtled::add_render_command(app);

@@ -1,0 +1,82 @@
+#include "accuracy_study.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "scene.h"
+#include "simulation.h"
+#include "surface_mesh.h"
+
+namespace softtled {
+namespace {
+std::string level_segments(const std::string& level) {  // "91x19" -> "[91, 19]"
+  const auto x = level.find('x');
+  if (x == std::string::npos) throw InputError("level '" + level + "': expected NUxNV, e.g. 91x19");
+  return "[" + level.substr(0, x) + ", " + level.substr(x + 1) + "]";
+}
+
+}  // namespace
+
+AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
+                                 const std::string& prec, double lambda, const std::string& element, double t_end,
+                                 double t1, double t2, const std::vector<std::string>& extra) {
+  std::vector<std::string> set = {"body.segments=" + level_segments(level), "solver.precision=" + prec,
+                                  "time.lambda=" + std::to_string(lambda), "material.element=" + element, "time.dt=\"auto\""};
+  set.insert(set.end(), extra.begin(), extra.end());
+  const Scene s = load_scene(scene_path, set);
+  Simulation sim(s, backend);
+  AccuracyRun r;
+  r.level = level, r.precision = prec, r.element = element, r.lambda = lambda;
+  r.ntet = sim.mesh().ntet();
+  r.dt = sim.time_step().dt;
+  r.mesh = std::make_shared<TetMesh>(sim.mesh());
+  const long every = std::max(1L, std::lround(1e-3 / r.dt));
+  auto record = [&] {
+    const Diagnostics d = sim.diagnostics();
+    r.cen.push_back({d.centroid[0], d.centroid[1], d.centroid[2]});
+  };
+  record();
+  const double ts[2] = {t1, t2};
+  int snap = 0;
+  while (sim.time() < t_end - 0.5 * r.dt) {
+    const long n = std::min(every, std::lround((t_end - sim.time()) / r.dt));
+    if (n <= 0) break;
+    const auto a = std::chrono::steady_clock::now();
+    sim.advance(n, n);  // the watchdog guards every sweep point
+    r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+    r.steps += n;
+    record();
+    while (snap < 2 && sim.time() >= ts[snap] - 0.5 * r.dt) sim.solver().get_state(r.at[snap++]);
+  }
+  r.rest_height = r.cen.back()[1];
+  r.us_per_step = r.wall_s / std::max(1L, r.steps) * 1e6;
+  return r;
+}
+
+AccuracyErrors compare_runs(const AccuracyRun& v, const AccuracyRun& ref, const FieldSampler& sampler, double t_rms) {
+  AccuracyErrors e;
+  const std::size_t n_rms = std::min({v.cen.size(), ref.cen.size(), std::size_t(std::lround(t_rms / 1e-3)) + 1});
+  double acc = 0;
+  for (std::size_t i = 0; i < n_rms; ++i)
+    for (int k = 0; k < 3; ++k) acc += (v.cen[i][k] - ref.cen[i][k]) * (v.cen[i][k] - ref.cen[i][k]);
+  e.centroid_rms = std::sqrt(acc / n_rms);
+  const int n = v.mesh->nnode();
+  for (int s = 0; s < 2; ++s) {
+    if (v.at[s].u.empty() || ref.at[s].u.empty()) continue;
+    const std::vector<double> uref = sampler.sample(ref.at[s].u, v.mesh->X);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += std::pow(v.at[s].u[k * n + i] - uref[k * n + i], 2);
+      e.max_err[s] = std::max(e.max_err[s], std::sqrt(d2));
+      sum += std::sqrt(d2);
+    }
+    e.mean_err[s] = sum / n;
+  }
+  e.rest = std::fabs(v.rest_height - ref.rest_height);
+  return e;
+}
+
+
+}  // namespace softtled
