@@ -98,7 +98,9 @@ Command add_render_command(CLI::App& app) {
     double draw_total = 0, upload_total = 0;
     long steps_total = 0;
     double sim_total = 0;
-    const auto frames = render_headless(sim, h, &info, [&](const HeadlessFrame& f) {
+    std::vector<HeadlessFrame> frames;
+    try {
+      frames = render_headless(sim, h, &info, [&](const HeadlessFrame& f) {
       if (!header) {
         std::printf("GL renderer: %s\nGL context: %s, %s, %dx%d, MSAA %d\nrender vertices: %s\n", info.renderer.c_str(),
                     o->context.c_str(), info.platform.c_str(), h.width, h.height, info.samples, info.vertex_path.c_str());
@@ -112,7 +114,10 @@ Command add_render_command(CLI::App& app) {
       upload_total += f.upload_s;
       steps_total += f.steps;
       sim_total += f.sim_s;
-    });
+      });
+    } catch (const SimulationDiverged& e) {
+      throw InputError(std::string("simulation diverged: ") + e.what());
+    }
     const double n = double(frames.size());
     std::printf("frame time: %.2f ms mean (vertices %.2f ms, draw/readback %.2f ms) over %zu frames; simulation %.1f us/step\n",
                 (draw_total + upload_total) / n * 1e3, upload_total / n * 1e3, draw_total / n * 1e3, frames.size(),

@@ -146,7 +146,9 @@ class Viewer {
           lines.push_back({drag_.grab_point(sim_->mesh(), state_), drag_.target, {1.f, 0.85f, 0.1f}});
         }
         const Vec3 focus{float(st_.diag.centroid[0]), float(st_.diag.centroid[1]), float(st_.diag.centroid[2])};
-        if (set_.follow && have_centroid_) cam_.target = cam_.target + (focus - last_centroid_);
+        // Not while pulling: the drag target comes from the mouse ray, so a camera chasing
+        // the lifted body would lift the target further (a runaway).
+        if (set_.follow && have_centroid_ && mouse_ != Mouse::kPull) cam_.target = cam_.target + (focus - last_centroid_);
         last_centroid_ = focus;
         have_centroid_ = true;
         renderer_->draw(cam_, fb_w, fb_h, *body_, sim_->params().planes, focus, plane_half_, set_.style, lines);
@@ -297,6 +299,9 @@ class Viewer {
     return chunk;
   }
 
+  // Live parameters through Simulation::set_params, which recomputes dt_cr (Le/c and the
+  // eigenvalue bound), sets dt = lambda x dt_cr when locked, clamps a manual dt above
+  // dt_cr (returning a warning) and rescales the increment state so velocities carry over.
   void apply_params() {
     PhysicsParams p = sim_->params();
     p.E = set_.E;
@@ -305,22 +310,17 @@ class Viewer {
     p.contact_mode = set_.contact_mode;
     p.mu = set_.mu;
     p.planes = planes_from_settings();
-    const double dt_cr = sim_->time_step().min_Le / dilatational_wave_speed(p.E, p.nu, sim_->scene().rho);
-    p.dt = set_.lock_lambda ? set_.lambda * dt_cr : std::max(1e-3f, set_.dt_us) * 1e-6;
-    const double old_dt = sim_->params().dt;
+    p.dt_auto = set_.lock_lambda;
+    p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);
+    p.dt = std::max(1e-3f, set_.dt_us) * 1e-6;
     try {
       st_.warning = sim_->set_params(p);
     } catch (const InputError& e) {
       st_.warning = e.what();
       return;
     }
-    if (p.dt != old_dt && sim_->steps() + sim_->time() > 0) {
-      // du is the increment over one step: keep the velocity du/dt across the change.
-      sim_->solver().get_state(state_);
-      for (double& v : state_.du) v *= p.dt / old_dt;
-      sim_->solver().set_state(state_);
-    }
-    if (set_.lock_lambda) set_.dt_us = float(p.dt * 1e6);
+    set_.dt_us = float(sim_->params().dt * 1e6);
+    st_.ts = sim_->time_step();
     dirty_ = true;
   }
 
@@ -469,7 +469,19 @@ class Viewer {
         drag_.forces(sim_->mesh(), state_, dt, force_);
         sim_->solver().set_external_forces(force_);
       }
-      sim_->step(chunk);
+      try {
+        sim_->advance(chunk, chunk);  // the watchdog checks once per chunk
+      } catch (const SimulationDiverged& e) {
+        // The state is rolled back to the last good check: pause and say why.
+        set_.paused = true;
+        drag_.release();
+        sim_->solver().set_external_forces({});
+        mouse_ = Mouse::kNone;
+        st_.warning = std::string(e.what()) + " Paused: lower lambda or E, or Drop again.";
+        log("stopped by the watchdog: %s", e.what());
+        dirty_ = true;
+        return done;
+      }
       done += chunk;
     }
     return steps;
@@ -480,11 +492,6 @@ class Viewer {
     st_.diag = sim_->diagnostics();
     st_.sim_time = sim_->time();
     st_.ts = sim_->time_step();
-    if (!std::isfinite(st_.diag.ke) && !set_.paused) {
-      set_.paused = true;
-      st_.warning = "simulation diverged (NaN): paused; lower lambda or dt, then Drop again";
-      log("diverged at t = %.4f s: paused", st_.sim_time);
-    }
     umax_seen_ = std::max(umax_seen_, float(st_.diag.max_u));
     set_.style.umax = set_.auto_umax ? std::max(umax_seen_, 1e-4f) : set_.umax_mm * 1e-3f;
     if (advanced || st_.plot.t.empty()) {

@@ -52,10 +52,11 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   ImGui::TextDisabled("%d nodes, %d tets, %d surface tris", st.nnode, st.ntet, st.ntri);
 
   if (ImGui::CollapsingHeader("Time step", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Text("dt = %.3f us   dt_cr = Le/c = %.3f us", st.ts.dt * 1e6, st.ts.dt_cr * 1e6);
+    ImGui::Text("dt = %.3f us   dt_cr = %.3f us", st.ts.dt * 1e6, st.ts.dt_cr * 1e6);
+    ImGui::TextDisabled("dt_cr = min(Le/c %.3f, eigen %.3f) us", st.ts.dt_le * 1e6, st.ts.dt_eigen * 1e6);
     if (ImGui::Checkbox("dt = lambda x dt_cr", &s.lock_lambda)) a.params = true;
     if (s.lock_lambda) {
-      if (ImGui::SliderFloat("lambda", &s.lambda, 0.05f, 1.5f, "%.2f")) a.params = true;
+      if (ImGui::SliderFloat("lambda", &s.lambda, 0.05f, 1.0f, "%.2f")) a.params = true;
     } else {
       if (ImGui::InputFloat("dt [us]", &s.dt_us, 0.1f, 1.0f, "%.3f", ImGuiInputTextFlags_EnterReturnsTrue)) a.params = true;
     }

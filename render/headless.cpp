@@ -89,7 +89,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       // Timed to the end of diagnostics(), which reads the state back: a GPU backend's
       // step() only queues work.
       auto t0 = Clock::now();
-      sim.step(n);
+      sim.advance(n, 2000);  // watchdog: throws SimulationDiverged with the cause
       f.steps = n;
       const Diagnostics d = sim.diagnostics();
       f.sim_s = seconds_since(t0);

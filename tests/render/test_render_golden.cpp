@@ -57,6 +57,8 @@ void run_case(const GoldenCase& c) {
   std::vector<HeadlessFrame> frames;
   try {
     frames = render_headless(sim, h, &info);
+  } catch (const SimulationDiverged& e) {
+    FAIL() << "the simulation diverged: " << e.what();
   } catch (const std::runtime_error& e) {
     GTEST_SKIP() << "no offscreen OpenGL context: " << e.what();
   }
