@@ -199,7 +199,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (gpu) {
     if (o.mode != "auto") gpu->set_exec_mode(cuda::parse_exec_mode(o.mode));
     r.device = gpu->device_name();
-    r.mode = cuda::exec_mode_name(gpu->exec_mode());
+    r.mode = std::string(cuda::exec_mode_name(gpu->exec_mode())) + ", " + std::to_string(gpu->node_lanes()) + " lanes/node";
     sync = [gpu] { gpu->synchronize(); };
     timed = [gpu](long n) { return gpu->time_steps_us(n); };
   }
@@ -235,35 +235,47 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
 
 #if defined(SOFTTLED_HAVE_CUDA)
   if (gpu) {
-    if (full) {
-      const cuda::StageTimes t = gpu->time_stages(o.stage_reps);
+    {
+      const int reps = full ? o.stage_reps : std::clamp(int(200.0 * 7000 / std::max(1, r.ntet)), 10, 200);
+      const cuda::StageTimes t = gpu->time_stages(reps);
       r.stages.forces = t.forces_us;
       r.stages.update = t.update_only_us;
       r.stages.contact = std::max(0.0, t.update_contact_us - t.update_only_us);
       r.stages.render = t.render_us;
       r.stages.valid = true;
     }
+    const int cmp_samples = std::max(3, o.samples / 2);
     auto timed_samples = [&](cuda::CudaSolverApi* api) {
       api->step(std::min(chunk, 200L));
       api->synchronize();
       std::vector<double> v;
-      for (int s = 0; s < o.samples; ++s) v.push_back(api->time_steps_us(chunk) / double(chunk));
+      for (int s = 0; s < cmp_samples; ++s) v.push_back(api->time_steps_us(chunk) / double(chunk));
       return stats_of(v);
     };
     if (o.compare_modes) {
       const cuda::ExecMode keep = gpu->exec_mode();
+      const int keep_lanes = gpu->node_lanes();
+      const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
       for (cuda::ExecMode m : {cuda::ExecMode::kPlain, cuda::ExecMode::kGraph, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kPersistent}) {
         sim.reset();
         gpu->set_exec_mode(m);
-        r.modes.emplace_back(cuda::exec_mode_name(m), timed_samples(gpu));
+        r.modes.emplace_back(cuda::exec_mode_name(m) + lanes_tag, timed_samples(gpu));
       }
       gpu->set_exec_mode(keep);
+      for (int lanes : {1, 4, 8}) {
+        if (lanes == keep_lanes) continue;
+        sim.reset();
+        gpu->set_node_lanes(lanes);
+        r.modes.emplace_back(std::string(cuda::exec_mode_name(keep)) + ",lanes=" + std::to_string(lanes), timed_samples(gpu));
+      }
+      gpu->set_node_lanes(keep_lanes);
     }
     if (!full) {
       // The same mesh without the Morton renumbering (TetGen's numbering), same mode.
       cuda::Options opt = cuda::options_from_env();
       opt.reorder = false;
       opt.mode = gpu->exec_mode();
+      opt.node_lanes = gpu->node_lanes();
       auto plain = make_cuda_solver(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()),
                                     sc.precision == "float" ? Precision::kFloat : Precision::kDouble, opt);
       plain->set_params(sim.params());
@@ -271,7 +283,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       HostState st;
       sim.solver().get_state(st);
       plain->set_state(st);
-      r.modes.emplace_back(std::string(cuda::exec_mode_name(opt.mode)) + ",tetgen-order",
+      r.modes.emplace_back(std::string(cuda::exec_mode_name(opt.mode)) + ",lanes=" + std::to_string(opt.node_lanes) + ",tetgen-order",
                            timed_samples(dynamic_cast<cuda::CudaSolverApi*>(plain.get())));
     }
     return r;
@@ -389,7 +401,7 @@ Command add_bench_command(CLI::App& app) {
                   main.stages.contact * 8, main.stages.render, main.stages.render * 8);
     }
     for (const auto& m : main.modes)
-      std::printf("  mode %-10s median %.3f us/step (min %.3f, max %.3f)\n", m.first.c_str(), m.second.median, m.second.min,
+      std::printf("  mode %-26s median %.3f us/step (min %.3f, max %.3f)\n", m.first.c_str(), m.second.median, m.second.min,
                   m.second.max);
 
     std::vector<Result> rows;
@@ -422,8 +434,12 @@ Command add_bench_command(CLI::App& app) {
                     1e6 / r.us.median, r.bytes * 1e-6, gbs, roof, r.dt * 1e6 / r.us.median);
       }
       for (const Result& r : rows)
+        if (r.stages.valid)
+          std::printf("  %-5s stages us/call: forces %.3f, update %.3f, contact %.3f, render write %.3f\n", r.label.c_str(),
+                      r.stages.forces, r.stages.update, r.stages.contact, r.stages.render);
+      for (const Result& r : rows)
         for (const auto& m : r.modes)
-          std::printf("  %-5s mode %-22s median %10.3f us/step (min %.3f, max %.3f)\n", r.label.c_str(), m.first.c_str(),
+          std::printf("  %-5s mode %-34s median %10.3f us/step (min %.3f, max %.3f)\n", r.label.c_str(), m.first.c_str(),
                       m.second.median, m.second.min, m.second.max);
     }
     if (!o->json.empty()) {

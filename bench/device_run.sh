@@ -4,11 +4,14 @@
 # compute-sanitizer memcheck on a short torus drop. Run from the project root there:
 #   source .gl/setup.sh && bench/device_run.sh [SOURCE_DIR] [STAGES]
 # SOURCE_DIR defaults to "."; STAGES is a list of words from
-#   build test bench cpu sanitize ncu all-tests   (default: all of them)
+#   build test bench cpu sanitize ncu ncu1m all-tests   (default: all but ncu1m)
+# (bench/ holds Google Benchmark CPU benches, off here: libbenchmark is not carried.)
 # Logs and JSON go to $OUT (the device tool's folder) or /tmp/out; a summary prints last.
 set -uo pipefail
 SRC=$(cd "${1:-.}" && pwd)
 STAGES=${2:-"build test bench cpu sanitize ncu all-tests"}
+NCU_SECTIONS="--section SpeedOfLight --section MemoryWorkloadAnalysis --section LaunchStats --section Occupancy --section WarpStateStats"
+NCU_GREP="^  [a-z_]+.*\(|Duration|Memory Throughput|DRAM Throughput|Compute \(SM\)|Achieved Occupancy|Registers Per|Block Size|Grid Size|L2 Hit|L1/TEX Hit|Mem Busy|Max Bandwidth|Warp Cycles Per Issued"
 B=${SOFTTLED_DEVICE_BUILD:-/tmp/build}
 OUT=${OUT:-/tmp/out}
 mkdir -p "$OUT"
@@ -24,7 +27,7 @@ nproc | sed 's/^/cpu cores: /' | tee -a "$LOG"
 if has build; then
   say "build ($SRC)"
   t0=$(date +%s)
-  if ! { cmake -S "$SRC" -B "$B" $SOFTTLED_DEVICE_CMAKE_ARGS -DSOFTTLED_CUDA=ON && cmake --build "$B" -j16; } > "$OUT/build.log" 2>&1; then
+  if ! { cmake -S "$SRC" -B "$B" $SOFTTLED_DEVICE_CMAKE_ARGS -DSOFTTLED_CUDA=ON -DSOFTTLED_BUILD_BENCH=OFF && cmake --build "$B" -j16; } > "$OUT/build.log" 2>&1; then
     tail -40 "$OUT/build.log"
     exit 1
   fi
@@ -70,11 +73,19 @@ fi
 
 if has ncu; then
   say "ncu: element and node kernels on the torus"
-  ncu --section SpeedOfLight --section MemoryWorkloadAnalysis --section LaunchStats --section Occupancy \
-    --section WarpStateStats -k regex:'element_forces|node_update' -c 4 \
+  ncu $NCU_SECTIONS -k regex:'element_forces|node_' -c 4 \
     "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.0002 solver.precision=float > "$OUT/ncu.txt" 2>&1
   echo "ncu rc=$?" | tee -a "$LOG"
-  grep -E "^  [a-z_]+.*\(|Duration|Memory Throughput|DRAM Throughput|Compute \(SM\)|Achieved Occupancy|Registers Per|Block Size|Grid Size|L2 Hit|L1/TEX Hit|Stall" "$OUT/ncu.txt" | head -60 | tee -a "$LOG"
+  grep -E "$NCU_GREP" "$OUT/ncu.txt" | head -60 | tee -a "$LOG"
+fi
+
+if has ncu1m; then
+  say "ncu: element and node kernels on the 1M-tet torus (mesh from the cache the sweep filled)"
+  ncu $NCU_SECTIONS -k regex:'element_forces|node_' -c 2 \
+    "$B/softtled" run --scene "$SCENE" --backend cuda --set 'body.segments=[360,72]' mesh.max_volume=0.0018 \
+    time.duration=2e-6 solver.precision=float > "$OUT/ncu1m.txt" 2>&1
+  echo "ncu rc=$?" | tee -a "$LOG"
+  grep -E "$NCU_GREP" "$OUT/ncu1m.txt" | head -40 | tee -a "$LOG"
 fi
 
 if has all-tests; then

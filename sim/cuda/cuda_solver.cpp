@@ -46,6 +46,7 @@ Options options_from_env() {
   if (const char* m = std::getenv("SOFTTLED_CUDA_MODE")) o.mode = parse_exec_mode(m);
   if (const char* r = std::getenv("SOFTTLED_CUDA_REORDER")) o.reorder = std::string(r) != "0";
   if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
+  if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
   return o;
 }
 
@@ -58,7 +59,9 @@ struct DeviceRest {
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
+  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i, the node stage's one-slot gather table
   TetMeshView<T> view;
+  TetMeshView<T> node_view;  // view with the identity gather over fnode (StepArgs::mn)
   SurfaceView surface;
 };
 
@@ -66,6 +69,7 @@ struct DeviceRest {
 template <class T>
 struct DeviceLive {
   DeviceBuffer<T> u, du, fcorner, fext;
+  DeviceBuffer<T> fnode;  // 3 x fnode_stride: summed internal force per node (lanes > 1)
   DeviceBuffer<std::uint8_t> contact;
 };
 
@@ -127,6 +131,16 @@ class CudaSolver final : public CudaSolverApi {
     v.gather_start = rest_.gather_start.data();
     v.gather_slot = rest_.gather_slot.data();
     v.flags = rest_.flags.data();
+    std::vector<int> ident(std::size_t(n_) + 1);
+    for (int i = 0; i <= n_; ++i) ident[i] = i;
+    rest_.ident.upload(ident);
+    const int fstride = (n_ + 3) / 4 * 4;
+    rest_.node_view = v;
+    rest_.node_view.ntet = fstride / 4;  // gather_node_force's component stride is 4 * ntet
+    rest_.node_view.gather_start = rest_.ident.data();
+    rest_.node_view.gather_slot = rest_.ident.data();
+    live_.fnode.resize(3 * std::size_t(fstride));
+    live_.fnode.fill_zero();
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -160,6 +174,7 @@ class CudaSolver final : public CudaSolverApi {
     const double g[3] = {0, -9.81, 0};
     step_ = make_step_params<T>(1e-5, 10, g);
     set_exec_mode(opt.mode);
+    set_node_lanes(opt.node_lanes);
     SOFTTLED_CUDA_CHECK(cudaDeviceSynchronize());
   }
 
@@ -195,6 +210,14 @@ class CudaSolver final : public CudaSolverApi {
   }
   ExecMode exec_mode() const override { return mode_; }
 
+  void set_node_lanes(int lanes) override {
+    if (lanes == 0) lanes = auto_lanes();
+    if (lanes != 1 && lanes != 4 && lanes != 8) throw InputError("node lanes must be 1, 4 or 8");
+    if (lanes != lanes_) clear_graphs();
+    lanes_ = lanes;
+  }
+  int node_lanes() const override { return lanes_; }
+
   void step(long nsteps) override {
     if (nsteps <= 0) return;
     const StepArgs<T> a = args(step_);
@@ -204,8 +227,8 @@ class CudaSolver final : public CudaSolverApi {
         break;
       case ExecMode::kPersistent: {
         const int block = 64;
-        const int need = (std::max(ne_, n_) + block - 1) / block;
-        const int grid = std::max(1, std::min(need, persistent_max_grid<T>(block, nsm_)));
+        const int need = (std::max(ne_, lanes_ * n_) + block - 1) / block;
+        const int grid = std::max(1, std::min(need, persistent_max_grid<T>(block, nsm_, lanes_)));
         for (long done = 0; done < nsteps;) {
           const int k = int(std::min<long>(nsteps - done, 1L << 20));
           SOFTTLED_CUDA_CHECK(launch_persistent_steps<T>(stream_, grid, block, a, k));
@@ -252,7 +275,7 @@ class CudaSolver final : public CudaSolverApi {
     StepParams<T> free_p = step_;
     free_p.contact.nplanes = 0;
     const StepArgs<T> a_free = args(free_p);
-    const LaunchShape se = shape_for(ne_, nsm_, pdl), sn = shape_for(n_, nsm_, pdl);
+    const LaunchShape se = element_shape(pdl), sn = node_shape(pdl);
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
     StageTimes t;
     t.reps = reps;
@@ -361,9 +384,16 @@ class CudaSolver final : public CudaSolverApi {
 
  private:
   ExecMode auto_mode() const {
-    // Chosen from the bench (bench/NOTES.md): PDL graphs win at every size measured.
-    return ExecMode::kGraphPdl;
+    // Chosen from the bench (bench/NOTES.md).
+    return ne_ <= kSmallMesh ? ExecMode::kGraphPdl : ExecMode::kGraph;
   }
+  int auto_lanes() const { return 8; }
+
+  // Below this many elements a step is one small wave: launch latency and memory latency
+  // dominate, and PDL with rest-data prefetch hides part of both.
+  static constexpr int kSmallMesh = 65536;
+  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, ne_ <= kSmallMesh); }
+  LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, ne_ <= kSmallMesh); }
 
   StepArgs<T> args(const StepParams<T>& p) const {
     StepArgs<T> a;
@@ -375,12 +405,16 @@ class CudaSolver final : public CudaSolverApi {
     a.b.fext = fext_active_ ? live_.fext.data() : nullptr;
     a.mat = mat_;
     a.p = p;
+    a.lanes = lanes_;
+    a.mn = rest_.node_view;
+    a.bn = a.b;
+    a.bn.fcorner = const_cast<T*>(live_.fnode.data());
     return a;
   }
 
   void enqueue_step(const StepArgs<T>& a, bool pdl) {
-    SOFTTLED_CUDA_CHECK(launch_element_forces<T>(stream_, shape_for(ne_, nsm_, pdl), a));
-    SOFTTLED_CUDA_CHECK(launch_node_update<T>(stream_, shape_for(n_, nsm_, pdl), a));
+    SOFTTLED_CUDA_CHECK(launch_element_forces<T>(stream_, element_shape(pdl), a));
+    SOFTTLED_CUDA_CHECK(launch_node_update<T>(stream_, node_shape(pdl), a));
   }
 
   // Captures `body` (which enqueues kernels on stream_) into an executable graph.
@@ -483,6 +517,7 @@ class CudaSolver final : public CudaSolverApi {
   NeoHookean<T> mat_{};
   StepParams<T> step_{};
   ExecMode mode_ = ExecMode::kAuto;
+  int lanes_ = 1;
   std::map<int, cudaGraphExec_t> graphs_;
 };
 

@@ -29,8 +29,9 @@ struct Options {
   ExecMode mode = ExecMode::kAuto;
   bool reorder = true;       // Morton renumbering of nodes and elements (mesh_reorder.h)
   int steps_per_graph = 32;  // K: steps captured in one graph
+  int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
 };
-// Options with SOFTTLED_CUDA_MODE / SOFTTLED_CUDA_REORDER / SOFTTLED_CUDA_GRAPH_STEPS applied.
+// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches
@@ -48,6 +49,8 @@ class CudaSolverApi : public Solver {
  public:
   virtual void set_exec_mode(ExecMode m) = 0;
   virtual ExecMode exec_mode() const = 0;  // the mode in use (kAuto resolved)
+  virtual void set_node_lanes(int lanes) = 0;  // 1, 4, 8; 0 = by mesh size
+  virtual int node_lanes() const = 0;          // in use
   virtual void synchronize() = 0;          // wait for all enqueued steps
   // Device-timed (events) n steps from the current state; returns microseconds.
   virtual double time_steps_us(long n) = 0;

@@ -19,12 +19,25 @@
 namespace softtled::cuda {
 
 // Everything one explicit step reads, by value (kernel parameters).
+//
+// The node stage comes in two forms. lanes == 1: one thread per node calls node_update
+// on (m, b), gathering its corner forces itself. lanes == 4 or 8: that many consecutive
+// lanes of a warp share a node; each sums every lanes-th corner of the node's gather list
+// (all loads issued at once), a fixed shuffle tree adds the partial sums (deterministic:
+// same order every run), and the first lane stores the total as the node's one "corner"
+// in the fnode buffer and calls node_update on (mn, bn): the same rest arrays, but a
+// gather table that maps node i to that single slot i. A thread-per-node gather waits one
+// memory latency per few corners and the torus has nodes with 60 corners; this form
+// waits about one.
 template <class T>
 struct StepArgs {
   TetMeshView<T> m;
   BodyStateView<T> b;
   NeoHookean<T> mat;
   StepParams<T> p;
+  int lanes = 1;          // 1, 4 or 8 lanes per node in the node stage
+  TetMeshView<T> mn;      // m with gather_start[i] = i, gather_slot[i] = i, 4 * ntet = fnode stride
+  BodyStateView<T> bn;    // b with fcorner = fnode (3 x stride, summed force per node)
 };
 
 struct LaunchShape {
@@ -33,21 +46,26 @@ struct LaunchShape {
   // Programmatic dependent launch (sm_90): the next kernel in the stream may be
   // scheduled while this one runs; it waits (griddepcontrol.wait) before touching data.
   bool pdl = false;
+  // With pdl: pull this kernel's rest-state data into L1 before the wait (pays off when
+  // the whole grid is one small wave; costs instructions on large meshes).
+  bool prefetch = false;
 };
 
 // Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
 // that would leave multiprocessors idle, so a small mesh spreads over the whole chip.
-inline LaunchShape shape_for(int n, int nsm, bool pdl) {
+inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
   LaunchShape s;
   s.block = 256;
   while (s.block > 32 && (n + s.block - 1) / s.block < nsm) s.block /= 2;
   s.grid = n > 0 ? (n + s.block - 1) / s.block : 1;
   s.pdl = pdl;
+  s.prefetch = pdl && prefetch;
   return s;
 }
 
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+// Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
 
@@ -56,7 +74,7 @@ template <class T>
 cudaError_t launch_persistent_steps(cudaStream_t s, int grid, int block, const StepArgs<T>& a, int nsteps);
 // Largest cooperative grid for that block size (blocks per SM x SMs).
 template <class T>
-int persistent_max_grid(int block, int nsm);
+int persistent_max_grid(int block, int nsm, int lanes);
 
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,

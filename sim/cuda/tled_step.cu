@@ -52,38 +52,121 @@ __device__ __forceinline__ void prefetch_node_rest(const TetMeshView<T>& m, int 
   for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
 }
 
-template <class T, bool kPdl>
+template <class T, bool kPrefetch>
 __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
                                       T* __restrict__ fcorner) {
   pdl_launch_dependents();
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
-  if (kPdl && e < m.ntet) prefetch_element_rest(m, e);
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
   pdl_wait();  // u is written by the previous step's node stage
   if (e >= m.ntet) return;
   tet_corner_forces(m, mat, u, fcorner, e);
 }
 
-template <class T, bool kPdl>
+template <class T, bool kPrefetch>
 __global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T> b, const StepParams<T> p) {
   pdl_launch_dependents();
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (kPdl && i < m.nnode) prefetch_node_rest(m, i);
+  if (kPrefetch && i < m.nnode) prefetch_node_rest(m, i);
   pdl_wait();  // fcorner is written by the element stage
   if (i >= m.nnode) return;
   node_update(m, b, p, i);
 }
 
+// ---- node stage with G lanes per node (see StepArgs in tled_kernels.h) ----
+template <int G>
+struct LaneSlots {
+  static constexpr int kBatch = 64 / G;  // corners per lane issued at once: 64 per node
+  int i, lane, j0, j1;
+  int s[kBatch];  // corner slots, -1 past the node's list
+};
+
+// Thread t serves node t / G as lane t % G. Reads only rest data (the gather table), so
+// under PDL it runs before the wait.
+template <class T, int G>
+__device__ __forceinline__ LaneSlots<G> lane_slots(const TetMeshView<T>& m, int t) {
+  LaneSlots<G> g;
+  g.i = t / G;
+  g.lane = t % G;
+  g.j0 = g.j1 = 0;
+  if (g.i < m.nnode) {
+    g.j0 = m.gather_start[g.i];
+    g.j1 = m.gather_start[g.i + 1];
+  }
+#pragma unroll
+  for (int q = 0; q < LaneSlots<G>::kBatch; ++q) {
+    const int j = g.j0 + g.lane + q * G;
+    g.s[q] = j < g.j1 ? m.gather_slot[j] : -1;
+  }
+  return g;
+}
+
+// Every lane of the warp must call this (the shuffles use the full mask).
+template <class T, int G>
+__device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlots<G>& g) {
+  constexpr int B = LaneSlots<G>::kBatch;
+  const int stride = 4 * a.m.ntet;
+  const T* fc = a.b.fcorner;
+  T v[B][3];
+#pragma unroll
+  for (int q = 0; q < B; ++q) {
+    const int s = g.s[q];
+    v[q][0] = s >= 0 ? fc[s] : T(0);
+    v[q][1] = s >= 0 ? fc[stride + s] : T(0);
+    v[q][2] = s >= 0 ? fc[2 * stride + s] : T(0);
+  }
+  T f[3] = {T(0), T(0), T(0)};
+#pragma unroll
+  for (int q = 0; q < B; ++q)
+    if (g.s[q] >= 0)
+      for (int k = 0; k < 3; ++k) f[k] += v[q][k];
+  for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
+    const int s = a.m.gather_slot[j];
+    for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
+  }
+#pragma unroll
+  for (int off = G / 2; off > 0; off /= 2)
+    for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
+  if (g.lane == 0 && g.i < a.m.nnode) {
+    const int fs = 4 * a.mn.ntet;
+    for (int k = 0; k < 3; ++k) a.bn.fcorner[k * fs + g.i] = f[k];
+    node_update(a.mn, a.bn, a.p, g.i);  // gathers the one summed "corner" just stored
+  }
+}
+
+template <class T, int G, bool kPrefetch>
+__global__ void node_lanes_kernel(const StepArgs<T> a) {
+  pdl_launch_dependents();
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
+  if (kPrefetch && g.lane == 0 && g.i < a.m.nnode) {
+    const TetMeshView<T>& m = a.mn;
+    prefetch_l1(m.gather_start + g.i);
+    prefetch_l1(m.gather_slot + g.i);
+    prefetch_l1(m.flags + g.i);
+    prefetch_l1(m.inv_mass + g.i);
+    for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + g.i);
+  }
+  pdl_wait();  // fcorner is written by the element stage
+  lane_finish<T, G>(a, g);
+}
+
 // Small meshes: all steps in one launch, a grid-wide barrier after each stage. Same
 // per-element / per-node calls as above, grid-stride over the items.
-template <class T>
+template <class T, int G>
 __global__ void persistent_steps_kernel(const StepArgs<T> a, int nsteps) {
   cg::grid_group grid = cg::this_grid();
-  const int stride = int(grid.size());
+  const int stride = int(grid.size());  // a multiple of 32: whole warps stay together
   const int first = int(grid.thread_rank());
+  const int nthreads = (G * a.m.nnode + 31) / 32 * 32;
   for (int s = 0; s < nsteps; ++s) {
     for (int e = first; e < a.m.ntet; e += stride) tet_corner_forces(a.m, a.mat, a.b.u, a.b.fcorner, e);
     grid.sync();
-    for (int i = first; i < a.m.nnode; i += stride) node_update(a.m, a.b, a.p, i);
+    if (G == 1) {
+      for (int i = first; i < a.m.nnode; i += stride) node_update(a.m, a.b, a.p, i);
+    } else {
+      for (int t = first; t < nthreads; t += stride) lane_finish<T, G>(a, lane_slots<T, G>(a.m, t));
+    }
     grid.sync();
   }
 }
@@ -142,28 +225,53 @@ cudaError_t launch(cudaStream_t s, const LaunchShape& ls, Kernel k, Args... args
 
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
-  if (ls.pdl) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, static_cast<const T*>(a.b.u), a.b.fcorner);
-  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, static_cast<const T*>(a.b.u), a.b.fcorner);
+  const T* u = a.b.u;
+  if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.b.fcorner);
+  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.b.fcorner);
 }
 
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
-  if (ls.pdl) return launch(s, ls, node_update_kernel<T, true>, a.m, a.b, a.p);
-  return launch(s, ls, node_update_kernel<T, false>, a.m, a.b, a.p);
+  switch (a.lanes) {
+    case 1:
+      if (ls.prefetch) return launch(s, ls, node_update_kernel<T, true>, a.m, a.b, a.p);
+      return launch(s, ls, node_update_kernel<T, false>, a.m, a.b, a.p);
+    case 4:
+      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 4, true>, a);
+      return launch(s, ls, node_lanes_kernel<T, 4, false>, a);
+    case 8:
+      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 8, true>, a);
+      return launch(s, ls, node_lanes_kernel<T, 8, false>, a);
+  }
+  return cudaErrorInvalidValue;
 }
+
+namespace {
+template <class T>
+const void* persistent_kernel(int lanes) {
+  switch (lanes) {
+    case 1: return reinterpret_cast<const void*>(&persistent_steps_kernel<T, 1>);
+    case 4: return reinterpret_cast<const void*>(&persistent_steps_kernel<T, 4>);
+    case 8: return reinterpret_cast<const void*>(&persistent_steps_kernel<T, 8>);
+  }
+  return nullptr;
+}
+}  // namespace
 
 template <class T>
 cudaError_t launch_persistent_steps(cudaStream_t s, int grid, int block, const StepArgs<T>& a, int nsteps) {
+  const void* k = persistent_kernel<T>(a.lanes);
+  if (!k) return cudaErrorInvalidValue;
   void* args[] = {const_cast<StepArgs<T>*>(&a), &nsteps};
-  return cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(&persistent_steps_kernel<T>), dim3(unsigned(grid)),
-                                     dim3(unsigned(block)), args, 0, s);
+  return cudaLaunchCooperativeKernel(k, dim3(unsigned(grid)), dim3(unsigned(block)), args, 0, s);
 }
 
 template <class T>
-int persistent_max_grid(int block, int nsm) {
+int persistent_max_grid(int block, int nsm, int lanes) {
+  const void* k = persistent_kernel<T>(lanes);
   int per_sm = 0;
-  const cudaError_t e = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_steps_kernel<T>, block, 0);
-  return e == cudaSuccess ? per_sm * nsm : 0;
+  if (!k || cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, k, block, 0) != cudaSuccess) return 0;
+  return per_sm * nsm;
 }
 
 template <class T>
@@ -191,7 +299,7 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
   template cudaError_t launch_element_forces<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                  \
   template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                     \
   template cudaError_t launch_persistent_steps<T>(cudaStream_t, int, int, const StepArgs<T>&, int);                     \
-  template int persistent_max_grid<T>(int, int);                                                                       \
+  template int persistent_max_grid<T>(int, int, int);                                                                       \
   template cudaError_t launch_render_vertices<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,               \
                                                  const SurfaceView&, const T*, const std::uint8_t*, float*);            \
   template cudaError_t launch_element_energy<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,                \
