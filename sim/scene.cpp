@@ -1,5 +1,6 @@
 #include "scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -224,8 +225,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
         f.is_box = true;
       } else if (get3("plane_point", f.a)) {
         if (!get3("plane_normal", f.b)) r.fail(key, "plane_point needs plane_normal");
+        double big = 0;
+        for (double x : f.b) big = std::max(big, std::fabs(x));
+        if (!(big > 0)) r.fail(key + ".plane_normal", "must be non-zero");
+        for (double& x : f.b) x /= big;
         const double n = std::sqrt(f.b[0] * f.b[0] + f.b[1] * f.b[1] + f.b[2] * f.b[2]);
-        if (!(n > 0)) r.fail(key + ".plane_normal", "must be non-zero");
         for (double& x : f.b) x /= n;
         f.is_box = false;
       } else {
@@ -249,9 +253,16 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.floor = r.boolean("floor.enabled", s.floor);
   s.floor_point = r.vec<3>("floor.point", s.floor_point);
   s.floor_normal = r.vec<3>("floor.normal", s.floor_normal);
-  const double nn = std::sqrt(s.floor_normal[0] * s.floor_normal[0] + s.floor_normal[1] * s.floor_normal[1] + s.floor_normal[2] * s.floor_normal[2]);
-  if (!(nn > 0)) r.fail("floor.normal", "must be non-zero");
-  for (double& v : s.floor_normal) v /= nn;
+  {
+    // Scale by the largest component first so huge values do not overflow when squared.
+    double big = 0;
+    for (double v : s.floor_normal) big = std::max(big, std::fabs(v));
+    if (!(big > 0)) r.fail("floor.normal", "must be non-zero");
+    for (double& v : s.floor_normal) v /= big;
+    const double nn = std::sqrt(s.floor_normal[0] * s.floor_normal[0] + s.floor_normal[1] * s.floor_normal[1] +
+                                s.floor_normal[2] * s.floor_normal[2]);
+    for (double& v : s.floor_normal) v /= nn;
+  }
   s.slope = r.boolean("slope.enabled", s.slope);
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
   s.slope_point = r.vec<3>("slope.point", s.floor_point);

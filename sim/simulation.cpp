@@ -122,6 +122,22 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.alpha = scene_.alpha;
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
   params_.planes = scene_planes(scene_);
+  // A body that starts inside a plane would be shot out by the projection: refuse it.
+  for (std::size_t p = 0; p < params_.planes.size(); ++p) {
+    const PlaneSpec& pl = params_.planes[p];
+    double worst = 0;
+    for (int i = 0; i < mesh_.nnode(); ++i) {
+      const double* x = &mesh_.X[3 * i];
+      worst = std::min(worst, pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) +
+                                  pl.normal[2] * (x[2] - pl.point[2]));
+    }
+    if (worst < -1e-9) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, ": the body starts %.4g mm inside the %s plane; move body.position or the plane",
+                    -worst * 1e3, scene_.floor && p == 0 ? "floor" : "slope");
+      throw InputError(scene_.source + buf);
+    }
+  }
   params_.contact_mode = scene_.contact_mode == "sliding" ? kSliding : scene_.contact_mode == "static" ? kStatic : kCoulomb;
   params_.mu = scene_.mu;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;

@@ -73,7 +73,16 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   if (nonmanifold) fail("not manifold: " + std::to_string(nonmanifold) + " edges are shared by more than two triangles" + edge());
   if (flipped) fail("inconsistent orientation: " + std::to_string(flipped) + " edges are traversed twice in the same direction" + edge());
   if (open) fail("not closed: " + std::to_string(open) + " boundary edges (holes)" + edge());
-  if (enclosed_volume(s) < 0)
+  // A closed surface can still enclose nothing (two copies of a triangle, back to back).
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.xyz[3 * i + k]), hi[k] = std::max(hi[k], s.xyz[3 * i + k]);
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double vol = enclosed_volume(s);
+  if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
+    fail("the surface encloses no volume (flat or collapsed)");
+  if (vol < 0)
     for (int t = 0; t < s.ntri(); ++t) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
 }
 
