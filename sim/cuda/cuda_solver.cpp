@@ -59,9 +59,10 @@ struct DeviceRest {
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
-  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i, the node stage's one-slot gather table
+  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i  } the node stage's one-slot gather
+  DeviceBuffer<int> zeros;  // nnode: 0                } table (tled_kernels.h, StepArgs)
   TetMeshView<T> view;
-  TetMeshView<T> node_view;  // view with the identity gather over fnode (StepArgs::mn)
+  TetMeshView<T> node_view;  // view with the one-slot gather table (StepArgs::mn)
   SurfaceView surface;
 };
 
@@ -69,7 +70,6 @@ struct DeviceRest {
 template <class T>
 struct DeviceLive {
   DeviceBuffer<T> u, du, fcorner, fext;
-  DeviceBuffer<T> fnode;  // 3 x fnode_stride: summed internal force per node (lanes > 1)
   DeviceBuffer<std::uint8_t> contact;
 };
 
@@ -134,13 +134,11 @@ class CudaSolver final : public CudaSolverApi {
     std::vector<int> ident(std::size_t(n_) + 1);
     for (int i = 0; i <= n_; ++i) ident[i] = i;
     rest_.ident.upload(ident);
-    const int fstride = (n_ + 3) / 4 * 4;
+    rest_.zeros.upload(std::vector<int>(std::size_t(std::max(n_, 1)), 0));
     rest_.node_view = v;
-    rest_.node_view.ntet = fstride / 4;  // gather_node_force's component stride is 4 * ntet
+    rest_.node_view.ntet = 1;  // gather_node_force's component stride 4 * ntet = 4
     rest_.node_view.gather_start = rest_.ident.data();
-    rest_.node_view.gather_slot = rest_.ident.data();
-    live_.fnode.resize(3 * std::size_t(fstride));
-    live_.fnode.fill_zero();
+    rest_.node_view.gather_slot = rest_.zeros.data();
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -407,8 +405,6 @@ class CudaSolver final : public CudaSolverApi {
     a.p = p;
     a.lanes = lanes_;
     a.mn = rest_.node_view;
-    a.bn = a.b;
-    a.bn.fcorner = const_cast<T*>(live_.fnode.data());
     return a;
   }
 

@@ -24,10 +24,10 @@ namespace softtled::cuda {
 // on (m, b), gathering its corner forces itself. lanes == 4 or 8: that many consecutive
 // lanes of a warp share a node; each sums every lanes-th corner of the node's gather list
 // (all loads issued at once), a fixed shuffle tree adds the partial sums (deterministic:
-// same order every run), and the first lane stores the total as the node's one "corner"
-// in the fnode buffer and calls node_update on (mn, bn): the same rest arrays, but a
-// gather table that maps node i to that single slot i. A thread-per-node gather waits one
-// memory latency per few corners and the torus has nodes with 60 corners; this form
+// same order every run), and the first lane calls node_update on mn, the same rest arrays
+// with a one-slot gather table (gather_start[i] = i, gather_slot[i] = 0, ntet = 1), with
+// the total as the single corner in a per-thread array. A thread-per-node gather waits
+// one memory latency per few corners and the torus has nodes with 60 corners; this form
 // waits about one.
 template <class T>
 struct StepArgs {
@@ -36,8 +36,7 @@ struct StepArgs {
   NeoHookean<T> mat;
   StepParams<T> p;
   int lanes = 1;          // 1, 4 or 8 lanes per node in the node stage
-  TetMeshView<T> mn;      // m with gather_start[i] = i, gather_slot[i] = i, 4 * ntet = fnode stride
-  BodyStateView<T> bn;    // b with fcorner = fnode (3 x stride, summed force per node)
+  TetMeshView<T> mn;      // m with the one-slot gather table (see above)
 };
 
 struct LaunchShape {

@@ -107,6 +107,15 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
   constexpr int B = LaneSlots<G>::kBatch;
   const int stride = 4 * a.m.ntet;
   const T* fc = a.b.fcorner;
+  if (g.lane == 1 && g.i < a.m.nnode) {
+    // node_update's live reads, in flight together with the corner loads below (only
+    // after the grid dependency: the previous node stage writes them).
+    const int n = a.m.nnode;
+    for (int k = 0; k < 3; ++k) {
+      prefetch_l1(a.b.u + k * n + g.i);
+      prefetch_l1(a.b.du + k * n + g.i);
+    }
+  }
   T v[B][3];
 #pragma unroll
   for (int q = 0; q < B; ++q) {
@@ -128,9 +137,13 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
   for (int off = G / 2; off > 0; off /= 2)
     for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
   if (g.lane == 0 && g.i < a.m.nnode) {
-    const int fs = 4 * a.mn.ntet;
-    for (int k = 0; k < 3; ++k) a.bn.fcorner[k * fs + g.i] = f[k];
-    node_update(a.mn, a.bn, a.p, g.i);  // gathers the one summed "corner" just stored
+    // The sum goes to node_update as the node's one "corner": slot 0 of a per-thread
+    // array, component stride 4 (mn.ntet = 1, mn.gather_slot[i] = 0).
+    T one[12];
+    for (int k = 0; k < 3; ++k) one[4 * k] = f[k];
+    BodyStateView<T> bn = a.b;
+    bn.fcorner = one;
+    node_update(a.mn, bn, a.p, g.i);
   }
 }
 
