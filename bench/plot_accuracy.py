@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Pareto plot and markdown table of `softtled accuracy` output.
+
+usage: bench/plot_accuracy.py DIR   (reads DIR/accuracy.csv, writes DIR/accuracy_pareto.png
+                                      and DIR/accuracy.md)
+Cost axis: wall time to simulate 0.2 s = us_per_step * 0.2 / dt (the backend that ran it).
+Error axis: mean nodal displacement error against the reference at the later snapshot.
+"""
+import csv
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+d = sys.argv[1] if len(sys.argv) > 1 else "bench/accuracy"
+rows = [r for r in csv.DictReader(open(f"{d}/accuracy.csv")) if r["dt_us"] not in ("", "diverged")]
+ref = rows[0]
+for r in rows:
+    r["wall_02"] = float(r["us_per_step"]) * 1e-6 * 0.2 / (float(r["dt_us"]) * 1e-6)
+    r["err"] = float(r["mean_err_mm_t2"])
+
+curves = defaultdict(list)
+for r in rows[2:]:
+    curves[(r["level"], r["element"], r["precision"])].append(r)
+
+fig, ax = plt.subplots(figsize=(8, 5.5))
+markers = {"T4": "o", "T4ANP": "s"}
+for (level, element, prec), rs in sorted(curves.items()):
+    rs.sort(key=lambda r: r["wall_02"])
+    ax.plot([r["wall_02"] for r in rs], [max(r["err"], 1e-4) for r in rs], marker=markers.get(element, "o"),
+            linestyle="-" if prec == "double" else "--", label=f"{level} {element} {prec}")
+    for r in rs:
+        ax.annotate(f"λ={float(r['lambda']):g}", (r["wall_02"], max(r["err"], 1e-4)), fontsize=6,
+                    textcoords="offset points", xytext=(3, 3))
+t4ref = rows[1]
+ax.axhline(float(t4ref["mean_err_mm_t2"]), color="gray", linestyle=":",
+           label=f"T4 on the reference mesh ({t4ref['level']})")
+ax.set_xscale("log")
+ax.set_yscale("log")
+ax.set_xlabel("wall time to simulate 0.2 s [s] (backend that ran the sweep)")
+ax.set_ylabel("mean nodal displacement error vs reference [mm]")
+ax.set_title(f"Torus drop: accuracy vs cost (reference {ref['level']} T4ANP double λ={ref['lambda']})")
+ax.grid(True, which="both", alpha=0.3)
+ax.legend(fontsize=7, loc="best")
+fig.tight_layout()
+fig.savefig(f"{d}/accuracy_pareto.png", dpi=130)
+
+with open(f"{d}/accuracy.md", "w") as f:
+    f.write("| mesh | tets | element | precision | λ | Δt [µs] | µs/step | wall to 0.2 s [s] | centroid RMS [mm] | "
+            "max err t1 [mm] | mean err t1 [mm] | max err t2 [mm] | mean err t2 [mm] | rest height err [mm] |\n")
+    f.write("|" + "---|" * 14 + "\n")
+    for i, r in enumerate(rows):
+        tag = " (reference)" if i == 0 else (" (T4 on ref. mesh)" if i == 1 else "")
+        f.write(f"| {r['level']}{tag} | {r['ntet']} | {r['element']} | {r['precision']} | {float(r['lambda']):g} | "
+                f"{float(r['dt_us']):.3g} | {float(r['us_per_step']):.3g} | {r['wall_02']:.3g} | "
+                f"{float(r['centroid_rms_mm']):.3g} | {float(r['max_err_mm_t1']):.3g} | {float(r['mean_err_mm_t1']):.3g} | "
+                f"{float(r['max_err_mm_t2']):.3g} | {float(r['mean_err_mm_t2']):.3g} | {float(r['rest_height_err_mm']):.3g} |\n")
+print(f"wrote {d}/accuracy_pareto.png and {d}/accuracy.md")
