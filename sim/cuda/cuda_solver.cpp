@@ -381,17 +381,18 @@ class CudaSolver final : public CudaSolverApi {
   }
 
  private:
-  ExecMode auto_mode() const {
-    // Chosen from the bench (bench/NOTES.md).
-    return ne_ <= kSmallMesh ? ExecMode::kGraphPdl : ExecMode::kGraph;
-  }
-  int auto_lanes() const { return 8; }
+  // Chosen from the bench (bench/NOTES.md): PDL graphs are the fastest or within noise of
+  // it at every size; 8 lanes per node on small meshes (max node degree ~60 on the torus),
+  // 4 on large ones (fewer idle lanes, better coalescing per warp).
+  ExecMode auto_mode() const { return ExecMode::kGraphPdl; }
+  int auto_lanes() const { return small_mesh() ? 8 : 4; }
 
-  // Below this many elements a step is one small wave: launch latency and memory latency
-  // dominate, and PDL with rest-data prefetch hides part of both.
-  static constexpr int kSmallMesh = 65536;
-  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, ne_ <= kSmallMesh); }
-  LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, ne_ <= kSmallMesh); }
+  // A step that is one small wave (about one element per thread of a 128-thread block per
+  // SM) is bound by launch and memory latency: prefetching its rest data before the PDL
+  // wait hides part of that; on larger meshes the extra instructions cost more.
+  bool small_mesh() const { return ne_ <= 128 * nsm_; }
+  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
+  LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }
 
   StepArgs<T> args(const StepParams<T>& p) const {
     StepArgs<T> a;
