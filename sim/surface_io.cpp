@@ -147,6 +147,9 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
     }
     if (soup.size() % 9 != 0) throw InputError(name + ": truncated facet");
   }
+  // NaN breaks the map's ordering (it would merge into another vertex): check first.
+  for (double v : soup)
+    if (!std::isfinite(v)) throw InputError(name + ": a vertex coordinate is NaN or infinite");
   SurfaceMesh s;
   std::map<std::tuple<double, double, double>, int> index;
   for (std::size_t i = 0; i < soup.size(); i += 3) {

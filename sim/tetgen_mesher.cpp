@@ -50,6 +50,20 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
     f.polygonlist[0].numberofvertices = 3;
     f.polygonlist[0].vertexlist = new int[3]{surf.tri[3 * t], surf.tri[3 * t + 1], surf.tri[3 * t + 2]};
   }
+  // TetGen 1.5.0 throws on self-intersecting input but then crashes while unwinding (in
+  // ~memorypool), so detect intersections first with -d, which returns them as faces.
+  {
+    tetgenio probe;
+    char sw_d[] = "pdzQ";
+    try {
+      tetrahedralize(sw_d, &in, &probe);
+    } catch (int code) {
+      throw InputError("TetGen intersection check failed with code " + std::to_string(code));
+    }
+    if (probe.numberoftrifaces > 0)
+      throw InputError("the surface intersects itself (" + std::to_string(probe.numberoftrifaces) +
+                       " facets cross others); TetGen needs a closed surface without self-intersections");
+  }
   TetgenOptions scaled = o;
   scaled.max_volume = o.max_volume * to_mm * to_mm * to_mm;
   std::string sw = tetgen_switches(scaled);
