@@ -3,6 +3,7 @@
 // with Eigen and solved by sparse Cholesky (LDLT), for a gravity-loaded body with fixed
 // nodes. The explicit solver run to rest with damping (dynamic relaxation) must reach the
 // same state.
+#include <cstdint>
 #include <vector>
 
 #include "tet_mesh.h"
