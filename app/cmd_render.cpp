@@ -42,7 +42,7 @@ void parse_size(const std::string& s, int& w, int& h) {
 
 Command add_render_command(CLI::App& app) {
   struct Opts {
-    std::string scene, at, out = "out/render", size = "960x720", backend = "cpu", context = "egl", color = "shaded", stem;
+    std::string scene, at, out = "out/render", size = "960x720", backend = "auto", context = "egl", color = "shaded", stem;
     std::vector<std::string> set;
     float azimuth = 30, elevation = 18, zoom = 1;
     int samples = 4;
