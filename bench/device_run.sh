@@ -40,7 +40,7 @@ fi
 
 if has test; then
   say "CUDA tests"
-  (cd "$B" && ctest -R "CudaSolver|BackendSelection|MeshReorder" --output-on-failure -V) > "$OUT/ctest_cuda.log" 2>&1
+  (cd "$B" && ctest -R "CudaSolver|CudaAnp|BackendSelection|MeshReorder" --output-on-failure -V) > "$OUT/ctest_cuda.log" 2>&1
   echo "ctest (cuda) rc=$?" | tee -a "$LOG"
   grep -E "max \|x\| diff|Test +#.*(Passed|Failed|Skipped)|Failure|Expected|Which is" "$OUT/ctest_cuda.log" | tee -a "$LOG"
 fi

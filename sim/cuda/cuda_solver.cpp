@@ -70,6 +70,7 @@ struct DeviceRest {
 template <class T>
 struct DeviceLive {
   DeviceBuffer<T> u, du, fcorner, fext;
+  DeviceBuffer<T> vol_now, p_node;  // T4ANP: ntet current element volumes, nnode nodal pressures
   DeviceBuffer<std::uint8_t> contact;
 };
 
@@ -160,6 +161,10 @@ class CudaSolver final : public CudaSolverApi {
     live_.du.resize(3 * std::size_t(n_));
     live_.fcorner.resize(12 * std::size_t(ne_));
     live_.contact.resize(std::size_t(n_));
+    live_.vol_now.resize(std::size_t(std::max(ne_, 1)));
+    live_.p_node.resize(std::size_t(std::max(n_, 1)));
+    live_.vol_now.fill_zero();
+    live_.p_node.fill_zero();
     live_.u.fill_zero();
     live_.du.fill_zero();
     live_.fcorner.fill_zero();
@@ -198,6 +203,7 @@ class CudaSolver final : public CudaSolverApi {
       }
     step_.contact.mode = p.contact_mode;
     step_.contact.mu = T(p.mu);
+    element_ = p.element;
     clear_graphs();  // the parameters are baked into the captured kernel nodes
   }
 
@@ -273,11 +279,12 @@ class CudaSolver final : public CudaSolverApi {
     StepParams<T> free_p = step_;
     free_p.contact.nplanes = 0;
     const StepArgs<T> a_free = args(free_p);
-    const LaunchShape se = element_shape(pdl), sn = node_shape(pdl);
+    const LaunchShape sn = node_shape(pdl);
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
     StageTimes t;
     t.reps = reps;
-    t.forces_us = time_graph(reps, [&] { return launch_element_forces<T>(stream_, se, a); }) / reps;
+    // Element stage: tet_corner_forces, or the three T4ANP kernels together.
+    t.forces_us = time_graph(reps, [&] { return launch_element_stage(a, pdl); }) / reps;
     t.update_contact_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a); }) / reps;
     t.update_only_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a_free); }) / reps;
     if (rest_.surface.nvert > 0)
@@ -393,6 +400,7 @@ class CudaSolver final : public CudaSolverApi {
   bool small_mesh() const { return ne_ <= 128 * nsm_; }
   LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
   LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }
+  LaunchShape pressure_shape(bool pdl) const { return shape_for(n_, nsm_, pdl, small_mesh()); }  // T4ANP nodes
 
   StepArgs<T> args(const StepParams<T>& p) const {
     StepArgs<T> a;
@@ -406,11 +414,20 @@ class CudaSolver final : public CudaSolverApi {
     a.p = p;
     a.lanes = lanes_;
     a.mn = rest_.node_view;
+    a.anp = element_ == kT4ANP;
+    a.vol_now = const_cast<T*>(live_.vol_now.data());
+    a.p_node = const_cast<T*>(live_.p_node.data());
     return a;
   }
 
+  // Element stage: one kernel for T4, three for T4ANP (anp.h).
+  cudaError_t launch_element_stage(const StepArgs<T>& a, bool pdl) {
+    if (a.anp) return launch_anp_stages<T>(stream_, element_shape(pdl), pressure_shape(pdl), a);
+    return launch_element_forces<T>(stream_, element_shape(pdl), a);
+  }
+
   void enqueue_step(const StepArgs<T>& a, bool pdl) {
-    SOFTTLED_CUDA_CHECK(launch_element_forces<T>(stream_, element_shape(pdl), a));
+    SOFTTLED_CUDA_CHECK(launch_element_stage(a, pdl));
     SOFTTLED_CUDA_CHECK(launch_node_update<T>(stream_, node_shape(pdl), a));
   }
 
@@ -513,6 +530,7 @@ class CudaSolver final : public CudaSolverApi {
   bool fext_active_ = false;
   NeoHookean<T> mat_{};
   StepParams<T> step_{};
+  int element_ = kT4;  // ElementType (solver.h)
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   std::map<int, cudaGraphExec_t> graphs_;

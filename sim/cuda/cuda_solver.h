@@ -3,9 +3,12 @@
 // bench and the tests include it with the ordinary compiler.
 //
 // One step = element kernel (tet_corner_forces) then node kernel (node_update: gather,
-// central difference, plane contact). How the steps reach the GPU is the ExecMode:
+// central difference, plane contact). With PhysicsParams::element == kT4ANP the element
+// kernel is three (anp.h: element volumes, nodal pressures, corner forces), in every
+// mode below. How the steps reach the GPU is the ExecMode:
 //   plain       two stream launches per step
-//   graph       K steps captured once in a CUDA graph and replayed (2K kernel nodes)
+//   graph       K steps captured once in a CUDA graph and replayed (2K kernel nodes, 4K
+//               with T4ANP)
 //   graph-pdl   the same graph with programmatic dependent launch between the kernels:
 //               each kernel is scheduled while its predecessor runs and prefetches its
 //               rest-state data before waiting for it
@@ -37,7 +40,7 @@ Options options_from_env();
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches
 // of that kernel alone (same launch shape and PDL setting as the step uses).
 struct StageTimes {
-  double forces_us = 0;          // element stage
+  double forces_us = 0;          // element stage (T4ANP: its three kernels together)
   double update_contact_us = 0;  // node stage with the scene's planes
   double update_only_us = 0;     // node stage with contact switched off
   double render_us = 0;          // render-vertex write

@@ -3,7 +3,9 @@
 // syntax here, so the solver's host code compiles with the ordinary C++ compiler).
 // Each kernel is one thread per element, node or render vertex and calls the same SIM_HD
 // function the CPU backend loops over:
-//   element stage  tet_corner_forces   (tet_forces.h)
+//   element stage  tet_corner_forces   (tet_forces.h), or for T4ANP (anp.h) three kernels:
+//                  anp_element_volume (elements), anp_node_pressure (nodes, through the
+//                  gather table), anp_corner_forces (elements)
 //   node stage     node_update         (central_difference.h; plane contact fused in)
 //   render         write_render_vertex (surface_render.h)
 // Launchers return the launch's cudaError_t; the caller checks it.
@@ -37,6 +39,11 @@ struct StepArgs {
   StepParams<T> p;
   int lanes = 1;          // 1, 4 or 8 lanes per node in the node stage
   TetMeshView<T> mn;      // m with the one-slot gather table (see above)
+  // Average nodal pressure tets (PhysicsParams::element == kT4ANP): the element stage is
+  // the three anp.h stages instead of tet_corner_forces.
+  bool anp = false;
+  T* vol_now = nullptr;   // ntet, V0_e J_e of the current step (anp_element_volume)
+  T* p_node = nullptr;    // nnode, nodal pressure kappa (J_i - 1) (anp_node_pressure)
 };
 
 struct LaunchShape {
@@ -62,8 +69,14 @@ inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
   return s;
 }
 
+// T4: tet_corner_forces (ls: one thread per element).
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+// T4ANP, in this order: element volumes (le: one thread per element), nodal pressures (ln:
+// one thread per node, shape_for(nnode, ...)), corner forces (le). Deterministic: each
+// thread writes its own element or node; the pressure sums in gather-table order.
+template <class T>
+cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a);
 // Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);

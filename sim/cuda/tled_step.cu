@@ -3,8 +3,11 @@
 // per node for gather + central difference + plane contact, one thread per boundary node
 // for the render buffer. Every kernel body is a call of the shared SIM_HD function the
 // CPU backend (tled_cpu.cpp) loops over; nothing here re-implements the physics.
+// T4ANP (anp.h, Bonet & Burton 1998) replaces the element kernel by three: element
+// volumes, nodal pressures through the gather table, corner forces.
 #include <cooperative_groups.h>
 
+#include "sim/anp.h"
 #include "sim/tet_forces.h"
 #include "tled_kernels.h"
 
@@ -71,6 +74,44 @@ __global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T
   pdl_wait();  // fcorner is written by the element stage
   if (i >= m.nnode) return;
   node_update(m, b, p, i);
+}
+
+// ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
+// element or node, so runs repeat bit for bit ----
+template <class T, bool kPrefetch>
+__global__ void anp_volume_kernel(const TetMeshView<T> m, const T* __restrict__ u, T* __restrict__ vol_now) {
+  pdl_launch_dependents();
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  pdl_wait();  // u is written by the previous step's node stage
+  if (e >= m.ntet) return;
+  anp_element_volume(m, u, vol_now, e);
+}
+
+template <class T, bool kPrefetch>
+__global__ void anp_pressure_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ vol_now,
+                                    T* __restrict__ p_node) {
+  pdl_launch_dependents();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && i < m.nnode) {
+    const int j0 = m.gather_start[i], j1 = m.gather_start[i + 1];
+    for (int j = j0; j < j1; j += 128 / int(sizeof(int))) prefetch_l1(m.gather_slot + j);
+    if (j1 > j0) prefetch_l1(m.gather_slot + (j1 - 1));
+  }
+  pdl_wait();  // vol_now is written by anp_volume_kernel
+  if (i >= m.nnode) return;
+  anp_node_pressure(m, mat, vol_now, p_node, i);
+}
+
+template <class T, bool kPrefetch>
+__global__ void anp_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
+                                  const T* __restrict__ p_node, T* __restrict__ fcorner) {
+  pdl_launch_dependents();
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  pdl_wait();  // p_node is written by anp_pressure_kernel
+  if (e >= m.ntet) return;
+  anp_corner_forces(m, mat, u, p_node, fcorner, e);
 }
 
 // ---- node stage with G lanes per node (see StepArgs in tled_kernels.h) ----
@@ -173,7 +214,15 @@ __global__ void persistent_steps_kernel(const StepArgs<T> a, int nsteps) {
   const int first = int(grid.thread_rank());
   const int nthreads = (G * a.m.nnode + 31) / 32 * 32;
   for (int s = 0; s < nsteps; ++s) {
-    for (int e = first; e < a.m.ntet; e += stride) tet_corner_forces(a.m, a.mat, a.b.u, a.b.fcorner, e);
+    if (a.anp) {
+      for (int e = first; e < a.m.ntet; e += stride) anp_element_volume(a.m, a.b.u, a.vol_now, e);
+      grid.sync();
+      for (int i = first; i < a.m.nnode; i += stride) anp_node_pressure(a.m, a.mat, a.vol_now, a.p_node, i);
+      grid.sync();
+      for (int e = first; e < a.m.ntet; e += stride) anp_corner_forces(a.m, a.mat, a.b.u, a.p_node, a.b.fcorner, e);
+    } else {
+      for (int e = first; e < a.m.ntet; e += stride) tet_corner_forces(a.m, a.mat, a.b.u, a.b.fcorner, e);
+    }
     grid.sync();
     if (G == 1) {
       for (int i = first; i < a.m.nnode; i += stride) node_update(a.m, a.b, a.p, i);
@@ -244,6 +293,22 @@ cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const S
 }
 
 template <class T>
+cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a) {
+  if (!a.vol_now || !a.p_node) return cudaErrorInvalidValue;
+  const T* u = a.b.u;
+  const T* vol_now = a.vol_now;
+  const T* p_node = a.p_node;
+  cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
+                              : launch(s, le, anp_volume_kernel<T, false>, a.m, u, a.vol_now);
+  if (e != cudaSuccess) return e;
+  e = ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
+                  : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
+  if (e != cudaSuccess) return e;
+  return le.prefetch ? launch(s, le, anp_forces_kernel<T, true>, a.m, a.mat, u, p_node, a.b.fcorner)
+                     : launch(s, le, anp_forces_kernel<T, false>, a.m, a.mat, u, p_node, a.b.fcorner);
+}
+
+template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
   switch (a.lanes) {
     case 1:
@@ -310,6 +375,7 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
 
 #define SOFTTLED_INSTANTIATE(T)                                                                                          \
   template cudaError_t launch_element_forces<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                  \
+  template cudaError_t launch_anp_stages<T>(cudaStream_t, const LaunchShape&, const LaunchShape&, const StepArgs<T>&);   \
   template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                     \
   template cudaError_t launch_persistent_steps<T>(cudaStream_t, int, int, const StepArgs<T>&, int);                     \
   template int persistent_max_grid<T>(int, int, int);                                                                       \
