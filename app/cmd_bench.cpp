@@ -164,7 +164,7 @@ struct Opts {
 };
 
 int cpu_threads_for(const Simulation& sim, int requested) {
-  return requested > 0 ? requested : std::clamp(sim.mesh().ntet() / kTetsPerThread, 1, omp_get_max_threads());
+  return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
 
 // steps < 0: adapt the chunk so each sample takes about 25 ms.

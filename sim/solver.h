@@ -66,10 +66,14 @@ class Solver {
   virtual void set_cpu_threads(int /*threads*/) {}
 };
 
-// flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic
-// (one thread per ~kTetsPerThread elements: below that, two barriers per step cost more
-// than the work they split).
-constexpr int kTetsPerThread = 16384;
+// flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic:
+// one thread per kTetsPerThread elements (below that, two barriers per step cost more than
+// the work they split), and no more than the cores the 1-minute load average leaves idle:
+// a step has two barriers, and a thread that has to wait for a busy core turns each into
+// a scheduler time slice (measured here: 1 ms/step on one thread became 8 ms/step on two
+// with a compiler running on the other core).
+constexpr int kTetsPerThread = 2048;
+int auto_cpu_threads(int ntet);
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
                                         const std::vector<std::uint8_t>& flags, Precision prec,
                                         int threads = 0);

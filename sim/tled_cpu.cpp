@@ -4,6 +4,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "anp.h"
@@ -36,7 +38,11 @@ class CpuSolver final : public Solver {
 
   std::string backend() const override { return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s)" : ")"); }
   void set_cpu_threads(int threads) override {
-    threads_ = threads > 0 ? threads : std::clamp(rest_.ntet / kTetsPerThread, 1, omp_get_max_threads());
+    if (threads > 0) {
+      threads_ = threads;
+      return;
+    }
+    threads_ = auto_cpu_threads(rest_.ntet);
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
@@ -148,6 +154,14 @@ class CpuSolver final : public Solver {
 };
 
 }  // namespace
+
+int auto_cpu_threads(int ntet) {
+  const int cores = omp_get_max_threads();
+  int idle = cores;
+  double load[1];
+  if (getloadavg(load, 1) == 1) idle = cores - int(std::lround(load[0]));
+  return std::clamp(std::min(ntet / kTetsPerThread, idle), 1, cores);
+}
 
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
                                         const std::vector<std::uint8_t>& flags, Precision prec,
