@@ -400,7 +400,7 @@ class CudaSolver final : public CudaSolverApi {
   bool small_mesh() const { return ne_ <= 128 * nsm_; }
   LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
   LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }
-  LaunchShape pressure_shape(bool pdl) const { return shape_for(n_, nsm_, pdl, small_mesh()); }  // T4ANP nodes
+  LaunchShape pressure_shape(bool pdl) const { return node_shape(pdl); }  // T4ANP nodal pressure: same lanes
 
   StepArgs<T> args(const StepParams<T>& p) const {
     StepArgs<T> a;

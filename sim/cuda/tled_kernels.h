@@ -73,8 +73,9 @@ inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
 // T4ANP, in this order: element volumes (le: one thread per element), nodal pressures (ln:
-// one thread per node, shape_for(nnode, ...)), corner forces (le). Deterministic: each
-// thread writes its own element or node; the pressure sums in gather-table order.
+// a.lanes threads per node as in the node stage, shape_for(a.lanes * nnode, ...)), corner
+// forces (le). Deterministic: each thread writes its own element or node; the pressure
+// sums in a fixed order (for lanes > 1 the same lane split and shuffle tree as the node stage).
 template <class T>
 cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a);
 // Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).

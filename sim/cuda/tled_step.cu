@@ -205,6 +205,63 @@ __global__ void node_lanes_kernel(const StepArgs<T> a) {
   lane_finish<T, G>(a, g);
 }
 
+// T4ANP nodal pressure with G lanes per node (same lane layout as the node stage): each
+// lane sums V0_e J_e and V0_e over every G-th corner of the node's gather list, all loads
+// in flight at once, a fixed shuffle tree adds the partial sums, and the first lane calls
+// anp_node_pressure on the one-slot view mn with the two sums as its single element. A
+// thread-per-node gather waits a memory latency per few corners (60 on the torus).
+// Every lane of the warp must call this (the shuffles use the full mask).
+template <class T, int G>
+__device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const LaneSlots<G>& g) {
+  constexpr int B = LaneSlots<G>::kBatch;
+  const int ne = a.m.ntet;
+  T v[B], v0[B];
+#pragma unroll
+  for (int q = 0; q < B; ++q) {
+    const int s = g.s[q];
+    const int e = s >= 0 ? s % ne : 0;
+    v[q] = s >= 0 ? a.vol_now[e] : T(0);
+    v0[q] = s >= 0 ? a.m.vol[e] : T(0);
+  }
+  T sv = T(0), sv0 = T(0);
+#pragma unroll
+  for (int q = 0; q < B; ++q)
+    if (g.s[q] >= 0) {
+      sv += v[q];
+      sv0 += v0[q];
+    }
+  for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
+    const int e = a.m.gather_slot[j] % ne;
+    sv += a.vol_now[e];
+    sv0 += a.m.vol[e];
+  }
+#pragma unroll
+  for (int off = G / 2; off > 0; off /= 2) {
+    sv += __shfl_down_sync(0xffffffffu, sv, off, G);
+    sv0 += __shfl_down_sync(0xffffffffu, sv0, off, G);
+  }
+  if (g.lane == 0 && g.i < a.m.nnode) {
+    const T one_v[1] = {sv}, one_v0[1] = {sv0};
+    TetMeshView<T> mn = a.mn;  // gather_start[i] = i, gather_slot[i] = 0, ntet = 1
+    mn.vol = one_v0;
+    anp_node_pressure(mn, a.mat, one_v, a.p_node, g.i);
+  }
+}
+
+template <class T, int G, bool kPrefetch>
+__global__ void anp_pressure_lanes_kernel(const StepArgs<T> a) {
+  pdl_launch_dependents();
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
+  if (kPrefetch) {
+#pragma unroll
+    for (int q = 0; q < LaneSlots<G>::kBatch; ++q)
+      if (g.s[q] >= 0) prefetch_l1(a.m.vol + g.s[q] % a.m.ntet);
+  }
+  pdl_wait();  // vol_now is written by anp_volume_kernel
+  anp_pressure_lanes<T, G>(a, g);
+}
+
 // Small meshes: all steps in one launch, a grid-wide barrier after each stage. Same
 // per-element / per-node calls as above, grid-stride over the items.
 template <class T, int G>
@@ -217,7 +274,11 @@ __global__ void persistent_steps_kernel(const StepArgs<T> a, int nsteps) {
     if (a.anp) {
       for (int e = first; e < a.m.ntet; e += stride) anp_element_volume(a.m, a.b.u, a.vol_now, e);
       grid.sync();
-      for (int i = first; i < a.m.nnode; i += stride) anp_node_pressure(a.m, a.mat, a.vol_now, a.p_node, i);
+      if (G == 1) {
+        for (int i = first; i < a.m.nnode; i += stride) anp_node_pressure(a.m, a.mat, a.vol_now, a.p_node, i);
+      } else {
+        for (int t = first; t < nthreads; t += stride) anp_pressure_lanes<T, G>(a, lane_slots<T, G>(a.m, t));
+      }
       grid.sync();
       for (int e = first; e < a.m.ntet; e += stride) anp_corner_forces(a.m, a.mat, a.b.u, a.p_node, a.b.fcorner, e);
     } else {
@@ -301,8 +362,21 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
   cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
                               : launch(s, le, anp_volume_kernel<T, false>, a.m, u, a.vol_now);
   if (e != cudaSuccess) return e;
-  e = ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
-                  : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
+  switch (a.lanes) {
+    case 1:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
+                      : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
+      break;
+    case 4:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 4, true>, a)
+                      : launch(s, ln, anp_pressure_lanes_kernel<T, 4, false>, a);
+      break;
+    case 8:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 8, true>, a)
+                      : launch(s, ln, anp_pressure_lanes_kernel<T, 8, false>, a);
+      break;
+    default: return cudaErrorInvalidValue;
+  }
   if (e != cudaSuccess) return e;
   return le.prefetch ? launch(s, le, anp_forces_kernel<T, true>, a.m, a.mat, u, p_node, a.b.fcorner)
                      : launch(s, le, anp_forces_kernel<T, false>, a.m, a.mat, u, p_node, a.b.fcorner);
