@@ -31,10 +31,12 @@ markers = {"T4": "o", "T4ANP": "s"}
 t4ref = rows[1]
 for ax, col, when in ((axes[0], "mean_err_mm_t1", "t1 = 0.05 s (first compression)"),
                       (axes[1], "mean_err_mm_t2", "t2 = 0.1 s")):
+    combos = sorted({(k[0], k[1]) for k in curves})
+    colour = {c: plt.cm.tab10(i % 10) for i, c in enumerate(combos)}  # one colour per mesh x element
     for (level, element, prec), rs in sorted(curves.items()):
         rs.sort(key=lambda r: r["wall_02"])
         ys = [max(float(r[col]), 1e-4) for r in rs]
-        ax.plot([r["wall_02"] for r in rs], ys, marker=markers.get(element, "o"),
+        ax.plot([r["wall_02"] for r in rs], ys, marker=markers.get(element, "o"), color=colour[(level, element)],
                 linestyle="-" if prec == "double" else "--", label=f"{level} {element} {prec}")
         for r, y in zip(rs, ys):
             ax.annotate(f"λ={float(r['lambda']):g}", (r["wall_02"], y), fontsize=6, textcoords="offset points",
