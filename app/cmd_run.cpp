@@ -36,7 +36,7 @@ void write_csv_row(std::ostream& o, const Diagnostics& d) {
 
 Command add_run_command(CLI::App& app) {
   struct Opts {
-    std::string scene, csv, vtu, backend = "cpu";
+    std::string scene, csv, vtu, backend = "auto";
     int every = 1;
     std::vector<std::string> set;
   };
