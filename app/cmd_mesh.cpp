@@ -1,12 +1,14 @@
 // `softtled mesh`: tetrahedralize a scene's body or a surface file and report the paper's
 // Table I counts plus element quality and the critical time step.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include "commands.h"
 #include "sim/scene.h"
 #include "sim/simulation.h"
+#include "sim/stable_step.h"
 #include "sim/surface_io.h"
 #include "sim/tetgen_mesher.h"
 #include "sim/vtu_writer.h"
@@ -40,15 +42,19 @@ Command add_mesh_command(CLI::App& app) {
     const MeshCounts cnt = count_faces_and_edges(m);
     const MeshQuality q = measure_quality(m);
     const double c_wave = dilatational_wave_speed(s.E, s.nu, s.rho);
-    const double dt_cr = q.min_Le / c_wave;
+    const double dt_le = q.min_Le / c_wave;
+    const int model = s.material_model == "stable_neo_hookean" ? 1 : 0;
+    const double dt_eigen = 2.0 / std::sqrt(rest_eigen_scale(m, s.nu, model) * s.E / s.rho);
+    const double dt_cr = std::min(dt_le, dt_eigen);
     const long segments = long(surf.ntri()) * 3 / 2;
     if (o->json) {
       std::printf("{\"input_points\": %d, \"input_facets\": %d, \"input_segments\": %ld, \"mesh_points\": %d, "
                   "\"tetrahedra\": %d, \"faces\": %ld, \"edges\": %ld, \"boundary_faces\": %ld, \"boundary_edges\": %ld, "
                   "\"min_Le_m\": %.6g, \"median_Le_m\": %.6g, \"min_dihedral_deg\": %.4g, \"wave_speed_m_s\": %.6g, "
-                  "\"dt_cr_s\": %.6g, \"tetgen_switches\": \"%s\"}\n",
+                  "\"dt_le_s\": %.6g, \"dt_eigen_s\": %.6g, \"dt_cr_s\": %.6g, \"tetgen_switches\": \"%s\"}\n",
                   surf.npoint(), surf.ntri(), segments, m.nnode(), m.ntet(), cnt.faces, cnt.edges, cnt.boundary_faces,
-                  cnt.boundary_edges, q.min_Le, q.median_Le, q.min_dihedral_deg, c_wave, dt_cr, tetgen_switches(topt).c_str());
+                  cnt.boundary_edges, q.min_Le, q.median_Le, q.min_dihedral_deg, c_wave, dt_le, dt_eigen, dt_cr,
+                  tetgen_switches(topt).c_str());
     } else {
       std::printf("TetGen -%s\n", tetgen_switches(topt).c_str());
       std::printf("%-18s %10d\n%-18s %10d\n%-18s %10ld\n", "Input points", surf.npoint(), "Input facets", surf.ntri(),
@@ -58,8 +64,9 @@ Command add_mesh_command(CLI::App& app) {
                   cnt.boundary_faces, "Boundary edges", cnt.boundary_edges);
       std::printf("%-18s %10.4g mm (element %d)\n%-18s %10.4g mm\n%-18s %10.3g deg\n", "Min Le", q.min_Le * 1e3,
                   q.worst_element, "Median Le", q.median_Le * 1e3, "Min dihedral", q.min_dihedral_deg);
-      std::printf("%-18s %10.4g m/s (E = %g Pa, nu = %g, rho = %g kg/m^3)\n%-18s %10.4g us\n", "Wave speed c", c_wave,
-                  s.E, s.nu, s.rho, "dt_cr = Le/c", dt_cr * 1e6);
+      std::printf("%-18s %10.4g m/s (E = %g Pa, nu = %g, rho = %g kg/m^3)\n%-18s %10.4g us\n%-18s %10.4g us\n%-18s %10.4g us\n",
+                  "Wave speed c", c_wave, s.E, s.nu, s.rho, "Le/c (eq. 9)", dt_le * 1e6, "2/omega_max", dt_eigen * 1e6,
+                  "dt_cr (smaller)", dt_cr * 1e6);
     }
     if (!o->write.empty()) write_tetgen_files(m, o->write);
     if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));
