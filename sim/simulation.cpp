@@ -312,7 +312,6 @@ void Simulation::check_health() {
   // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
   if (params_.material_model == kTaylorNeoHookean) {
     for (int e = 0; e < mesh_.ntet(); ++e) {
-      double F[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
       const int* t = &mesh_.tet[4 * e];
       // F = I + grad u; grad u from the rest edge matrix: [u1-u0 u2-u0 u3-u0] Dm^-1.
       double D[3][3], Du[3][3];
@@ -321,7 +320,6 @@ void Simulation::check_health() {
           D[k][c] = mesh_.X[3 * t[c + 1] + k] - mesh_.X[3 * t[0] + k];
           Du[k][c] = D[k][c] + scratch_.u[k * n + t[c + 1]] - scratch_.u[k * n + t[0]];
         }
-      (void)F;
       auto det = [](const double A[3][3]) {
         return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
                A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
