@@ -313,7 +313,7 @@ void Simulation::check_health() {
   if (params_.material_model == kTaylorNeoHookean) {
     for (int e = 0; e < mesh_.ntet(); ++e) {
       const int* t = &mesh_.tet[4 * e];
-      // F = I + grad u; grad u from the rest edge matrix: [u1-u0 u2-u0 u3-u0] Dm^-1.
+      // J = det(current edge matrix) / det(rest edge matrix), in double on the host.
       double D[3][3], Du[3][3];
       for (int k = 0; k < 3; ++k)
         for (int c = 0; c < 3; ++c) {
