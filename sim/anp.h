@@ -52,15 +52,7 @@ SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
   p *= T(0.25);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) P(i, j) += p * cof(i, j);
-  const T V0 = m.vol[e];
-  const int stride = 4 * m.ntet;
-  for (int a = 0; a < 4; ++a) {
-    const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
-                    m.dhdX[(a * 3 + 2) * m.ntet + e]};
-    const int s = a * m.ntet + e;
-    for (int i = 0; i < 3; ++i)
-      fcorner[i * stride + s] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
-  }
+  write_corner_forces(m, P, fcorner, e);
 }
 
 }  // namespace softtled

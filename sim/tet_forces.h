@@ -26,11 +26,9 @@ SIM_HD inline Mat3<T> deformation_gradient(const TetMeshView<T>& m, const T* u, 
   return F;
 }
 
+// f_a = V0 P dh_a/dX for the four corners of element e.
 template <class T>
-SIM_HD inline void tet_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat,
-                                     const T* u, T* fcorner, int e) {
-  const Mat3<T> F = deformation_gradient(m, u, e);
-  const Mat3<T> P = neo_hookean_pk1(mat, F);
+SIM_HD inline void write_corner_forces(const TetMeshView<T>& m, const Mat3<T>& P, T* fcorner, int e) {
   const T V0 = m.vol[e];
   const int stride = 4 * m.ntet;
   for (int a = 0; a < 4; ++a) {
@@ -40,6 +38,12 @@ SIM_HD inline void tet_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
     for (int i = 0; i < 3; ++i)
       fcorner[i * stride + s] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
   }
+}
+
+template <class T>
+SIM_HD inline void tet_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                                     const T* u, T* fcorner, int e) {
+  write_corner_forces(m, neo_hookean_pk1(mat, deformation_gradient(m, u, e)), fcorner, e);
 }
 
 template <class T>
