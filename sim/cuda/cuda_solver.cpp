@@ -31,14 +31,16 @@ const char* exec_mode_name(ExecMode m) {
     case ExecMode::kGraph: return "graph";
     case ExecMode::kGraphPdl: return "graph-pdl";
     case ExecMode::kPersistent: return "persistent";
+    case ExecMode::kFused: return "fused";
   }
   return "?";
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kPlain, ExecMode::kGraph, ExecMode::kGraphPdl, ExecMode::kPersistent})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kPlain, ExecMode::kGraph, ExecMode::kGraphPdl, ExecMode::kPersistent,
+                     ExecMode::kFused})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, plain, graph, graph-pdl or persistent)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, plain, graph, graph-pdl, persistent or fused)");
 }
 
 Options options_from_env() {
@@ -47,6 +49,7 @@ Options options_from_env() {
   if (const char* r = std::getenv("SOFTTLED_CUDA_REORDER")) o.reorder = std::string(r) != "0";
   if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
   if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
+  if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
   return o;
 }
 
@@ -61,6 +64,8 @@ struct DeviceRest {
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
   DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i  } the node stage's one-slot gather
   DeviceBuffer<int> zeros;  // nnode: 0                } table (tled_kernels.h, StepArgs)
+  DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
+  int nfblock = 0, fsmem_entries = 0;
   TetMeshView<T> view;
   TetMeshView<T> node_view;  // view with the one-slot gather table (StepArgs::mn)
   SurfaceView surface;
@@ -70,6 +75,7 @@ struct DeviceRest {
 template <class T>
 struct DeviceLive {
   DeviceBuffer<T> u, du, fcorner, fext;
+  DeviceBuffer<T> u2, du2;  // fused step: the other displacement buffer (odd steps write it)
   DeviceBuffer<T> vol_now, p_node;  // T4ANP: ntet current element volumes, nnode nodal pressures
   DeviceBuffer<std::uint8_t> contact;
 };
@@ -140,6 +146,7 @@ class CudaSolver final : public CudaSolverApi {
     rest_.node_view.ntet = 1;  // gather_node_force's component stride 4 * ntet = 4
     rest_.node_view.gather_start = rest_.ident.data();
     rest_.node_view.gather_slot = rest_.zeros.data();
+    build_fused_blocks(r.gather_start);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -159,6 +166,10 @@ class CudaSolver final : public CudaSolverApi {
 
     live_.u.resize(3 * std::size_t(n_));
     live_.du.resize(3 * std::size_t(n_));
+    live_.u2.resize(3 * std::size_t(n_));
+    live_.du2.resize(3 * std::size_t(n_));
+    live_.u2.fill_zero();
+    live_.du2.fill_zero();
     live_.fcorner.resize(12 * std::size_t(ne_));
     live_.contact.resize(std::size_t(n_));
     live_.vol_now.resize(std::size_t(std::max(ne_, 1)));
@@ -212,7 +223,8 @@ class CudaSolver final : public CudaSolverApi {
     if (m != mode_) clear_graphs();
     mode_ = m;
   }
-  ExecMode exec_mode() const override { return mode_; }
+  // The fused step is T4 only: with T4ANP, kFused runs as graph-pdl (and says so here).
+  ExecMode exec_mode() const override { return run_mode(); }
 
   void set_node_lanes(int lanes) override {
     if (lanes == 0) lanes = auto_lanes();
@@ -225,7 +237,7 @@ class CudaSolver final : public CudaSolverApi {
   void step(long nsteps) override {
     if (nsteps <= 0) return;
     const StepArgs<T> a = args(step_);
-    switch (mode_) {
+    switch (run_mode()) {
       case ExecMode::kPlain:
         for (long s = 0; s < nsteps; ++s) enqueue_step(a, false);
         break;
@@ -274,7 +286,7 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(du0.data(), live_.du.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
 
-    const bool pdl = mode_ == ExecMode::kGraphPdl;
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
     const StepArgs<T> a = args(step_);
     StepParams<T> free_p = step_;
     free_p.contact.nplanes = 0;
@@ -388,10 +400,38 @@ class CudaSolver final : public CudaSolverApi {
   }
 
  private:
-  // Chosen from the bench (bench/NOTES.md): PDL graphs are the fastest or within noise of
-  // it at every size; 8 lanes per node on small meshes (max node degree ~60 on the torus),
-  // 4 on large ones (fewer idle lanes, better coalescing per warp).
-  ExecMode auto_mode() const { return ExecMode::kGraphPdl; }
+  // Chosen from the bench (bench/NOTES.md, H100): the fused one-kernel step up to ~28k
+  // tets (torus 4.84 -> 2.95 us/step, 28k 6.32 -> 5.09), PDL graphs above (100k: fused
+  // 14.3 us against 11.2: the 4x element arithmetic is no longer free); 8 lanes per node on
+  // small meshes (max node degree ~60 on the torus), 4 on large ones (fewer idle lanes,
+  // better coalescing per warp). With T4ANP fused runs as graph-pdl (run_mode).
+  ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
+  ExecMode run_mode() const {
+    return mode_ == ExecMode::kFused && element_ == kT4ANP ? ExecMode::kGraphPdl : mode_;
+  }
+
+  // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
+  // (a node with more entries gets a block of its own; the kernel loops over them).
+  int fused_block() const {
+    const int b = opt_.fused_block;
+    return b >= 32 && b <= kFusedMaxThreads && b % 32 == 0 ? b : 256;
+  }
+  void build_fused_blocks(const std::vector<int>& gather_start) {
+    const int cap = fused_block();
+    std::vector<int> start;
+    int most = 0;
+    for (int i = 0; i < n_;) {
+      const int i0 = i;
+      ++i;  // at least one node per block
+      while (i < n_ && gather_start[i + 1] - gather_start[i0] <= cap) ++i;
+      start.push_back(i0);
+      most = std::max(most, gather_start[i] - gather_start[i0]);
+    }
+    start.push_back(n_);
+    rest_.nfblock = int(start.size()) - 1;
+    rest_.fsmem_entries = std::max(most, 1);
+    rest_.fblock.upload(start);
+  }
   int auto_lanes() const { return small_mesh() ? 8 : 4; }
 
   // A step that is one small wave (about one element per thread of a 128-thread block per
@@ -417,7 +457,19 @@ class CudaSolver final : public CudaSolverApi {
     a.anp = element_ == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
+    a.fblock = rest_.fblock.data();
+    a.nfblock = rest_.nfblock;
+    a.fsmem_entries = rest_.fsmem_entries;
     return a;
+  }
+
+  // Fused step s of a graph (kFused): even steps read (u, du) and write (u2, du2), odd
+  // steps the other way round.
+  void enqueue_fused_step(const StepArgs<T>& a, int s, bool pdl) {
+    T* u[2] = {live_.u.data(), live_.u2.data()};
+    T* du[2] = {live_.du.data(), live_.du2.data()};
+    const int p = s & 1;
+    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, u[p], du[p], u[1 - p], du[1 - p]));
   }
 
   // Element stage: one kernel for T4, three for T4ANP (anp.h).
@@ -457,14 +509,29 @@ class CudaSolver final : public CudaSolverApi {
     auto it = graphs_.find(k);
     if (it != graphs_.end()) return it->second;
     const StepArgs<T> a = args(step_);
-    const bool pdl = mode_ == ExecMode::kGraphPdl;
+    const bool fused = run_mode() == ExecMode::kFused;
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
     cudaGraphExec_t exec = nullptr;
     try {
       exec = capture([&] {
-        for (int s = 0; s < k; ++s) enqueue_step(a, pdl);
+        if (!fused) {
+          for (int s = 0; s < k; ++s) enqueue_step(a, pdl);
+          return;
+        }
+        for (int s = 0; s < k; ++s) enqueue_fused_step(a, s, pdl);
+        if (k & 1) {  // every graph starts and ends with the state in (u, du)
+          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), live_.u2.data(), live_.u.bytes(), cudaMemcpyDeviceToDevice, stream_));
+          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), live_.du2.data(), live_.du.bytes(), cudaMemcpyDeviceToDevice, stream_));
+        }
       });
     } catch (const CudaError& e) {
       if (!pdl) throw;
+      if (fused) {
+        std::fprintf(stderr, "cuda: fused graph with programmatic dependent launch failed (%s); without it\n", e.what());
+        clear_graphs();
+        fused_pdl_ = false;
+        return graph(k);
+      }
       // A driver that cannot capture programmatic launches: plain graphs instead.
       std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using plain graphs\n", e.what());
       clear_graphs();
@@ -533,6 +600,7 @@ class CudaSolver final : public CudaSolverApi {
   int element_ = kT4;  // ElementType (solver.h)
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
+  bool fused_pdl_ = true;
   std::map<int, cudaGraphExec_t> graphs_;
 };
 

@@ -13,6 +13,10 @@
 //               each kernel is scheduled while its predecessor runs and prefetches its
 //               rest-state data before waiting for it
 //   persistent  one cooperative launch for all n steps, a grid barrier after each stage
+//   fused       one kernel per step (T4 only; with T4ANP it runs as graph-pdl): node
+//               blocks, each computing the corner forces of its nodes' elements itself
+//               (every element 4 times) into shared memory, then the node stage; two
+//               displacement buffers alternate; graphs of K steps with PDL
 // All modes launch the same per-element / per-node functions and give bitwise identical
 // results. No host round trip inside step(n): it only enqueues work.
 #include <memory>
@@ -24,17 +28,20 @@
 namespace softtled {
 namespace cuda {
 
-enum class ExecMode { kAuto, kPlain, kGraph, kGraphPdl, kPersistent };
+enum class ExecMode { kAuto, kPlain, kGraph, kGraphPdl, kPersistent, kFused };
 const char* exec_mode_name(ExecMode m);
-ExecMode parse_exec_mode(const std::string& s);  // "auto", "plain", "graph", "graph-pdl", "persistent"
+ExecMode parse_exec_mode(const std::string& s);  // "auto", "plain", "graph", "graph-pdl", "persistent", "fused"
 
 struct Options {
   ExecMode mode = ExecMode::kAuto;
   bool reorder = true;       // Morton renumbering of nodes and elements (mesh_reorder.h)
-  int steps_per_graph = 8;   // K: steps captured in one graph (8 beat 32 and 128 on the torus)
+  int steps_per_graph = 8;   // K: steps captured in one graph (8 beat 32 and 128 on the torus);
+                             // any K works in fused mode (an odd graph copies the state back)
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
+  int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
+                             // (torus, H100: 64 3.40, 128 3.36, 256 2.95 us/step)
 };
-// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES applied.
+// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches

@@ -8,6 +8,9 @@
 //                  gather table), anp_corner_forces (elements)
 //   node stage     node_update         (central_difference.h; plane contact fused in)
 //   render         write_render_vertex (surface_render.h)
+//   fused step     both stages in one kernel per step (ExecMode::kFused, T4 only):
+//                  the corner expression of tet_corner_forces per gather entry, then
+//                  node_update per node (launch_fused_step below)
 // Launchers return the launch's cudaError_t; the caller checks it.
 #include <cuda_runtime_api.h>
 
@@ -44,6 +47,12 @@ struct StepArgs {
   bool anp = false;
   T* vol_now = nullptr;   // ntet, V0_e J_e of the current step (anp_element_volume)
   T* p_node = nullptr;    // nnode, nodal pressure kappa (J_i - 1) (anp_node_pressure)
+  // Fused step (ExecMode::kFused, launch_fused_step): node blocks. Block b owns nodes
+  // [fblock[b], fblock[b + 1]) and so the gather entries gather_start[fblock[b]] ..
+  // gather_start[fblock[b + 1]] (at most fsmem_entries of them: its shared-memory size).
+  const int* fblock = nullptr;
+  int nfblock = 0;
+  int fsmem_entries = 0;
 };
 
 struct LaunchShape {
@@ -81,6 +90,19 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
 // Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+
+// Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
+// entry of its nodes, the force of that corner (the element recomputed by each of its 4
+// nodes, same arithmetic as tet_corner_forces) into shared memory, then a.lanes lanes per
+// node sum them in the node stage's order (same lane split, same shuffle tree) and the
+// first lane runs node_update on the node. Reads the displacement from (u_prev, du_prev),
+// writes (u_next, du_next): other blocks still read u_prev while a node is updated, so
+// the caller alternates two buffers. a.b.u / a.b.du are ignored; a.b.contact and
+// a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
+constexpr int kFusedMaxThreads = 256;
+template <class T>
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+                              const T* du_prev, T* u_next, T* du_next);
 
 // One cooperative launch running nsteps whole steps, grid-wide barriers between stages.
 template <class T>

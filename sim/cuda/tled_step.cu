@@ -5,7 +5,12 @@
 // CPU backend (tled_cpu.cpp) loops over; nothing here re-implements the physics.
 // T4ANP (anp.h, Bonet & Burton 1998) replaces the element kernel by three: element
 // volumes, nodal pressures through the gather table, corner forces.
+// The fused step (fused_step_kernel, small meshes) does both stages of a step in one
+// kernel: node blocks evaluate their nodes' corners themselves, then the node update.
 #include <cooperative_groups.h>
+
+#include <algorithm>
+#include <cstddef>
 
 #include "sim/anp.h"
 #include "sim/tet_forces.h"
@@ -262,6 +267,153 @@ __global__ void anp_pressure_lanes_kernel(const StepArgs<T> a) {
   anp_pressure_lanes<T, G>(a, g);
 }
 
+// ---- fused step (ExecMode::kFused): one kernel per step, node blocks (tled_kernels.h) ----
+
+// Rest data of one gather entry (corner a of element e): everything the corner force
+// needs except the live displacement, so under PDL it is loaded before the wait.
+template <class T>
+struct CornerRest {
+  int node[4];  // the element's nodes (m.tet)
+  T g[12];      // the element's dh/dX (all four corners: deformation_gradient)
+  T ga[3];      // dh_a/dX of this corner
+  T vol;
+};
+
+template <class T>
+__device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j, CornerRest<T>& r) {
+  const int s = m.gather_slot[j];
+  const int a = s / m.ntet, e = s - a * m.ntet;
+#pragma unroll
+  for (int b = 0; b < 4; ++b) r.node[b] = m.tet[b * m.ntet + e];
+#pragma unroll
+  for (int c = 0; c < 12; ++c) r.g[c] = m.dhdX[c * m.ntet + e];
+#pragma unroll
+  for (int k = 0; k < 3; ++k) r.ga[k] = m.dhdX[(a * 3 + k) * m.ntet + e];
+  r.vol = m.vol[e];
+}
+
+// The force of one corner, bit for bit what tet_corner_forces (tet_forces.h) writes for
+// it: the same deformation_gradient and neo_hookean_pk1 calls on a one-element view of the
+// same numbers, and its corner expression V0 * (P(i,0) g0 + P(i,1) g1 + P(i,2) g2)
+// (--fmad=false: no contraction, so the same operations round the same way).
+template <class T>
+__device__ __forceinline__ void corner_force(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
+                                             const CornerRest<T>& r, T f[3]) {
+  TetMeshView<T> lv;  // element 0 of a one-element view; nnode stays (u's stride)
+  lv.ntet = 1;
+  lv.nnode = m.nnode;
+  lv.tet = r.node;
+  lv.dhdX = r.g;
+  const Mat3<T> F = deformation_gradient(lv, u, 0);
+  const Mat3<T> P = neo_hookean_pk1(mat, F);
+  const T V0 = r.vol;
+  const T* g = r.ga;
+#pragma unroll
+  for (int i = 0; i < 3; ++i) f[i] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
+}
+
+// node_update on node i with its summed force f, on one-node copies of its arrays (so it
+// reads u_prev / du_prev and the result goes to u_next / du_next, not in place).
+template <class T>
+__device__ __forceinline__ void fused_node_update(const StepArgs<T>& a, int i, const T f[3], const T* __restrict__ u_prev,
+                                                  const T* __restrict__ du_prev, T* __restrict__ u_next,
+                                                  T* __restrict__ du_next) {
+  const int n = a.m.nnode;
+  T x0[3], uu[3], dd[3], fe[3], one[12];
+#pragma unroll
+  for (int k = 0; k < 3; ++k) {
+    x0[k] = a.m.X0[k * n + i];
+    uu[k] = u_prev[k * n + i];
+    dd[k] = du_prev[k * n + i];
+    fe[k] = a.b.fext ? a.b.fext[k * n + i] : T(0);
+    one[4 * k] = f[k];
+  }
+  const int gs[2] = {0, 1}, gslot[1] = {0};
+  TetMeshView<T> m1;  // node 0 of a one-node view: one corner (slot 0, stride 4)
+  m1.ntet = 1;
+  m1.nnode = 1;
+  m1.X0 = x0;
+  m1.inv_mass = a.m.inv_mass + i;
+  m1.flags = a.m.flags + i;
+  m1.gather_start = gs;
+  m1.gather_slot = gslot;
+  BodyStateView<T> b1;
+  b1.u = uu;
+  b1.du = dd;
+  b1.fcorner = one;
+  b1.contact = a.b.contact + i;
+  b1.fext = fe;  // always (0 without user forces: node_update's own fallback value), so fe stays in registers
+  node_update(m1, b1, a.p, 0);
+#pragma unroll
+  for (int k = 0; k < 3; ++k) {
+    u_next[k * n + i] = uu[k];
+    du_next[k * n + i] = dd[k];
+  }
+}
+
+template <class T, int G>
+__global__ void __launch_bounds__(kFusedMaxThreads)
+    fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
+                      T* __restrict__ u_next, T* __restrict__ du_next) {
+  extern __shared__ __align__(16) unsigned char fused_smem[];
+  T* fs = reinterpret_cast<T*>(fused_smem);  // 3 x a.fsmem_entries, this block's corner forces
+  const int S = a.fsmem_entries;
+  pdl_launch_dependents();
+  const TetMeshView<T>& m = a.m;
+  const int n0 = a.fblock[blockIdx.x], n1 = a.fblock[blockIdx.x + 1];
+  const int jb = m.gather_start[n0], je = m.gather_start[n1];
+  const int tid = int(threadIdx.x), nt = int(blockDim.x);
+
+  // Corner forces, one thread per gather entry of the block (S >= their number; one pass
+  // unless a block has more entries than threads). The first pass's rest data is loaded
+  // before the PDL wait; live data (u_prev) only after it.
+  CornerRest<T> r;
+  const bool first = jb + tid < je;
+  if (first) load_corner_rest(m, jb + tid, r);
+  if (G > 1 && tid < (n1 - n0) * G && tid % G == 0) {  // the node stage's rest data
+    const int i = n0 + tid / G;
+    prefetch_l1(m.flags + i);
+    prefetch_l1(m.inv_mass + i);
+    prefetch_l1(m.gather_start + i);
+    for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
+  }
+  pdl_wait();  // u_prev is written by the previous step
+  if (first) {
+    T f[3];
+    corner_force(m, a.mat, u_prev, r, f);
+    for (int k = 0; k < 3; ++k) fs[k * S + tid] = f[k];
+  }
+  for (int j = jb + tid + nt; j < je; j += nt) {
+    load_corner_rest(m, j, r);
+    T f[3];
+    corner_force(m, a.mat, u_prev, r, f);
+    for (int k = 0; k < 3; ++k) fs[k * S + (j - jb)] = f[k];
+  }
+  __syncthreads();
+
+  // Node stage: G lanes per node, lane l sums the node's corners l, l + G, ... in order,
+  // then the shuffle tree of lane_finish: the same sums in the same order as the other
+  // modes. The loop bound is uniform over the block, so whole warps shuffle together.
+  const int nb = n1 - n0;
+  for (int t0 = 0; t0 < nb * G; t0 += nt) {
+    const int t = t0 + tid;
+    const bool valid = t < nb * G;
+    const int i = n0 + t / G, lane = t % G;
+    int j0 = 0, j1 = 0;
+    if (valid) {
+      j0 = m.gather_start[i] - jb;
+      j1 = m.gather_start[i + 1] - jb;
+    }
+    T f[3] = {T(0), T(0), T(0)};
+    for (int j = j0 + lane; j < j1; j += G)
+      for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
+#pragma unroll
+    for (int off = G / 2; off > 0; off /= 2)
+      for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
+    if (valid && lane == 0) fused_node_update(a, i, f, u_prev, du_prev, u_next, du_next);
+  }
+}
+
 // Small meshes: all steps in one launch, a grid-wide barrier after each stage. Same
 // per-element / per-node calls as above, grid-stride over the items.
 template <class T, int G>
@@ -398,6 +550,41 @@ cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const Step
   return cudaErrorInvalidValue;
 }
 
+template <class T>
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+                              const T* du_prev, T* u_next, T* du_next) {
+  if (a.nfblock <= 0) return cudaSuccess;
+  if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
+  LaunchShape ls;
+  ls.grid = a.nfblock;
+  ls.block = block;
+  ls.pdl = pdl;
+  const std::size_t smem = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
+  auto go = [&](auto kernel) {
+    cudaLaunchConfig_t cfg = {};
+    cfg.gridDim = dim3(unsigned(ls.grid));
+    cfg.blockDim = dim3(unsigned(ls.block));
+    cfg.dynamicSmemBytes = smem;
+    cfg.stream = s;
+    cudaLaunchAttribute attr[1];
+    attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+    attr[0].val.programmaticStreamSerializationAllowed = 1;
+    cfg.attrs = pdl ? attr : nullptr;
+    cfg.numAttrs = pdl ? 1 : 0;
+    if (smem > 48 * 1024) {
+      const cudaError_t e = cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem));
+      if (e != cudaSuccess) return e;
+    }
+    return cudaLaunchKernelEx(&cfg, kernel, a, u_prev, du_prev, u_next, du_next);
+  };
+  switch (a.lanes) {
+    case 1: return go(fused_step_kernel<T, 1>);
+    case 4: return go(fused_step_kernel<T, 4>);
+    case 8: return go(fused_step_kernel<T, 8>);
+  }
+  return cudaErrorInvalidValue;
+}
+
 namespace {
 template <class T>
 const void* persistent_kernel(int lanes) {
@@ -451,6 +638,7 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
   template cudaError_t launch_element_forces<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                  \
   template cudaError_t launch_anp_stages<T>(cudaStream_t, const LaunchShape&, const LaunchShape&, const StepArgs<T>&);   \
   template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                     \
+  template cudaError_t launch_fused_step<T>(cudaStream_t, int, bool, const StepArgs<T>&, const T*, const T*, T*, T*); \
   template cudaError_t launch_persistent_steps<T>(cudaStream_t, int, int, const StepArgs<T>&, int);                     \
   template int persistent_max_grid<T>(int, int, int);                                                                       \
   template cudaError_t launch_render_vertices<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,               \
