@@ -26,17 +26,24 @@ SIM_HD inline Mat3<T> deformation_gradient(const TetMeshView<T>& m, const T* u, 
   return F;
 }
 
-// f_a = V0 P dh_a/dX for the four corners of element e.
+// f_a = V0 P dh_a/dX for one corner (g = dh_a/dX). Every stage that produces corner forces
+// (T4, T4ANP, the fused CUDA step) uses this one expression, so they round identically.
+template <class T>
+SIM_HD inline void corner_force_from_stress(const Mat3<T>& P, T V0, const T g[3], T f[3]) {
+  for (int i = 0; i < 3; ++i) f[i] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
+}
+
+// The four corners of element e into fcorner.
 template <class T>
 SIM_HD inline void write_corner_forces(const TetMeshView<T>& m, const Mat3<T>& P, T* fcorner, int e) {
-  const T V0 = m.vol[e];
   const int stride = 4 * m.ntet;
   for (int a = 0; a < 4; ++a) {
     const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
                     m.dhdX[(a * 3 + 2) * m.ntet + e]};
     const int s = a * m.ntet + e;
-    for (int i = 0; i < 3; ++i)
-      fcorner[i * stride + s] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
+    T f[3];
+    corner_force_from_stress(P, m.vol[e], g, f);
+    for (int i = 0; i < 3; ++i) fcorner[i * stride + s] = f[i];
   }
 }
 

@@ -293,8 +293,8 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
 }
 
 // The force of one corner, bit for bit what tet_corner_forces (tet_forces.h) writes for
-// it: the same deformation_gradient and neo_hookean_pk1 calls on a one-element view of the
-// same numbers, and its corner expression V0 * (P(i,0) g0 + P(i,1) g1 + P(i,2) g2)
+// it: the same deformation_gradient, neo_hookean_pk1 and corner_force_from_stress calls on
+// a one-element view of the same numbers
 // (--fmad=false: no contraction, so the same operations round the same way).
 template <class T>
 __device__ __forceinline__ void corner_force(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
@@ -306,10 +306,7 @@ __device__ __forceinline__ void corner_force(const TetMeshView<T>& m, const NeoH
   lv.dhdX = r.g;
   const Mat3<T> F = deformation_gradient(lv, u, 0);
   const Mat3<T> P = neo_hookean_pk1(mat, F);
-  const T V0 = r.vol;
-  const T* g = r.ga;
-#pragma unroll
-  for (int i = 0; i < 3; ++i) f[i] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
+  corner_force_from_stress(P, r.vol, r.ga, f);
 }
 
 // node_update on node i with its summed force f, on one-node copies of its arrays (so it
