@@ -29,7 +29,7 @@ Command add_accuracy_command(CLI::App& app) {
   c->add_option("--scene", o->scene, "base scene (the torus drop)");
   c->add_option("--out", o->out, "output directory for accuracy.csv and accuracy.md");
   c->add_option("--backend", o->backend, "cpu, cuda or auto");
-  c->add_option("--levels", o->levels, "torus grids to sweep, e.g. 45x9,91x19");
+  c->add_option("--levels", o->levels, "torus grids to sweep, e.g. 45x9,91x19; NUxNV@qRHO sets TetGen's radius-edge bound");
   c->add_option("--ref", o->ref, "reference grid (finest)");
   c->add_option("--ref-lambda", o->ref_lambda, "lambda of the reference");
   c->add_option("--lambdas", o->lambdas, "lambda = dt/dt_cr values");

@@ -10,10 +10,15 @@
 
 namespace softtled {
 namespace {
-std::string level_segments(const std::string& level) {  // "91x19" -> "[91, 19]"
-  const auto x = level.find('x');
-  if (x == std::string::npos) throw InputError("level '" + level + "': expected NUxNV, e.g. 91x19");
-  return "[" + level.substr(0, x) + ", " + level.substr(x + 1) + "]";
+// A level is a torus grid "NUxNV", optionally with a TetGen radius-edge bound: "91x19@q1.4".
+std::vector<std::string> level_overrides(const std::string& level) {
+  const auto at = level.find("@q");
+  const std::string grid = level.substr(0, at);
+  const auto x = grid.find('x');
+  if (x == std::string::npos) throw InputError("level '" + level + "': expected NUxNV[@qRHO], e.g. 91x19 or 91x19@q1.4");
+  std::vector<std::string> set = {"body.segments=[" + grid.substr(0, x) + ", " + grid.substr(x + 1) + "]"};
+  if (at != std::string::npos) set.push_back("mesh.radius_edge=" + level.substr(at + 2));
+  return set;
 }
 
 }  // namespace
@@ -21,8 +26,9 @@ std::string level_segments(const std::string& level) {  // "91x19" -> "[91, 19]"
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
                                  const std::string& prec, double lambda, const std::string& element, double t_end,
                                  double t1, double t2, const std::vector<std::string>& extra) {
-  std::vector<std::string> set = {"body.segments=" + level_segments(level), "solver.precision=" + prec,
-                                  "time.lambda=" + std::to_string(lambda), "material.element=" + element, "time.dt=\"auto\""};
+  std::vector<std::string> set = level_overrides(level);
+  set.insert(set.end(), {"solver.precision=" + prec, "time.lambda=" + std::to_string(lambda),
+                         "material.element=" + element, "time.dt=\"auto\""});
   set.insert(set.end(), extra.begin(), extra.end());
   const Scene s = load_scene(scene_path, set);
   Simulation sim(s, backend);

@@ -31,7 +31,8 @@ struct AccuracyErrors {
   double rest = 0;                      // |rest height - reference| [m]
 };
 
-// level: torus grid "NUxNV" (overrides body.segments). Throws SimulationDiverged.
+// level: torus grid "NUxNV" (overrides body.segments), optionally "@qRHO" for the TetGen
+// radius-edge bound (mesh.radius_edge). Throws SimulationDiverged.
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
                                  const std::string& precision, double lambda, const std::string& element, double t_end,
                                  double t1, double t2, const std::vector<std::string>& extra_overrides = {});
