@@ -13,6 +13,7 @@
 #include "neo_hookean.h"
 #include "rest_state.h"
 #include "solver.h"
+#include "step_params.h"
 #include "surface_render.h"
 #include "surface_topology.h"
 #include "tet_forces.h"
@@ -47,17 +48,8 @@ class CpuSolver final : public Solver {
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
   void set_params(const PhysicsParams& p) override {
-    mat_ = neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
-    step_ = make_step_params<T>(p.dt, p.alpha, p.g);
-    if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
-    step_.contact.nplanes = int(p.planes.size());
-    for (std::size_t i = 0; i < p.planes.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        step_.contact.planes[i].p[k] = T(p.planes[i].point[k]);
-        step_.contact.planes[i].n[k] = T(p.planes[i].normal[k]);
-      }
-    step_.contact.mode = p.contact_mode;
-    step_.contact.mu = T(p.mu);
+    step_ = step_params_from<T>(p);
+    mat_ = material_from<T>(p);
     element_ = p.element;
   }
 

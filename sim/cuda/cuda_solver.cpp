@@ -17,6 +17,7 @@
 #include "device_info.h"
 #include "mesh_reorder.h"
 #include "sim/rest_state.h"
+#include "sim/step_params.h"
 #include "sim/surface_mesh.h"
 #include "sim/surface_topology.h"
 #include "tled_kernels.h"
@@ -203,17 +204,8 @@ class CudaSolver final : public CudaSolverApi {
   int render_vertex_count() const override { return rest_.surface.nvert; }
 
   void set_params(const PhysicsParams& p) override {
-    if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
-    mat_ = neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
-    step_ = make_step_params<T>(p.dt, p.alpha, p.g);
-    step_.contact.nplanes = int(p.planes.size());
-    for (std::size_t i = 0; i < p.planes.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        step_.contact.planes[i].p[k] = T(p.planes[i].point[k]);
-        step_.contact.planes[i].n[k] = T(p.planes[i].normal[k]);
-      }
-    step_.contact.mode = p.contact_mode;
-    step_.contact.mu = T(p.mu);
+    step_ = step_params_from<T>(p);
+    mat_ = material_from<T>(p);
     element_ = p.element;
     clear_graphs();  // the parameters are baked into the captured kernel nodes
   }
