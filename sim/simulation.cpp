@@ -126,11 +126,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   for (std::size_t p = 0; p < params_.planes.size(); ++p) {
     const PlaneSpec& pl = params_.planes[p];
     double worst = 0;
-    for (int i = 0; i < mesh_.nnode(); ++i) {
-      const double* x = &mesh_.X[3 * i];
-      worst = std::min(worst, pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) +
-                                  pl.normal[2] * (x[2] - pl.point[2]));
-    }
+    for (int i = 0; i < mesh_.nnode(); ++i) worst = std::min(worst, signed_distance(pl, &mesh_.X[3 * i]));
     if (worst < -1e-9) {
       char buf[200];
       std::snprintf(buf, sizeof buf, ": the body starts %.4g mm inside the %s plane; move body.position or the plane",
@@ -240,7 +236,7 @@ void Simulation::apply_initial_state() {
   last_good_offset_ = 0;
   // Energy scale for the watchdog: initial kinetic energy plus what gravity could release
   // over the body's size plus its height above the lowest plane, and a floor of 1 nJ.
-  const Diagnostics d = diagnostics();
+  const Diagnostics d = diagnostics_of(s);
   energy0_ = d.ke + d.se + d.pe;
   double mass = 0, lo = 1e300, hi = -1e300;
   for (double m : solver_->lumped_mass()) mass += m;
@@ -248,11 +244,7 @@ void Simulation::apply_initial_state() {
   const double g = std::sqrt(params_.g[0] * params_.g[0] + params_.g[1] * params_.g[1] + params_.g[2] * params_.g[2]);
   double drop = hi - lo;
   for (const auto& pl : params_.planes)
-    for (int i = 0; i < n; ++i) {
-      const double* x = &mesh_.X[3 * i];
-      drop = std::max(drop, std::fabs(pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) +
-                                      pl.normal[2] * (x[2] - pl.point[2])) + (hi - lo));
-    }
+    for (int i = 0; i < n; ++i) drop = std::max(drop, std::fabs(signed_distance(pl, &mesh_.X[3 * i])) + (hi - lo));
   energy_scale_ = std::max(1e-9, d.ke + mass * g * drop);
 }
 
@@ -263,7 +255,7 @@ void Simulation::set_state(const HostState& s) {
   last_good_ = s;
   last_good_steps_ = nsteps_;
   last_good_offset_ = t_offset_;
-  const Diagnostics d = diagnostics();
+  const Diagnostics d = diagnostics_of(s);
   energy0_ = d.ke + d.se + d.pe;
   energy_scale_ = std::max(energy_scale_, d.ke + d.se);
 }
@@ -313,18 +305,12 @@ void Simulation::check_health() {
   if (params_.material_model == kTaylorNeoHookean) {
     for (int e = 0; e < mesh_.ntet(); ++e) {
       const int* t = &mesh_.tet[4 * e];
-      // J = det(current edge matrix) / det(rest edge matrix), in double on the host.
-      double D[3][3], Du[3][3];
-      for (int k = 0; k < 3; ++k)
-        for (int c = 0; c < 3; ++c) {
-          D[k][c] = mesh_.X[3 * t[c + 1] + k] - mesh_.X[3 * t[0] + k];
-          Du[k][c] = D[k][c] + scratch_.u[k * n + t[c + 1]] - scratch_.u[k * n + t[0]];
-        }
-      auto det = [](const double A[3][3]) {
-        return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-               A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-      };
-      const double J = det(Du) / det(D);
+      // J = current volume / rest volume, in double on the host.
+      double x[4][3];
+      for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) x[a][k] = mesh_.X[3 * t[a] + k] + scratch_.u[k * n + t[a]];
+      const double J = tet_signed_volume(x[0], x[1], x[2], x[3]) /
+                       tet_signed_volume(&mesh_.X[3 * t[0]], &mesh_.X[3 * t[1]], &mesh_.X[3 * t[2]], &mesh_.X[3 * t[3]]);
       if (!(J > 0)) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
@@ -337,7 +323,7 @@ void Simulation::check_health() {
   // Energy gained from nowhere: with damping and passive contact the total energy can
   // only fall; user drag forces add a little per check, a blow-up adds more than the
   // whole energy scale of the scene between two checks.
-  const Diagnostics d = diagnostics();
+  const Diagnostics d = diagnostics_of(scratch_);  // the state just downloaded
   const double e_total = d.ke + d.se + d.pe;
   if (!std::isfinite(e_total) || e_total - energy0_ > energy_scale_)
     diverged("total energy grew by " + std::to_string(e_total - energy0_) + " J since the last check (scale " + std::to_string(energy_scale_) + " J)",
@@ -354,13 +340,17 @@ void Simulation::step(long n) {
 }
 
 Diagnostics Simulation::diagnostics() {
+  solver_->get_state(scratch_);
+  return diagnostics_of(scratch_);
+}
+
+Diagnostics Simulation::diagnostics_of(const HostState& s) {
   Diagnostics d;
   d.t = time();
-  solver_->get_state(scratch_);
   const int n = mesh_.nnode();
   const auto& m = solver_->lumped_mass();
-  const auto& u = scratch_.u;
-  const auto& du = scratch_.du;
+  const auto& u = s.u;
+  const auto& du = s.du;
   double mt = 0, c[3] = {0, 0, 0};
   d.min_gap = params_.planes.empty() ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::max();
   for (int i = 0; i < n; ++i) {
@@ -376,12 +366,9 @@ Diagnostics Simulation::diagnostics() {
     mt += m[i];
     d.ke += 0.5 * m[i] * v2;
     d.max_u = std::max(d.max_u, std::sqrt(u2));
-    for (const auto& pl : params_.planes) {
-      const double g = pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) + pl.normal[2] * (x[2] - pl.point[2]);
-      d.min_gap = std::min(d.min_gap, g);
-    }
-    if (scratch_.contact[i] != kFree) ++d.n_contact;
-    if (scratch_.contact[i] == kStick) ++d.n_stick;
+    for (const auto& pl : params_.planes) d.min_gap = std::min(d.min_gap, signed_distance(pl, x));
+    if (s.contact[i] != kFree) ++d.n_contact;
+    if (s.contact[i] == kStick) ++d.n_stick;
   }
   for (int k = 0; k < 3; ++k) d.centroid[k] = c[k] / mt;
   d.se = solver_->strain_energy();

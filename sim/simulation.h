@@ -79,6 +79,8 @@ class Simulation {
  private:
   void apply_initial_state();
   void check_health();
+  // Diagnostics of a state already on the host (the solver supplies only strain energy).
+  Diagnostics diagnostics_of(const HostState& s);
 
   Scene scene_;
   TetMesh mesh_;

@@ -17,6 +17,10 @@ struct PlaneSpec {
   double normal[3];  // unit, pointing to the free side
 };
 
+inline double signed_distance(const PlaneSpec& pl, const double x[3]) {
+  return pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) + pl.normal[2] * (x[2] - pl.point[2]);
+}
+
 // Everything that may change while the simulation runs (the viewer edits these live).
 struct PhysicsParams {
   double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
