@@ -5,18 +5,18 @@
 
 #include "neo_hookean.h"
 #include "rest_state.h"
-#include "tet_forces.h"
+#include "host_forces.h"
+#include "solver.h"
 
 namespace softtled {
 
 double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations) {
   // With E = rho = 1 the eigenvalue itself is the scale.
   const RestArrays<double> r = build_rest_state<double>(m, 1.0, std::vector<std::uint8_t>(m.nnode(), 0));
-  const TetMeshView<double> v = r.view();
   const auto mat = neo_hookean_from_E_nu<double>(1.0, nu, model);
-  const int n = m.nnode(), ne = m.ntet();
+  const int n = m.nnode();
   const double h = 1e-7 * measure_quality(m).min_Le;  // linearisation amplitude [m]
-  std::vector<double> x(3 * n), u(3 * n), fc(12 * ne), fp(3 * n), fm(3 * n);
+  std::vector<double> x(3 * n), u(3 * n), fp(3 * n), fm(3 * n);
   // Deterministic, non-smooth start vector so the highest mode has a component.
   unsigned s = 12345u;
   for (double& xi : x) {
@@ -25,13 +25,7 @@ double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations) 
   }
   auto forces = [&](double sign, std::vector<double>& f) {
     for (int i = 0; i < 3 * n; ++i) u[i] = sign * h * x[i];
-    for (int e = 0; e < ne; ++e) tet_corner_forces(v, mat, u.data(), fc.data(), e);
-    for (int i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        double acc = 0;
-        for (int j = r.gather_start[i]; j < r.gather_start[i + 1]; ++j) acc += fc[k * 4 * ne + r.gather_slot[j]];
-        f[k * n + i] = acc;
-      }
+    host_internal_forces(r, mat, kT4, u, f);
   };
   double lambda = 0;
   for (int it = 0; it < iterations; ++it) {

@@ -5,35 +5,13 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "anp.h"
+#include "host_forces.h"
 #include "neo_hookean.h"
 #include "rest_state.h"
+#include "solver.h"
 #include "tet_forces.h"
 
 namespace softtled {
-namespace {
-
-// Internal nodal forces (3 x n SoA) for displacement u.
-void internal_forces(const RestArrays<double>& r, const NeoHookean<double>& mat, int element, const std::vector<double>& u,
-                     std::vector<double>& f) {
-  const TetMeshView<double> v = r.view();
-  const int ne = r.ntet, n = r.nnode;
-  std::vector<double> fc(12 * ne), vol(ne), p(n);
-  if (element == 1) {
-    for (int e = 0; e < ne; ++e) anp_element_volume(v, u.data(), vol.data(), e);
-    for (int i = 0; i < n; ++i) anp_node_pressure(v, mat, vol.data(), p.data(), i);
-    for (int e = 0; e < ne; ++e) anp_corner_forces(v, mat, u.data(), p.data(), fc.data(), e);
-  } else {
-    for (int e = 0; e < ne; ++e) tet_corner_forces(v, mat, u.data(), fc.data(), e);
-  }
-  f.assign(3 * n, 0.0);
-  for (int i = 0; i < n; ++i)
-    for (int j = r.gather_start[i]; j < r.gather_start[i + 1]; ++j)
-      for (int k = 0; k < 3; ++k) f[k * n + i] += fc[k * 4 * ne + r.gather_slot[j]];
-}
-
-}  // namespace
-
 StaticResult solve_static_equilibrium(const TetMesh& m, double E, double nu, double rho, const double g[3],
                                       const std::vector<std::uint8_t>& fixed, int element, int load_steps) {
   const RestArrays<double> r = build_rest_state<double>(m, rho, std::vector<std::uint8_t>(m.nnode(), 0));
@@ -52,7 +30,7 @@ StaticResult solve_static_equilibrium(const TetMesh& m, double E, double nu, dou
   for (int ls = 1; ls <= load_steps; ++ls) {
     const double lf = double(ls) / load_steps;
     for (int it = 0; it < 50; ++it) {
-      internal_forces(r, mat, element, res.u, f);
+      host_internal_forces(r, mat, element, res.u, f);
       Eigen::VectorXd rhs(nfree);
       double rmax = 0;
       for (int i = 0; i < n; ++i)
@@ -71,16 +49,16 @@ StaticResult solve_static_equilibrium(const TetMesh& m, double E, double nu, dou
       // forces of the nodes sharing an element with it. For ANP the pressure couples a
       // node's neighbours' neighbours, so perturb globally and read every DOF (small meshes).
       std::vector<Eigen::Triplet<double>> trip;
-      if (element == 1) {
+      if (element == kT4ANP) {
         for (int i = 0; i < n; ++i)
           for (int k = 0; k < 3; ++k) {
             const int c = dof[k * n + i];
             if (c < 0) continue;
             up = res.u;
             up[k * n + i] += h;
-            internal_forces(r, mat, element, up, fp);
+            host_internal_forces(r, mat, element, up, fp);
             up[k * n + i] -= 2 * h;
-            internal_forces(r, mat, element, up, fm);
+            host_internal_forces(r, mat, element, up, fm);
             for (int j = 0; j < 3 * n; ++j)
               if (dof[j] >= 0 && fp[j] != fm[j]) trip.emplace_back(dof[j], c, (fp[j] - fm[j]) / (2 * h));
           }
