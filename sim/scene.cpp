@@ -126,6 +126,18 @@ class Reader {
   std::set<std::string> used_;
 };
 
+// Scales v to unit length; false for a zero vector. Divides by the largest component first
+// so huge values do not overflow when squared (nor tiny ones underflow).
+bool normalize(std::array<double, 3>& v) {
+  double big = 0;
+  for (double x : v) big = std::max(big, std::fabs(x));
+  if (!(big > 0)) return false;
+  for (double& x : v) x /= big;
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (double& x : v) x /= n;
+  return true;
+}
+
 void apply_override(toml::table& root, const std::string& kv, const std::string& source) {
   const auto eq = kv.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
@@ -225,12 +237,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
         f.is_box = true;
       } else if (get3("plane_point", f.a)) {
         if (!get3("plane_normal", f.b)) r.fail(key, "plane_point needs plane_normal");
-        double big = 0;
-        for (double x : f.b) big = std::max(big, std::fabs(x));
-        if (!(big > 0)) r.fail(key + ".plane_normal", "must be non-zero");
-        for (double& x : f.b) x /= big;
-        const double n = std::sqrt(f.b[0] * f.b[0] + f.b[1] * f.b[1] + f.b[2] * f.b[2]);
-        for (double& x : f.b) x /= n;
+        if (!normalize(f.b)) r.fail(key + ".plane_normal", "must be non-zero");
         f.is_box = false;
       } else {
         r.fail(key, "needs box_min/box_max or plane_point/plane_normal");
@@ -253,16 +260,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.floor = r.boolean("floor.enabled", s.floor);
   s.floor_point = r.vec<3>("floor.point", s.floor_point);
   s.floor_normal = r.vec<3>("floor.normal", s.floor_normal);
-  {
-    // Scale by the largest component first so huge values do not overflow when squared.
-    double big = 0;
-    for (double v : s.floor_normal) big = std::max(big, std::fabs(v));
-    if (!(big > 0)) r.fail("floor.normal", "must be non-zero");
-    for (double& v : s.floor_normal) v /= big;
-    const double nn = std::sqrt(s.floor_normal[0] * s.floor_normal[0] + s.floor_normal[1] * s.floor_normal[1] +
-                                s.floor_normal[2] * s.floor_normal[2]);
-    for (double& v : s.floor_normal) v /= nn;
-  }
+  if (!normalize(s.floor_normal)) r.fail("floor.normal", "must be non-zero");
   s.slope = r.boolean("slope.enabled", s.slope);
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
   s.slope_point = r.vec<3>("slope.point", s.floor_point);
