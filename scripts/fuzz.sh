@@ -21,18 +21,9 @@ TARGETS=${*:-fuzz_obj fuzz_off fuzz_stl fuzz_scene}
 export CXX=${CXX:-clang++}
 
 # Debian packages: clang (the compiler) and libclang-rt-14-dev (libFuzzer, ASan and UBSan
-# runtimes of clang 14); installed only when missing, as scripts/setup.sh does.
-PACKAGES="clang libclang-rt-14-dev cmake libtomlplusplus-dev"
-missing=""
-for p in $PACKAGES; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
-done
-if [ -n "$missing" ]; then
-  echo "fuzz: installing missing Debian packages:$missing"
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing
-fi
+# runtimes of clang 14); installed only when missing.
+source "$ROOT/scripts/packages.sh"
+ensure_packages clang libclang-rt-14-dev cmake libtomlplusplus-dev
 
 cmake -S "$ROOT/tests/fuzz" -B "$BUILD" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER="$CXX" >/dev/null
 cmake --build "$BUILD" -j"${FUZZ_BUILD_JOBS:-$(nproc)}" >/dev/null

@@ -5,20 +5,11 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${SOFTTLED_BUILD_DIR:-$ROOT/build}
 
-PACKAGES="cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-dev libeigen3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
-  libgl-dev libegl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglew-dev libimgui-dev libstb-dev
-  xvfb xauth xdotool imagemagick"
-missing=""
-for p in $PACKAGES; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
-done
-if [ -n "$missing" ]; then
-  echo "setup: installing missing Debian packages:$missing"
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing
-fi
+source "$ROOT/scripts/packages.sh"
+ensure_packages cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-dev libeigen3-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
+  libgl-dev libegl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglew-dev libimgui-dev libstb-dev \
+  xvfb xauth xdotool imagemagick
 
 # The CUDA backend compiles wherever the toolkit is (it runs only where a GPU is).
 if ! command -v nvcc >/dev/null && [ -x /usr/local/cuda/bin/nvcc ]; then
