@@ -11,9 +11,9 @@
 #include <sstream>
 
 #include "commands.h"
-#include "sim/accuracy_study.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
+#include "analysis/accuracy_study.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
 
 namespace softtled {
 

@@ -20,16 +20,16 @@
 #include <vector>
 
 #include "commands.h"
-#include "sim/central_difference.h"
-#include "sim/rest_state.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
-#include "sim/surface_mesh.h"
-#include "sim/surface_render.h"
-#include "sim/tet_forces.h"
+#include "sim/fem/central_difference.h"
+#include "sim/solver/rest_state.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
+#include "sim/mesh/surface_mesh.h"
+#include "sim/fem/surface_render.h"
+#include "sim/fem/tet_forces.h"
 #if defined(SOFTTLED_HAVE_CUDA)
-#include "sim/cuda/cuda_solver.h"
-#include "sim/cuda/device_info.h"
+#include "sim/solver/cuda/cuda_solver.h"
+#include "sim/solver/cuda/device_info.h"
 #endif
 
 namespace softtled {

@@ -6,12 +6,12 @@
 #include <memory>
 
 #include "commands.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
-#include "sim/stable_step.h"
-#include "sim/surface_io.h"
-#include "sim/tetgen_mesher.h"
-#include "sim/vtu_writer.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
+#include "sim/solver/stable_step.h"
+#include "sim/mesh/surface_io.h"
+#include "sim/mesh/tetgen_mesher.h"
+#include "sim/io/vtu_writer.h"
 
 namespace softtled {
 

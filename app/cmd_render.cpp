@@ -8,8 +8,8 @@
 
 #include "commands.h"
 #include "render/headless.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
 
 namespace softtled {
 

@@ -9,9 +9,9 @@
 #include <memory>
 
 #include "commands.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
-#include "sim/vtu_writer.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
+#include "sim/io/vtu_writer.h"
 
 namespace softtled {
 

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "commands.h"
-#include "sim/surface_mesh.h"
+#include "sim/mesh/surface_mesh.h"
 #include "viewer_app.h"
 
 namespace softtled {

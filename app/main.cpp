@@ -7,7 +7,7 @@
 #include <string>
 
 #include "commands.h"
-#include "sim/surface_mesh.h"
+#include "sim/mesh/surface_mesh.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"SoftTLED: real-time soft-body simulation (TLED, Neo-Hookean, plane contact)"};

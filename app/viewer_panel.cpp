@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "sim/plane_contact.h"
+#include "sim/contact/plane_contact.h"
 
 namespace softtled {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "render/scene_renderer.h"
-#include "sim/simulation.h"
+#include "sim/scene/simulation.h"
 
 namespace softtled {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "render/math3d.h"
-#include "sim/solver.h"
-#include "sim/tet_mesh.h"
+#include "sim/solver/solver.h"
+#include "sim/mesh/tet_mesh.h"
 
 namespace softtled {
 

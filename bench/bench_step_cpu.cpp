@@ -2,8 +2,8 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
-#include "sim/scene.h"
-#include "sim/simulation.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
 
 using namespace softtled;
 

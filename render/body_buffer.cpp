@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "render/cuda_gl_buffer.h"
-#include "sim/surface_render.h"
+#include "sim/fem/surface_render.h"
 
 namespace softtled {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "render/gl.h"
-#include "sim/solver.h"
-#include "sim/surface_topology.h"
+#include "sim/solver/solver.h"
+#include "sim/mesh/surface_topology.h"
 
 namespace softtled {
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "render/offscreen_target.h"
-#include "sim/surface_topology.h"
+#include "sim/mesh/surface_topology.h"
 
 namespace softtled {
 

@@ -11,7 +11,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/scene_renderer.h"
-#include "sim/simulation.h"
+#include "sim/scene/simulation.h"
 
 namespace softtled {
 

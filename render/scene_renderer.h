@@ -7,7 +7,7 @@
 #include "render/body_buffer.h"
 #include "render/camera.h"
 #include "render/shader.h"
-#include "sim/solver.h"
+#include "sim/solver/solver.h"
 
 namespace softtled {
 

@@ -2,7 +2,7 @@
 // Small scenes for tests, written as TOML so they exercise the same path as users.
 #include <string>
 
-#include "sim/scene.h"
+#include "sim/scene/scene.h"
 
 namespace softtled::test {
 

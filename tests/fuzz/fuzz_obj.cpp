@@ -1,6 +1,6 @@
 // libFuzzer target: parse_obj (sim/surface_io.h) on arbitrary bytes.
 #include "fuzz_target.h"
-#include "sim/surface_io.h"
+#include "sim/mesh/surface_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return softtled::fuzz::run_one(data, size, [](const std::string& s) {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fuzz_target.h"
-#include "sim/scene.h"
+#include "sim/scene/scene.h"
 
 using softtled::fuzz::require;
 

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "sim/surface_mesh.h"
+#include "sim/mesh/surface_mesh.h"
 
 namespace softtled::fuzz {
 

@@ -13,8 +13,8 @@
 
 #include "render/gl_context.h"
 #include "render/headless.h"
-#include "sim/scene.h"
-#include "sim/simulation.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
 
 using namespace softtled;
 

@@ -9,7 +9,7 @@
 #include "render/camera.h"
 #include "render/image.h"
 #include "render/math3d.h"
-#include "sim/tet_mesh.h"
+#include "sim/mesh/tet_mesh.h"
 #include "viewer_picking.h"
 
 using namespace softtled;

@@ -1,0 +1,42 @@
+#pragma once
+// The speed-for-accuracy study on one scene: run a variant (mesh level, precision,
+// lambda, element) with the watchdog on, record the centroid every millisecond and the
+// displacement field at two times, and compare it with a reference run on another mesh.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/field_interpolation.h"
+#include "sim/solver/solver.h"
+#include "sim/mesh/tet_mesh.h"
+
+namespace softtled {
+
+struct AccuracyRun {
+  std::string level, precision, element;
+  double lambda = 0;
+  int ntet = 0;
+  double dt = 0;
+  long steps = 0;
+  double wall_s = 0, us_per_step = 0;   // stepping only (diagnostics excluded)
+  std::vector<std::vector<double>> cen; // centroid xyz every 1 ms from t = 0 [m]
+  HostState at[2];                      // state at t1 and t2
+  double rest_height = 0;               // centroid y at t_end [m]
+  std::shared_ptr<TetMesh> mesh;
+};
+
+struct AccuracyErrors {
+  double centroid_rms = 0;              // over [0, t_rms] [m]
+  double max_err[2] = {0, 0}, mean_err[2] = {0, 0};  // nodal displacement error at t1, t2 [m]
+  double rest = 0;                      // |rest height - reference| [m]
+};
+
+// level: torus grid "NUxNV" (overrides body.segments), optionally "@qRHO" for the TetGen
+// radius-edge bound (mesh.radius_edge). Throws SimulationDiverged.
+AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
+                                 const std::string& precision, double lambda, const std::string& element, double t_end,
+                                 double t1, double t2, const std::vector<std::string>& extra_overrides = {});
+
+AccuracyErrors compare_runs(const AccuracyRun& v, const AccuracyRun& ref, const FieldSampler& ref_sampler, double t_rms);
+
+}  // namespace softtled

@@ -1,0 +1,132 @@
+#pragma once
+// Compressible Neo-Hookean material in the form TLED uses (Taylor, Cheng & Ourselin,
+// "High-speed nonlinear finite element analysis for surgical simulation using graphics
+// processing units", IEEE TMI 2008):
+//   W = mu/2 (J^(-2/3) I1 - 3) + kappa/2 (J - 1)^2
+//   S = mu J^(-2/3) (I - I1/3 C^-1) + kappa J (J - 1) C^-1
+// with mu = E / 2(1+nu), kappa = E / 3(1-2nu).
+#include "sim/core/mat3.h"
+#include "sim/core/sim_hd.h"
+
+namespace softtled {
+
+enum MaterialModel : int {
+  kTaylorNeoHookean = 0,  // the paper's model (TLED form above)
+  kStableNeoHookean = 1,  // Smith, de Goes & Kim, "Stable Neo-Hookean Flesh Simulation", TOG 2018
+};
+
+template <class T>
+struct NeoHookean {
+  T mu;     // shear modulus [Pa]
+  T kappa;  // bulk modulus [Pa]
+  // Below this J the deviatoric term uses J_floor instead of J: J^(-2/3) and C^-1
+  // are singular at J = 0 and undefined for J < 0, which is where a classic TLED code
+  // produces NaN. The volumetric term needs no guard: kappa (J-1) cof(F) is smooth
+  // through J = 0 and always pushes J back towards 1.
+  T J_floor;
+  int model = kTaylorNeoHookean;
+  // Stable Neo-Hookean constants (Smith et al. eq. 14, with their Lame re-parameterisation
+  // mu' = 4/3 mu, lambda' = lambda + 5/6 mu so small strains match linear elasticity):
+  T snh_mu = T(0), snh_lambda = T(0), snh_alpha = T(1);
+};
+
+template <class T>
+inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTaylorNeoHookean) {
+  const double mu = E / (2.0 * (1.0 + nu)), lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  NeoHookean<T> m{T(mu), T(E / (3.0 * (1.0 - 2.0 * nu))), T(0.05)};
+  m.model = model;
+  const double smu = 4.0 / 3.0 * mu, slam = lambda + 5.0 / 6.0 * mu;
+  m.snh_mu = T(smu);
+  m.snh_lambda = T(slam);
+  m.snh_alpha = T(1.0 + smu / slam - smu / (4.0 * slam));
+  return m;
+}
+
+// cof(F) = J F^-T, defined for any F (also singular or inverted).
+template <class T>
+SIM_HD inline Mat3<T> cofactor3(const Mat3<T>& F) {
+  Mat3<T> c;
+  c(0, 0) = F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1);
+  c(0, 1) = F(1, 2) * F(2, 0) - F(1, 0) * F(2, 2);
+  c(0, 2) = F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0);
+  c(1, 0) = F(0, 2) * F(2, 1) - F(0, 1) * F(2, 2);
+  c(1, 1) = F(0, 0) * F(2, 2) - F(0, 2) * F(2, 0);
+  c(1, 2) = F(0, 1) * F(2, 0) - F(0, 0) * F(2, 1);
+  c(2, 0) = F(0, 1) * F(1, 2) - F(0, 2) * F(1, 1);
+  c(2, 1) = F(0, 2) * F(1, 0) - F(0, 0) * F(1, 2);
+  c(2, 2) = F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
+  return c;
+}
+
+// First Piola-Kirchhoff stress P = F S, written with cof(F) so it needs no inverse:
+//   P = mu J^(-2/3) (F - I1/3 cof(F)/J) + kappa (J-1) cof(F)
+// Stable Neo-Hookean: W = mu/2 (Ic - 3) + lambda/2 (J - a)^2 - mu/2 log(Ic + 1),
+//   P = mu (1 - 1/(Ic + 1)) F + lambda (J - a) cof(F)
+// smooth and finite for every F, inverted or not: no guard needed.
+template <class T>
+SIM_HD inline Mat3<T> stable_neo_hookean_pk1(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  const Mat3<T> cof = cofactor3(F);
+  const T J = F(0, 0) * cof(0, 0) + F(0, 1) * cof(0, 1) + F(0, 2) * cof(0, 2);
+  T Ic = T(0);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Ic += F(i, j) * F(i, j);
+  const T a = mat.snh_mu * (T(1) - T(1) / (Ic + T(1)));
+  const T c = mat.snh_lambda * (J - mat.snh_alpha);
+  Mat3<T> P;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P(i, j) = a * F(i, j) + c * cof(i, j);
+  return P;
+}
+
+template <class T>
+SIM_HD inline Mat3<T> neo_hookean_pk1(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  if (mat.model == kStableNeoHookean) return stable_neo_hookean_pk1(mat, F);
+  const Mat3<T> cof = cofactor3(F);
+  const T J = F(0, 0) * cof(0, 0) + F(0, 1) * cof(0, 1) + F(0, 2) * cof(0, 2);
+  T I1 = T(0);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) I1 += F(i, j) * F(i, j);
+  const T Jd = J > mat.J_floor ? J : mat.J_floor;
+  const T Jm23 = T(1) / cbrt(Jd * Jd);
+  const T a = mat.mu * Jm23;
+  const T b = a * I1 / (T(3) * Jd);
+  const T c = mat.kappa * (J - T(1));
+  Mat3<T> P;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P(i, j) = a * F(i, j) + (c - b) * cof(i, j);
+  return P;
+}
+
+// Second Piola-Kirchhoff stress, literally Taylor et al.'s formula (for checks and output).
+template <class T>
+SIM_HD inline Mat3<T> neo_hookean_pk2(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  const Mat3<T> C = transpose_mul(F, F);
+  const T J = det3(F);
+  const Mat3<T> Ci = inverse3(C, J * J);
+  const T I1 = C(0, 0) + C(1, 1) + C(2, 2);
+  const T Jm23 = T(1) / cbrt(J * J);
+  Mat3<T> S;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      S(i, j) = mat.mu * Jm23 * ((i == j ? T(1) : T(0)) - I1 / T(3) * Ci(i, j)) +
+                mat.kappa * J * (J - T(1)) * Ci(i, j);
+  return S;
+}
+
+template <class T>
+SIM_HD inline T neo_hookean_energy_density(const NeoHookean<T>& mat, const Mat3<T>& F) {
+  const T J = det3(F);
+  T I1 = T(0);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) I1 += F(i, j) * F(i, j);
+  if (mat.model == kStableNeoHookean) {
+    const T d = J - mat.snh_alpha, a0 = T(1) - mat.snh_alpha;
+    // Shifted so W(I) = 0: the constant terms of Smith et al.'s energy at rest removed.
+    return mat.snh_mu / T(2) * (I1 - T(3)) + mat.snh_lambda / T(2) * (d * d - a0 * a0) -
+           mat.snh_mu / T(2) * (log(I1 + T(1)) - log(T(4)));
+  }
+  const T Jd = J > mat.J_floor ? J : mat.J_floor;
+  return mat.mu / T(2) * (I1 / cbrt(Jd * Jd) - T(3)) + mat.kappa / T(2) * (J - T(1)) * (J - T(1));
+}
+
+}  // namespace softtled

@@ -1,0 +1,110 @@
+#include "sim/io/vtu_writer.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "sim/mesh/surface_mesh.h"
+
+namespace softtled {
+namespace {
+
+// F = Dx Dm^-1 from rest and current edge matrices.
+Mat3<double> element_F(const TetMesh& m, const std::vector<double>* u, int e) {
+  const int n = m.nnode();
+  const int* t = &m.tet[4 * e];
+  double D[3][3], d[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) {
+      D[k][c] = m.X[3 * t[c + 1] + k] - m.X[3 * t[0] + k];
+      d[k][c] = D[k][c] + (u ? (*u)[k * n + t[c + 1]] - (*u)[k * n + t[0]] : 0.0);
+    }
+  Mat3<double> Dm, Dx;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Dm(i, j) = D[i][j], Dx(i, j) = d[i][j];
+  const double det = det3(Dm);
+  // inverse3 is written for symmetric input; build the general inverse by cofactors.
+  const Mat3<double> cof = cofactor3(Dm);
+  Mat3<double> inv;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) inv(i, j) = cof(j, i) / det;
+  return mul(Dx, inv);
+}
+
+}  // namespace
+
+void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, double dt, const NeoHookean<double>& mat) {
+  std::ofstream o(path);
+  if (!o) throw InputError(path + ": cannot write");
+  const int n = m.nnode(), ne = m.ntet();
+  o.precision(9);
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+    << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << ne << "\">\n";
+  o << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) o << m.X[3 * i + k] + (s ? s->u[k * n + i] : 0.0) << (k == 2 ? '\n' : ' ');
+  o << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (int e = 0; e < ne; ++e)
+    o << m.tet[4 * e] << ' ' << m.tet[4 * e + 1] << ' ' << m.tet[4 * e + 2] << ' ' << m.tet[4 * e + 3] << '\n';
+  o << "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n";
+  for (int e = 0; e < ne; ++e) o << 4 * (e + 1) << '\n';
+  o << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (int e = 0; e < ne; ++e) o << "10\n";  // VTK_TETRA
+  o << "</DataArray>\n</Cells>\n";
+  if (s) {
+    o << "<PointData Vectors=\"displacement\">\n<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) o << s->u[k * n + i] << (k == 2 ? '\n' : ' ');
+    o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) o << s->du[k * n + i] / dt << (k == 2 ? '\n' : ' ');
+    o << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"contact\" format=\"ascii\">\n";
+    for (int i = 0; i < n; ++i) o << int(s->contact[i]) << '\n';
+    o << "</DataArray>\n</PointData>\n";
+  }
+  o << "<CellData Scalars=\"von_mises\">\n<DataArray type=\"Float64\" Name=\"J\" format=\"ascii\">\n";
+  std::vector<double> vm(ne);
+  for (int e = 0; e < ne; ++e) {
+    const Mat3<double> F = element_F(m, s ? &s->u : nullptr, e);
+    const double J = det3(F);
+    o << J << '\n';
+    // Cauchy stress sigma = P F^T / J, von Mises = sqrt(3/2 s:s) of its deviator.
+    const Mat3<double> P = neo_hookean_pk1(mat, F);
+    Mat3<double> sig;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) sig(i, j) = (P(i, 0) * F(j, 0) + P(i, 1) * F(j, 1) + P(i, 2) * F(j, 2)) / J;
+    const double p = (sig(0, 0) + sig(1, 1) + sig(2, 2)) / 3;
+    double ss = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double dij = sig(i, j) - (i == j ? p : 0.0);
+        ss += dij * dij;
+      }
+    vm[e] = std::sqrt(1.5 * ss);
+  }
+  o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
+  for (double v : vm) o << v << '\n';
+  o << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  if (!o) throw InputError(path + ": write failed");
+}
+
+VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw InputError(dir_ + ": cannot create directory (" + ec.message() + ")");
+}
+
+void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, const NeoHookean<double>& mat) {
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+  write_vtu(dir_ + "/" + name, m, &s, dt, mat);
+  frames_.emplace_back(t, name);
+  std::ofstream o(dir_ + "/series.pvd");
+  o.precision(9);
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& [ft, f] : frames_) o << "<DataSet timestep=\"" << ft << "\" file=\"" << f << "\"/>\n";
+  o << "</Collection>\n</VTKFile>\n";
+}
+
+}  // namespace softtled

@@ -1,0 +1,316 @@
+#include "sim/scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "sim/mesh/surface_mesh.h"
+
+namespace softtled {
+namespace {
+
+// Reads keys of a table and remembers which were read, so leftovers can be reported.
+class Reader {
+ public:
+  Reader(const toml::table& root, std::string source) : root_(root), source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
+    throw InputError(source_ + ": " + key + ": " + msg);
+  }
+
+  const toml::node* get(const std::string& key) {
+    used_.insert(key);
+    return root_.at_path(key).node();
+  }
+
+  double num(const std::string& key, double def, double lo = -INFINITY, double hi = INFINITY,
+             bool lo_open = false) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    double v;
+    if (auto i = n->as_integer()) v = double(i->get());
+    else if (auto f = n->as_floating_point()) v = f->get();
+    else fail(key, "expected a number");
+    if (!std::isfinite(v)) fail(key, "must be finite, got " + std::to_string(v));
+    if (v < lo || (lo_open && v == lo) || v > hi) {
+      std::ostringstream o;
+      o << "value " << v << " out of range " << (lo_open ? "(" : "[") << lo << ", " << hi << "]";
+      fail(key, o.str());
+    }
+    return v;
+  }
+
+  int integer(const std::string& key, int def, int lo, int hi) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto i = n->as_integer();
+    if (!i) fail(key, "expected an integer");
+    if (i->get() < lo || i->get() > hi) fail(key, "value out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(i->get());
+  }
+
+  bool boolean(const std::string& key, bool def) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto b = n->as_boolean();
+    if (!b) fail(key, "expected true or false");
+    return b->get();
+  }
+
+  std::string str(const std::string& key, const std::string& def, const std::set<std::string>& allowed = {}) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto s = n->as_string();
+    if (!s) fail(key, "expected a string");
+    if (!allowed.empty() && !allowed.count(s->get())) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(key, "'" + s->get() + "' is not one of: " + list);
+    }
+    return s->get();
+  }
+
+  template <std::size_t N>
+  std::array<double, N> vec(const std::string& key, std::array<double, N> def) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto a = n->as_array();
+    if (!a || a->size() != N) fail(key, "expected an array of " + std::to_string(N) + " numbers");
+    std::array<double, N> r;
+    for (std::size_t i = 0; i < N; ++i) {
+      const auto v = (*a)[i].value<double>();
+      if (!v || !std::isfinite(*v)) fail(key, "element " + std::to_string(i) + " is not a finite number");
+      r[i] = *v;
+    }
+    return r;
+  }
+
+  template <std::size_t N>
+  std::array<int, N> ivec(const std::string& key, std::array<int, N> def, int lo, int hi) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto a = n->as_array();
+    if (!a || a->size() != N) fail(key, "expected an array of " + std::to_string(N) + " integers");
+    std::array<int, N> r;
+    for (std::size_t i = 0; i < N; ++i) {
+      auto v = (*a)[i].as_integer();
+      if (!v || v->get() < lo || v->get() > hi) fail(key, "element " + std::to_string(i) + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      r[i] = int(v->get());
+    }
+    return r;
+  }
+
+  // Every leaf key that was not read is an error (typos must not be silently ignored).
+  void reject_unknown() const {
+    for (const auto& [k, v] : root_) {
+      const std::string key(k.str());
+      if (auto t = v.as_table()) {
+        for (const auto& [k2, v2] : *t) {
+          (void)v2;
+          const std::string full = key + "." + std::string(k2.str());
+          if (!used_.count(full)) fail(full, "unknown key (see README, 'Scene format')");
+        }
+      } else if (!used_.count(key) && !(key == "fixed" && used_.count("fixed"))) {
+        fail(key, "unknown key (see README, 'Scene format')");
+      }
+    }
+  }
+
+ private:
+  const toml::table& root_;
+  std::string source_;
+  std::set<std::string> used_;
+};
+
+// Scales v to unit length; false for a zero vector. Divides by the largest component first
+// so huge values do not overflow when squared (nor tiny ones underflow).
+bool normalize(std::array<double, 3>& v) {
+  double big = 0;
+  for (double x : v) big = std::max(big, std::fabs(x));
+  if (!(big > 0)) return false;
+  for (double& x : v) x /= big;
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (double& x : v) x /= n;
+  return true;
+}
+
+void apply_override(toml::table& root, const std::string& kv, const std::string& source) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
+  const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+  toml::node_view<toml::node> existing;
+  // Parse the value as TOML; a bare word that is not TOML becomes a string.
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{};
+    parsed.insert("v", value);
+  }
+  const auto dot = key.find('.');
+  const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+  const std::string leaf = dot == std::string::npos ? key : key.substr(dot + 1);
+  if (leaf.empty() || leaf.find('.') != std::string::npos)
+    throw InputError("--set '" + kv + "': keys are 'section.key' or 'key'");
+  toml::table* target = &root;
+  if (!section.empty()) {
+    if (!root.contains(section)) root.insert(section, toml::table{});
+    target = root[section].as_table();
+    if (!target) throw InputError(source + ": --set " + key + ": '" + section + "' is not a table");
+  }
+  target->insert_or_assign(leaf, *parsed["v"].node());
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream o;
+    o << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+    throw InputError(o.str());
+  }
+  for (const auto& kv : overrides) apply_override(root, kv, source);
+  Reader r(root, source);
+  Scene s;
+  s.source = source;
+  const std::string units = r.str("units", "mm", {"m", "mm"});
+  s.length_unit = units == "mm" ? 1e-3 : 1.0;
+
+  s.shape = r.str("body.shape", s.shape, {"torus", "box", "sphere", "file"});
+  s.radius = r.num("body.radius", s.radius, 0, INFINITY, true);
+  s.subdivisions = r.integer("body.subdivisions", s.subdivisions, 0, 7);
+  s.file = r.str("body.file", "");
+  s.major_radius = r.num("body.major_radius", s.major_radius, 0, INFINITY, true);
+  s.tube_radius = r.num("body.tube_radius", s.tube_radius, 0, INFINITY, true);
+  s.segments = r.ivec<2>("body.segments", s.segments, 3, 4096);
+  s.size = r.vec<3>("body.size", s.size);
+  for (double v : s.size) if (!(v > 0)) r.fail("body.size", "sides must be positive");
+  s.divisions = r.ivec<3>("body.divisions", s.divisions, 1, 1024);
+  s.scale = r.num("body.scale", 1.0, 0, INFINITY, true);
+  s.position = r.vec<3>("body.position", s.position);
+  s.rotation_deg = r.vec<3>("body.rotation_deg", s.rotation_deg);
+  s.velocity = r.vec<3>("body.velocity", s.velocity);
+  if (s.shape == "torus" && !(s.tube_radius < s.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
+  if (s.shape == "file" && s.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
+
+  s.tetgen.radius_edge = r.num("mesh.radius_edge", 2.0, 0, 100);
+  if (s.tetgen.radius_edge > 0 && s.tetgen.radius_edge < 1.0) r.fail("mesh.radius_edge", "TetGen needs a radius-edge bound >= 1 (or 0 to disable)");
+  s.tetgen.min_dihedral = r.num("mesh.min_dihedral_deg", 0.0, 0, 30);
+  s.tetgen.max_volume = r.num("mesh.max_volume", 0.0, 0, INFINITY);
+  s.tetgen.keep_boundary = r.boolean("mesh.keep_boundary", false);
+  s.tetgen.switches = r.str("mesh.switches", "");
+  s.mesh_cache = r.boolean("mesh.cache", true);
+  if (const toml::node* fx = r.get("fixed")) {
+    auto arr = fx->as_array();
+    if (!arr) r.fail("fixed", "expected [[fixed]] tables");
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      auto t = (*arr)[i].as_table();
+      const std::string key = "fixed[" + std::to_string(i) + "]";
+      if (!t) r.fail(key, "expected a table with box_min/box_max or plane_point/plane_normal");
+      auto get3 = [&](const char* name, std::array<double, 3>& out) {
+        auto a = (*t)[name].as_array();
+        if (!a) return false;
+        if (a->size() != 3) r.fail(key + "." + name, "expected 3 numbers");
+        for (int k = 0; k < 3; ++k) {
+          auto v = (*a)[k].value<double>();
+          if (!v || !std::isfinite(*v)) r.fail(key + "." + name, "expected finite numbers");
+          out[k] = *v;
+        }
+        return true;
+      };
+      Scene::FixedSelector f;
+      for (const auto& [k, v] : *t) {
+        (void)v;
+        const std::string name(k.str());
+        if (name != "box_min" && name != "box_max" && name != "plane_point" && name != "plane_normal")
+          r.fail(key + "." + name, "unknown key (use box_min/box_max or plane_point/plane_normal)");
+      }
+      if (get3("box_min", f.a)) {
+        if (!get3("box_max", f.b)) r.fail(key, "box_min needs box_max");
+        f.is_box = true;
+      } else if (get3("plane_point", f.a)) {
+        if (!get3("plane_normal", f.b)) r.fail(key, "plane_point needs plane_normal");
+        if (!normalize(f.b)) r.fail(key + ".plane_normal", "must be non-zero");
+        f.is_box = false;
+      } else {
+        r.fail(key, "needs box_min/box_max or plane_point/plane_normal");
+      }
+      s.fixed.push_back(f);
+    }
+  }
+
+  s.material_model = r.str("material.model", s.material_model, {"neo_hookean", "stable_neo_hookean"});
+  s.element = r.str("material.element", s.element, {"T4", "T4ANP"});
+  if (s.element == "T4ANP" && s.material_model != "neo_hookean")
+    r.fail("material.element", "T4ANP is implemented for the neo_hookean model only");
+  s.E = r.num("material.E", s.E, 0, INFINITY, true);
+  s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
+  if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
+  s.rho = r.num("material.rho", s.rho, 0, INFINITY, true);
+  s.alpha = r.num("damping.alpha", s.alpha, 0, INFINITY);
+  s.g = r.vec<3>("gravity.g", s.g);
+
+  s.floor = r.boolean("floor.enabled", s.floor);
+  s.floor_point = r.vec<3>("floor.point", s.floor_point);
+  s.floor_normal = r.vec<3>("floor.normal", s.floor_normal);
+  if (!normalize(s.floor_normal)) r.fail("floor.normal", "must be non-zero");
+  s.slope = r.boolean("slope.enabled", s.slope);
+  s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
+  s.slope_point = r.vec<3>("slope.point", s.floor_point);
+
+  s.contact_mode = r.str("contact.mode", s.contact_mode, {"sliding", "static", "coulomb"});
+  s.mu = r.num("contact.mu", s.mu, 0, INFINITY);
+  s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
+
+  {
+    const toml::node* dt = r.get("time.dt");
+    if (!dt || (dt->as_string() && dt->as_string()->get() == "auto")) {
+      s.dt_auto = true;
+    } else {
+      s.dt_auto = false;
+      s.dt = r.num("time.dt", 0, 0, INFINITY, true);
+    }
+  }
+  s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
+  s.allow_unstable = r.boolean("time.allow_unstable", false);
+  s.duration = r.num("time.duration", s.duration, 0, INFINITY);
+  s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);
+
+  s.precision = r.str("solver.precision", s.precision, {"float", "double"});
+  s.threads = r.integer("solver.threads", 0, 0, 1024);
+
+  if (const toml::node* tp = r.get("output.track_points")) {
+    auto a = tp->as_array();
+    if (!a) r.fail("output.track_points", "expected an array of [x, y, z] points");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      auto p = (*a)[i].as_array();
+      if (!p || p->size() != 3) r.fail("output.track_points", "element " + std::to_string(i) + " is not [x, y, z]");
+      std::array<double, 3> q;
+      for (int k = 0; k < 3; ++k) {
+        auto v = (*p)[k].value<double>();
+        if (!v || !std::isfinite(*v)) r.fail("output.track_points", "element " + std::to_string(i) + " has a non-number");
+        q[k] = *v;
+      }
+      s.track_points.push_back(q);
+    }
+  }
+  r.reject_unknown();
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path + ": cannot open scene file");
+  std::ostringstream buf;
+  buf << f.rdbuf();
+  return parse_scene(buf.str(), path, overrides);
+}
+
+}  // namespace softtled

@@ -1,0 +1,90 @@
+#pragma once
+// Scene description (TOML). Every key is documented in README.md ("Scene format");
+// unknown keys, wrong types and out-of-range values are InputErrors naming the key.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "sim/mesh/tetgen_mesher.h"
+
+namespace softtled {
+
+struct Scene {
+  std::string source;      // file it came from (messages, relative paths)
+  double length_unit = 1e-3;  // metres per scene length unit ("mm" by default)
+
+  // [body]
+  std::string shape = "torus";  // torus | box | sphere | file
+  std::string file;             // surface file for shape = "file"
+  double major_radius = 7.5, tube_radius = 2.5;  // torus [units]
+  std::array<int, 2> segments = {91, 19};
+  std::array<double, 3> size = {10, 10, 10};     // box [units]
+  std::array<int, 3> divisions = {4, 4, 4};
+  double radius = 5.0;                           // sphere [units]
+  int subdivisions = 3;                          // sphere: icosahedron subdivisions
+  double scale = 1.0;                            // applied to a loaded file
+  std::array<double, 3> position = {0, 0, 0};    // [units]
+  std::array<double, 3> rotation_deg = {0, 0, 0};  // about x, then y, then z
+  std::array<double, 3> velocity = {0, 0, 0};    // [m/s]
+
+  // [mesh]  (TetGen)
+  TetgenOptions tetgen;        // max_volume here in [units^3]
+
+  // [material]
+  std::string material_model = "neo_hookean";  // neo_hookean | stable_neo_hookean
+  std::string element = "T4";                  // T4 | T4ANP
+  double E = 3000, nu = 0.49, rho = 1000;  // [Pa, -, kg/m^3]
+
+  // [damping]
+  double alpha = 10;  // [1/s]
+
+  // [gravity]
+  std::array<double, 3> g = {0, -9.81, 0};
+
+  // [floor]
+  bool floor = true;
+  std::array<double, 3> floor_point = {0, -12, 0};  // [units]
+  std::array<double, 3> floor_normal = {0, 1, 0};
+
+  // [slope]: the floor turned by angle_deg about z through slope.point
+  bool slope = false;
+  double slope_angle_deg = 20;
+  std::array<double, 3> slope_point = {0, -12, 0};
+
+  // [contact]
+  std::string contact_mode = "sliding";  // sliding | static | coulomb
+  double mu = 0.5;
+  std::string contact_nodes = "boundary";  // boundary | all
+
+  // [time]
+  bool dt_auto = true;
+  double dt = 0;        // [s] when not auto
+  double lambda = 0.5;  // dt = lambda * dt_cr for auto
+  bool allow_unstable = false;  // run a fixed dt above dt_cr (the watchdog still stops divergence)
+  double duration = 0.2;
+  double output_every = 1e-3;
+
+  // [solver]
+  std::string precision = "double";  // float | double
+  int threads = 0;                   // 0: OpenMP default
+
+  // [[fixed]]: nodes held at their rest position, selected by boxes or planes.
+  struct FixedSelector {
+    bool is_box = true;
+    std::array<double, 3> a{}, b{};  // box: min, max corners; plane: point, normal [units]
+  };
+  std::vector<FixedSelector> fixed;
+
+  bool mesh_cache = true;  // [mesh] cache: reuse a TetGen result for the same surface + switches
+
+  // [output]
+  std::vector<std::array<double, 3>> track_points;  // rest positions [units]; nearest node is tracked
+};
+
+// Parses TOML text. overrides are "dotted.key=value" strings applied before validation;
+// a value that is not valid TOML is taken as a string (contact.mode=sliding).
+Scene parse_scene(const std::string& toml_text, const std::string& source,
+                  const std::vector<std::string>& overrides = {});
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace softtled

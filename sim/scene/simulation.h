@@ -1,0 +1,103 @@
+#pragma once
+// One scene, assembled: scene -> surface -> tet mesh -> rest state -> live state.
+// The app owns a Simulation and calls step()/advance(); the viewer edits params() live.
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/scene/scene.h"
+#include "sim/solver/solver.h"
+#include "sim/mesh/tet_mesh.h"
+
+namespace softtled {
+
+struct Diagnostics {
+  double t = 0;
+  double centroid[3] = {0, 0, 0};  // mass-weighted [m]
+  double min_gap = 0;              // smallest signed node-plane distance [m] (inf: no planes)
+  double ke = 0, se = 0, pe = 0;   // kinetic, strain, gravitational energy [J]
+  int n_contact = 0, n_stick = 0;  // nodes projected this step, of which sticking
+  double max_u = 0;                // largest displacement magnitude [m]
+  std::vector<double> tracked;     // 3 per tracked node: displacement [m]
+};
+
+struct TimeStepInfo {
+  double c = 0;         // dilatational wave speed (eq. 10) [m/s]
+  double min_Le = 0;    // smallest element characteristic length [m]
+  double dt_le = 0;     // min_Le / c (eq. 9) [s]
+  double dt_eigen = 0;  // 2 / omega_max of M^-1 K at rest, by power iteration [s]
+  double dt_cr = 0;     // min of the two: the bound we enforce [s]
+  double dt = 0;        // step in use [s]
+};
+
+// Thrown by Simulation::advance when the watchdog stops a run; the state has been rolled
+// back to the last healthy check. what() names the problem, the element and the cause.
+struct SimulationDiverged : std::runtime_error {
+  using std::runtime_error::runtime_error;
+  int element = -1;
+};
+
+double dilatational_wave_speed(double E, double nu, double rho);
+
+// The surface the scene describes, in metres, rotated and placed.
+SurfaceMesh scene_surface(const Scene& s);
+TetgenOptions scene_tetgen_options(const Scene& s);
+std::vector<PlaneSpec> scene_planes(const Scene& s);
+
+class Simulation {
+ public:
+  // backend: "cpu", "cuda" or "auto" (solver_factory.h).
+  explicit Simulation(const Scene& scene, const std::string& backend = "cpu");
+
+  const Scene& scene() const { return scene_; }
+  const TetMesh& mesh() const { return mesh_; }
+  Solver& solver() { return *solver_; }
+  const PhysicsParams& params() const { return params_; }
+  const TimeStepInfo& time_step() const { return ts_; }
+  const std::vector<int>& tracked_nodes() const { return tracked_; }
+  int fixed_node_count() const { return n_fixed_; }
+
+  // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
+  // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
+  // edits must not blow up the viewer); empty when nothing was changed.
+  std::string set_params(const PhysicsParams& p);
+
+  void step(long n);  // n steps, no checks (benchmarks)
+  // n steps with the watchdog checking every check_every steps: NaN/Inf, energy gained
+  // from nowhere, inverted elements (Taylor model only). On failure the state is rolled
+  // back to the last good check and SimulationDiverged is thrown.
+  void advance(long n, long check_every);
+  void reset();  // back to the initial state (the viewer's "drop again")
+  // Replaces the live state (tests, rollback, a user's custom start) and re-anchors the
+  // watchdog's energy reference to it.
+  void set_state(const HostState& s);
+  double time() const { return double(nsteps_) * params_.dt + t_offset_; }
+  long steps() const { return nsteps_; }
+  Diagnostics diagnostics();
+
+ private:
+  void apply_initial_state();
+  void check_health();
+  // Diagnostics of a state already on the host (the solver supplies only strain energy).
+  Diagnostics diagnostics_of(const HostState& s);
+
+  Scene scene_;
+  TetMesh mesh_;
+  std::unique_ptr<Solver> solver_;
+  PhysicsParams params_;
+  TimeStepInfo ts_;
+  std::vector<int> tracked_;
+  int n_fixed_ = 0;
+  long nsteps_ = 0;
+  double t_offset_ = 0;  // time accumulated before the last dt change
+  HostState scratch_;
+  HostState last_good_;
+  long last_good_steps_ = 0;
+  double last_good_offset_ = 0;
+  double energy0_ = 0, energy_scale_ = 0;
+  double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
+  int eigen_model_ = -1;
+};
+
+}  // namespace softtled

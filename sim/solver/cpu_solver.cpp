@@ -1,0 +1,165 @@
+// CPU backend: OpenMP loops over the same SIM_HD functions the CUDA backend launches.
+// Each loop iteration writes only its own element's corners or its own node, and the
+// gather sums in a fixed order, so results are bitwise identical for any thread count.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "sim/fem/anp.h"
+#include "sim/fem/central_difference.h"
+#include "sim/fem/neo_hookean.h"
+#include "sim/solver/rest_state.h"
+#include "sim/solver/solver.h"
+#include "sim/solver/step_params.h"
+#include "sim/fem/surface_render.h"
+#include "sim/mesh/surface_topology.h"
+#include "sim/fem/tet_forces.h"
+
+namespace softtled {
+namespace {
+
+template <class T>
+class CpuSolver final : public Solver {
+ public:
+  CpuSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, int threads)
+      : rest_(build_rest_state<T>(mesh, rho, flags)), surf_(build_surface_topology(mesh)) {
+    set_cpu_threads(threads);
+    const int n = rest_.nnode;
+    u_.assign(3 * n, T(0));
+    du_.assign(3 * n, T(0));
+    fcorner_.assign(12 * rest_.ntet, T(0));
+    vol_now_.assign(rest_.ntet, T(0));
+    p_node_.assign(n, T(0));
+    contact_.assign(n, 0);
+    mesh_ = rest_.view();
+  }
+
+  std::string backend() const override { return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s)" : ")"); }
+  void set_cpu_threads(int threads) override {
+    if (threads > 0) {
+      threads_ = threads;
+      return;
+    }
+    threads_ = auto_cpu_threads(rest_.ntet);
+  }
+  Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
+
+  void set_params(const PhysicsParams& p) override {
+    step_ = step_params_from<T>(p);
+    mat_ = material_from<T>(p);
+    element_ = p.element;
+  }
+
+  void step(long nsteps) override {
+    const TetMeshView<T> m = mesh_;
+    const BodyStateView<T> b = view();
+    const NeoHookean<T> mat = mat_;
+    const StepParams<T> sp = step_;
+    const int ne = m.ntet, n = m.nnode;
+    T* vol_now = vol_now_.data();
+    T* p_node = p_node_.data();
+    if (element_ == kT4ANP) {
+#pragma omp parallel num_threads(threads_)
+      for (long s = 0; s < nsteps; ++s) {
+#pragma omp for schedule(static)
+        for (int e = 0; e < ne; ++e) anp_element_volume(m, b.u, vol_now, e);
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i) anp_node_pressure(m, mat, vol_now, p_node, i);
+#pragma omp for schedule(static)
+        for (int e = 0; e < ne; ++e) anp_corner_forces(m, mat, b.u, p_node, b.fcorner, e);
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+      }
+      return;
+    }
+#pragma omp parallel num_threads(threads_)
+    for (long s = 0; s < nsteps; ++s) {
+#pragma omp for schedule(static)
+      for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
+#pragma omp for schedule(static)
+      for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+    }
+  }
+
+  void get_state(HostState& s) const override {
+    s.u.assign(u_.begin(), u_.end());
+    s.du.assign(du_.begin(), du_.end());
+    s.contact = contact_;
+  }
+
+  void set_state(const HostState& s) override {
+    if (s.u.size() != u_.size() || s.du.size() != du_.size()) throw std::invalid_argument("set_state: size");
+    std::transform(s.u.begin(), s.u.end(), u_.begin(), [](double v) { return T(v); });
+    std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
+    if (s.contact.size() == contact_.size()) contact_ = s.contact;
+  }
+
+  double strain_energy() const override {
+    double se = 0;
+#pragma omp parallel for reduction(+ : se) num_threads(threads_)
+    for (int e = 0; e < rest_.ntet; ++e) se += double(tet_strain_energy(mesh_, mat_, u_.data(), e));
+    return se;
+  }
+
+  void set_external_forces(const std::vector<double>& f) override {
+    if (f.empty()) {
+      fext_.clear();
+      return;
+    }
+    if (f.size() != u_.size()) throw std::invalid_argument("set_external_forces: size");
+    fext_.assign(f.begin(), f.end());
+  }
+
+  const std::vector<double>& lumped_mass() const override { return rest_.mass; }
+
+  bool render_buffer_on_device() const override { return false; }
+  void write_render_vertices(float* dst) override {
+    const SurfaceView sv = surf_.view();
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
+  }
+
+ private:
+  BodyStateView<T> view() {
+    BodyStateView<T> b;
+    b.u = u_.data();
+    b.du = du_.data();
+    b.fcorner = fcorner_.data();
+    b.contact = contact_.data();
+    b.fext = fext_.empty() ? nullptr : fext_.data();
+    return b;
+  }
+
+  int threads_ = 1;
+  RestArrays<T> rest_;
+  SurfaceTopology surf_;
+  TetMeshView<T> mesh_;
+  std::vector<T> u_, du_, fcorner_, fext_;
+  std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
+  int element_ = kT4;
+  std::vector<std::uint8_t> contact_;
+  NeoHookean<T> mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
+  StepParams<T> step_{};
+};
+
+}  // namespace
+
+int auto_cpu_threads(int ntet) {
+  const int cores = omp_get_max_threads();
+  int idle = cores;
+  double load[1];
+  if (getloadavg(load, 1) == 1) idle = cores - int(std::lround(load[0]));
+  return std::clamp(std::min(ntet / kTetsPerThread, idle), 1, cores);
+}
+
+std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
+                                        const std::vector<std::uint8_t>& flags, Precision prec,
+                                        int threads) {
+  if (prec == Precision::kFloat) return std::make_unique<CpuSolver<float>>(mesh, rho, flags, threads);
+  return std::make_unique<CpuSolver<double>>(mesh, rho, flags, threads);
+}
+
+}  // namespace softtled

@@ -1,0 +1,610 @@
+// CUDA backend: device arrays per body (rest and live, struct-of-arrays), views passed by
+// value to the kernels in tled_step.cu, and the step sequence replayed from CUDA graphs.
+// Host code only (C++ against the CUDA runtime API); every call's return code is checked.
+#include "sim/solver/cuda/cuda_solver.h"
+
+#include <cuda_runtime_api.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <stdexcept>
+
+#include "sim/solver/cuda/cuda_check.h"
+#include "sim/solver/cuda/device_buffer.h"
+#include "sim/solver/cuda/device_info.h"
+#include "sim/mesh/mesh_reorder.h"
+#include "sim/solver/rest_state.h"
+#include "sim/solver/step_params.h"
+#include "sim/mesh/surface_mesh.h"
+#include "sim/mesh/surface_topology.h"
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled {
+namespace cuda {
+
+const char* exec_mode_name(ExecMode m) {
+  switch (m) {
+    case ExecMode::kAuto: return "auto";
+    case ExecMode::kPlain: return "plain";
+    case ExecMode::kGraph: return "graph";
+    case ExecMode::kGraphPdl: return "graph-pdl";
+    case ExecMode::kPersistent: return "persistent";
+    case ExecMode::kFused: return "fused";
+  }
+  return "?";
+}
+
+ExecMode parse_exec_mode(const std::string& s) {
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kPlain, ExecMode::kGraph, ExecMode::kGraphPdl, ExecMode::kPersistent,
+                     ExecMode::kFused})
+    if (s == exec_mode_name(m)) return m;
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, plain, graph, graph-pdl, persistent or fused)");
+}
+
+Options options_from_env() {
+  Options o;
+  if (const char* m = std::getenv("SOFTTLED_CUDA_MODE")) o.mode = parse_exec_mode(m);
+  if (const char* r = std::getenv("SOFTTLED_CUDA_REORDER")) o.reorder = std::string(r) != "0";
+  if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
+  if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
+  if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
+  return o;
+}
+
+namespace {
+
+// Device copy of one body's rest state (TetMeshView's arrays) and surface tables.
+template <class T>
+struct DeviceRest {
+  DeviceBuffer<T> X0, dhdX, vol, inv_mass;
+  DeviceBuffer<int> tet, gather_start, gather_slot;
+  DeviceBuffer<std::uint8_t> flags;
+  DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
+  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i  } the node stage's one-slot gather
+  DeviceBuffer<int> zeros;  // nnode: 0                } table (tled_kernels.h, StepArgs)
+  DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
+  int nfblock = 0, fsmem_entries = 0;
+  TetMeshView<T> view;
+  TetMeshView<T> node_view;  // view with the one-slot gather table (StepArgs::mn)
+  SurfaceView surface;
+};
+
+// Live state on the device.
+template <class T>
+struct DeviceLive {
+  DeviceBuffer<T> u, du, fcorner, fext;
+  DeviceBuffer<T> u2, du2;  // fused step: the other displacement buffer (odd steps write it)
+  DeviceBuffer<T> vol_now, p_node;  // T4ANP: ntet current element volumes, nnode nodal pressures
+  DeviceBuffer<std::uint8_t> contact;
+};
+
+class Event {
+ public:
+  Event() { SOFTTLED_CUDA_CHECK(cudaEventCreate(&e_)); }
+  ~Event() { cudaEventDestroy(e_); }
+  Event(const Event&) = delete;
+  Event& operator=(const Event&) = delete;
+  cudaEvent_t get() const { return e_; }
+
+ private:
+  cudaEvent_t e_ = nullptr;
+};
+
+double elapsed_us(const Event& a, const Event& b) {
+  float ms = 0;
+  SOFTTLED_CUDA_CHECK(cudaEventElapsedTime(&ms, a.get(), b.get()));
+  return double(ms) * 1e3;
+}
+
+template <class T>
+class CudaSolver final : public CudaSolverApi {
+ public:
+  CudaSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, const Options& opt) : opt_(opt) {
+    int dev = 0;
+    SOFTTLED_CUDA_CHECK(cudaGetDevice(&dev));
+    const DeviceInfo info = device_info(dev);
+    nsm_ = info.sm_count;
+    device_name_ = info.name;
+    SOFTTLED_CUDA_CHECK(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking));
+
+    perm_ = opt.reorder ? spatial_order(mesh) : identity_order(mesh);
+    const TetMesh pm = permute_mesh(mesh, perm_);
+    std::vector<std::uint8_t> pflags(flags.size());
+    for (std::size_t i = 0; i < flags.size(); ++i) pflags[i] = flags[perm_.node_old[i]];
+    const RestArrays<T> r = build_rest_state<T>(pm, rho, pflags);
+    n_ = r.nnode;
+    ne_ = r.ntet;
+    mass_.resize(n_);
+    for (int i = 0; i < n_; ++i) mass_[perm_.node_old[i]] = r.mass[i];
+
+    rest_.X0.upload(r.X0);
+    rest_.dhdX.upload(r.dhdX);
+    rest_.vol.upload(r.vol);
+    rest_.inv_mass.upload(r.inv_mass);
+    rest_.tet.upload(r.tet);
+    rest_.gather_start.upload(r.gather_start);
+    rest_.gather_slot.upload(r.gather_slot);
+    rest_.flags.upload(r.flags);
+    TetMeshView<T>& v = rest_.view;
+    v.ntet = ne_;
+    v.nnode = n_;
+    v.tet = rest_.tet.data();
+    v.X0 = rest_.X0.data();
+    v.dhdX = rest_.dhdX.data();
+    v.vol = rest_.vol.data();
+    v.inv_mass = rest_.inv_mass.data();
+    v.gather_start = rest_.gather_start.data();
+    v.gather_slot = rest_.gather_slot.data();
+    v.flags = rest_.flags.data();
+    std::vector<int> ident(std::size_t(n_) + 1);
+    for (int i = 0; i <= n_; ++i) ident[i] = i;
+    rest_.ident.upload(ident);
+    rest_.zeros.upload(std::vector<int>(std::size_t(std::max(n_, 1)), 0));
+    rest_.node_view = v;
+    rest_.node_view.ntet = 1;  // gather_node_force's component stride 4 * ntet = 4
+    rest_.node_view.gather_start = rest_.ident.data();
+    rest_.node_view.gather_slot = rest_.zeros.data();
+    build_fused_blocks(r.gather_start);
+
+    // Render vertices keep the original mesh's order (the renderer indexes them with the
+    // same SurfaceTopology); only the node each one reads is renumbered.
+    SurfaceTopology st = build_surface_topology(mesh);
+    for (int& i : st.node) i = perm_.node_new[i];
+    rest_.s_node.upload(st.node);
+    rest_.s_tri.upload(st.tri);
+    rest_.s_vtri_start.upload(st.vtri_start);
+    rest_.s_vtri.upload(st.vtri);
+    SurfaceView& sv = rest_.surface;
+    sv.nvert = int(st.node.size());
+    sv.ntri = int(st.tri.size() / 3);
+    sv.node = rest_.s_node.data();
+    sv.tri = rest_.s_tri.data();
+    sv.vtri_start = rest_.s_vtri_start.data();
+    sv.vtri = rest_.s_vtri.data();
+
+    live_.u.resize(3 * std::size_t(n_));
+    live_.du.resize(3 * std::size_t(n_));
+    live_.u2.resize(3 * std::size_t(n_));
+    live_.du2.resize(3 * std::size_t(n_));
+    live_.u2.fill_zero();
+    live_.du2.fill_zero();
+    live_.fcorner.resize(12 * std::size_t(ne_));
+    live_.contact.resize(std::size_t(n_));
+    live_.vol_now.resize(std::size_t(std::max(ne_, 1)));
+    live_.p_node.resize(std::size_t(std::max(n_, 1)));
+    live_.vol_now.fill_zero();
+    live_.p_node.fill_zero();
+    live_.u.fill_zero();
+    live_.du.fill_zero();
+    live_.fcorner.fill_zero();
+    live_.contact.fill_zero();
+    energy_.resize(std::size_t(std::max(ne_, 1)));
+    partials_.resize(kSumBlocks);
+    energy_sum_.resize(1);
+
+    mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
+    const double g[3] = {0, -9.81, 0};
+    step_ = make_step_params<T>(1e-5, 10, g);
+    set_exec_mode(opt.mode);
+    set_node_lanes(opt.node_lanes);
+    SOFTTLED_CUDA_CHECK(cudaDeviceSynchronize());
+  }
+
+  ~CudaSolver() override {
+    clear_graphs();
+    if (stream_) cudaStreamDestroy(stream_);
+  }
+
+  std::string backend() const override { return "cuda"; }
+  Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
+  std::string device_name() const override { return device_name_; }
+  int render_vertex_count() const override { return rest_.surface.nvert; }
+
+  void set_params(const PhysicsParams& p) override {
+    step_ = step_params_from<T>(p);
+    mat_ = material_from<T>(p);
+    element_ = p.element;
+    clear_graphs();  // the parameters are baked into the captured kernel nodes
+  }
+
+  void set_exec_mode(ExecMode m) override {
+    if (m == ExecMode::kAuto) m = auto_mode();
+    if (m != mode_) clear_graphs();
+    mode_ = m;
+  }
+  // The fused step is T4 only: with T4ANP, kFused runs as graph-pdl (and says so here).
+  ExecMode exec_mode() const override { return run_mode(); }
+
+  void set_node_lanes(int lanes) override {
+    if (lanes == 0) lanes = auto_lanes();
+    if (lanes != 1 && lanes != 4 && lanes != 8) throw InputError("node lanes must be 1, 4 or 8");
+    if (lanes != lanes_) clear_graphs();
+    lanes_ = lanes;
+  }
+  int node_lanes() const override { return lanes_; }
+
+  void step(long nsteps) override {
+    if (nsteps <= 0) return;
+    const StepArgs<T> a = args(step_);
+    switch (run_mode()) {
+      case ExecMode::kPlain:
+        for (long s = 0; s < nsteps; ++s) enqueue_step(a, false);
+        break;
+      case ExecMode::kPersistent: {
+        const int block = 64;
+        const int need = (std::max(ne_, lanes_ * n_) + block - 1) / block;
+        const int grid = std::max(1, std::min(need, persistent_max_grid<T>(block, nsm_, lanes_)));
+        for (long done = 0; done < nsteps;) {
+          const int k = int(std::min<long>(nsteps - done, 1L << 20));
+          SOFTTLED_CUDA_CHECK(launch_persistent_steps<T>(stream_, grid, block, a, k));
+          done += k;
+        }
+        break;
+      }
+      default: {
+        // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
+        const int K = std::max(1, opt_.steps_per_graph);
+        long left = nsteps;
+        for (; left >= K; left -= K) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(K), stream_));
+        for (int j = 30; j >= 0; --j)
+          if (left & (1L << j)) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(1 << j), stream_));
+      }
+    }
+    SOFTTLED_CUDA_CHECK(cudaGetLastError());
+  }
+
+  void synchronize() override { SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_)); }
+
+  double time_steps_us(long n) override {
+    Event a, b;
+    SOFTTLED_CUDA_CHECK(cudaEventRecord(a.get(), stream_));
+    step(n);
+    SOFTTLED_CUDA_CHECK(cudaEventRecord(b.get(), stream_));
+    SOFTTLED_CUDA_CHECK(cudaEventSynchronize(b.get()));
+    return elapsed_us(a, b);
+  }
+
+  StageTimes time_stages(int reps) override {
+    reps = std::max(1, reps);
+    synchronize();
+    // Keep the live state: the stages run out of order here.
+    DeviceBuffer<T> u0(live_.u.size()), du0(live_.du.size());
+    DeviceBuffer<std::uint8_t> c0(live_.contact.size());
+    DeviceBuffer<float> render(std::size_t(kRenderFloatsPerVertex) * std::max(1, rest_.surface.nvert));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(u0.data(), live_.u.data(), u0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(du0.data(), live_.du.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
+    const StepArgs<T> a = args(step_);
+    StepParams<T> free_p = step_;
+    free_p.contact.nplanes = 0;
+    const StepArgs<T> a_free = args(free_p);
+    const LaunchShape sn = node_shape(pdl);
+    const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
+    StageTimes t;
+    t.reps = reps;
+    // Element stage: tet_corner_forces, or the three T4ANP kernels together.
+    t.forces_us = time_graph(reps, [&] { return launch_element_stage(a, pdl); }) / reps;
+    t.update_contact_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a); }) / reps;
+    t.update_only_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a_free); }) / reps;
+    if (rest_.surface.nvert > 0)
+      t.render_us = time_graph(reps, [&] {
+                      return launch_render_vertices<T>(stream_, sr, rest_.view, rest_.surface, live_.u.data(),
+                                                       live_.contact.data(), render.data());
+                    }) / reps;
+
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), u0.data(), u0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), du0.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.contact.data(), c0.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    synchronize();
+    return t;
+  }
+
+  void get_state(HostState& s) const override {
+    std::vector<T> u, du;
+    std::vector<std::uint8_t> c;
+    download(live_.u, u);
+    download(live_.du, du);
+    download(live_.contact, c);
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    s.u.resize(u.size());
+    s.du.resize(du.size());
+    s.contact.resize(c.size());
+    for (int i = 0; i < n_; ++i) {
+      const int o = perm_.node_old[i];
+      for (int k = 0; k < 3; ++k) {
+        s.u[std::size_t(k) * n_ + o] = double(u[std::size_t(k) * n_ + i]);
+        s.du[std::size_t(k) * n_ + o] = double(du[std::size_t(k) * n_ + i]);
+      }
+      s.contact[o] = c[i];
+    }
+  }
+
+  void set_state(const HostState& s) override {
+    const std::size_t n3 = 3 * std::size_t(n_);
+    if (s.u.size() != n3 || s.du.size() != n3) throw std::invalid_argument("set_state: size");
+    std::vector<T> u(n3), du(n3);
+    for (int i = 0; i < n_; ++i) {
+      const int o = perm_.node_old[i];
+      for (int k = 0; k < 3; ++k) {
+        u[std::size_t(k) * n_ + i] = T(s.u[std::size_t(k) * n_ + o]);
+        du[std::size_t(k) * n_ + i] = T(s.du[std::size_t(k) * n_ + o]);
+      }
+    }
+    upload(u, live_.u);
+    upload(du, live_.du);
+    if (s.contact.size() == std::size_t(n_)) {
+      std::vector<std::uint8_t> c(n_);
+      for (int i = 0; i < n_; ++i) c[i] = s.contact[perm_.node_old[i]];
+      upload(c, live_.contact);
+      SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    }
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host vectors die here
+  }
+
+  double strain_energy() const override {
+    if (ne_ == 0) return 0;
+    const LaunchShape ls = shape_for(ne_, nsm_, false);
+    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, mat_, live_.u.data(), energy_.data()));
+    SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), ne_, partials_.data(), energy_sum_.data()));
+    double e = 0;
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&e, energy_sum_.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    return e;
+  }
+
+  void set_external_forces(const std::vector<double>& f) override {
+    const bool was = fext_active_;
+    if (f.empty()) {
+      fext_active_ = false;
+    } else {
+      const std::size_t n3 = 3 * std::size_t(n_);
+      if (f.size() != n3) throw std::invalid_argument("set_external_forces: size");
+      std::vector<T> h(n3);
+      for (int i = 0; i < n_; ++i)
+        for (int k = 0; k < 3; ++k) h[std::size_t(k) * n_ + i] = T(f[std::size_t(k) * n_ + perm_.node_old[i]]);
+      if (live_.fext.size() != n3) {
+        SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));  // queued steps may still read the old buffer
+        live_.fext.resize(n3);
+        clear_graphs();
+      }
+      upload(h, live_.fext);  // stream-ordered after the steps already queued
+      SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+      fext_active_ = true;
+    }
+    if (was != fext_active_) clear_graphs();  // the pointer in the kernel arguments changes
+  }
+
+  const std::vector<double>& lumped_mass() const override { return mass_; }
+
+  bool render_buffer_on_device() const override { return true; }
+  void write_render_vertices(float* dst) override {
+    if (rest_.surface.nvert == 0) return;
+    const LaunchShape ls = shape_for(rest_.surface.nvert, nsm_, false);
+    SOFTTLED_CUDA_CHECK(
+        launch_render_vertices<T>(stream_, ls, rest_.view, rest_.surface, live_.u.data(), live_.contact.data(), dst));
+    // The caller unmaps the GL buffer next: the vertices must be complete.
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  }
+
+ private:
+  // Chosen from the bench (bench/NOTES.md, H100): the fused one-kernel step up to ~28k
+  // tets (torus 4.84 -> 2.95 us/step, 28k 6.32 -> 5.09), PDL graphs above (100k: fused
+  // 14.3 us against 11.2: the 4x element arithmetic is no longer free); 8 lanes per node on
+  // small meshes (max node degree ~60 on the torus), 4 on large ones (fewer idle lanes,
+  // better coalescing per warp). With T4ANP fused runs as graph-pdl (run_mode).
+  ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
+  ExecMode run_mode() const {
+    return mode_ == ExecMode::kFused && element_ == kT4ANP ? ExecMode::kGraphPdl : mode_;
+  }
+
+  // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
+  // (a node with more entries gets a block of its own; the kernel loops over them).
+  int fused_block() const {
+    const int b = opt_.fused_block;
+    return b >= 32 && b <= kFusedMaxThreads && b % 32 == 0 ? b : 256;
+  }
+  void build_fused_blocks(const std::vector<int>& gather_start) {
+    const int cap = fused_block();
+    std::vector<int> start;
+    int most = 0;
+    for (int i = 0; i < n_;) {
+      const int i0 = i;
+      ++i;  // at least one node per block
+      while (i < n_ && gather_start[i + 1] - gather_start[i0] <= cap) ++i;
+      start.push_back(i0);
+      most = std::max(most, gather_start[i] - gather_start[i0]);
+    }
+    start.push_back(n_);
+    rest_.nfblock = int(start.size()) - 1;
+    rest_.fsmem_entries = std::max(most, 1);
+    rest_.fblock.upload(start);
+  }
+  int auto_lanes() const { return small_mesh() ? 8 : 4; }
+
+  // A step that is one small wave (about one element per thread of a 128-thread block per
+  // SM) is bound by launch and memory latency: prefetching its rest data before the PDL
+  // wait hides part of that; on larger meshes the extra instructions cost more.
+  bool small_mesh() const { return ne_ <= 128 * nsm_; }
+  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
+  LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }
+  LaunchShape pressure_shape(bool pdl) const { return node_shape(pdl); }  // T4ANP nodal pressure: same lanes
+
+  StepArgs<T> args(const StepParams<T>& p) const {
+    StepArgs<T> a;
+    a.m = rest_.view;
+    a.b.u = const_cast<T*>(live_.u.data());
+    a.b.du = const_cast<T*>(live_.du.data());
+    a.b.fcorner = const_cast<T*>(live_.fcorner.data());
+    a.b.contact = const_cast<std::uint8_t*>(live_.contact.data());
+    a.b.fext = fext_active_ ? live_.fext.data() : nullptr;
+    a.mat = mat_;
+    a.p = p;
+    a.lanes = lanes_;
+    a.mn = rest_.node_view;
+    a.anp = element_ == kT4ANP;
+    a.vol_now = const_cast<T*>(live_.vol_now.data());
+    a.p_node = const_cast<T*>(live_.p_node.data());
+    a.fblock = rest_.fblock.data();
+    a.nfblock = rest_.nfblock;
+    a.fsmem_entries = rest_.fsmem_entries;
+    return a;
+  }
+
+  // Fused step s of a graph (kFused): even steps read (u, du) and write (u2, du2), odd
+  // steps the other way round.
+  void enqueue_fused_step(const StepArgs<T>& a, int s, bool pdl) {
+    T* u[2] = {live_.u.data(), live_.u2.data()};
+    T* du[2] = {live_.du.data(), live_.du2.data()};
+    const int p = s & 1;
+    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, u[p], du[p], u[1 - p], du[1 - p]));
+  }
+
+  // Element stage: one kernel for T4, three for T4ANP (anp.h).
+  cudaError_t launch_element_stage(const StepArgs<T>& a, bool pdl) {
+    if (a.anp) return launch_anp_stages<T>(stream_, element_shape(pdl), pressure_shape(pdl), a);
+    return launch_element_forces<T>(stream_, element_shape(pdl), a);
+  }
+
+  void enqueue_step(const StepArgs<T>& a, bool pdl) {
+    SOFTTLED_CUDA_CHECK(launch_element_stage(a, pdl));
+    SOFTTLED_CUDA_CHECK(launch_node_update<T>(stream_, node_shape(pdl), a));
+  }
+
+  // Captures `body` (which enqueues kernels on stream_) into an executable graph.
+  template <class F>
+  cudaGraphExec_t capture(F&& body) {
+    SOFTTLED_CUDA_CHECK(cudaStreamBeginCapture(stream_, cudaStreamCaptureModeThreadLocal));
+    try {
+      body();
+    } catch (...) {
+      cudaGraph_t g = nullptr;
+      cudaStreamEndCapture(stream_, &g);
+      if (g) cudaGraphDestroy(g);
+      throw;
+    }
+    cudaGraph_t g = nullptr;
+    SOFTTLED_CUDA_CHECK(cudaStreamEndCapture(stream_, &g));
+    cudaGraphExec_t exec = nullptr;
+    const cudaError_t e = cudaGraphInstantiate(&exec, g, 0);
+    cudaGraphDestroy(g);
+    SOFTTLED_CUDA_CHECK(e);
+    SOFTTLED_CUDA_CHECK(cudaGraphUpload(exec, stream_));
+    return exec;
+  }
+
+  cudaGraphExec_t graph(int k) {
+    auto it = graphs_.find(k);
+    if (it != graphs_.end()) return it->second;
+    const StepArgs<T> a = args(step_);
+    const bool fused = run_mode() == ExecMode::kFused;
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
+    cudaGraphExec_t exec = nullptr;
+    try {
+      exec = capture([&] {
+        if (!fused) {
+          for (int s = 0; s < k; ++s) enqueue_step(a, pdl);
+          return;
+        }
+        for (int s = 0; s < k; ++s) enqueue_fused_step(a, s, pdl);
+        if (k & 1) {  // every graph starts and ends with the state in (u, du)
+          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), live_.u2.data(), live_.u.bytes(), cudaMemcpyDeviceToDevice, stream_));
+          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), live_.du2.data(), live_.du.bytes(), cudaMemcpyDeviceToDevice, stream_));
+        }
+      });
+    } catch (const CudaError& e) {
+      if (!pdl) throw;
+      if (fused) {
+        std::fprintf(stderr, "cuda: fused graph with programmatic dependent launch failed (%s); without it\n", e.what());
+        clear_graphs();
+        fused_pdl_ = false;
+        return graph(k);
+      }
+      // A driver that cannot capture programmatic launches: plain graphs instead.
+      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using plain graphs\n", e.what());
+      clear_graphs();
+      mode_ = ExecMode::kGraph;
+      return graph(k);
+    }
+    graphs_[k] = exec;
+    return exec;
+  }
+
+  void clear_graphs() {
+    if (!graphs_.empty() && stream_) cudaStreamSynchronize(stream_);
+    for (auto& g : graphs_) cudaGraphExecDestroy(g.second);
+    graphs_.clear();
+  }
+
+  // Median device time of a graph of `reps` launches of one kernel, in microseconds.
+  template <class L>
+  double time_graph(int reps, L&& launch_one) {
+    cudaGraphExec_t exec = capture([&] {
+      for (int r = 0; r < reps; ++r) SOFTTLED_CUDA_CHECK(launch_one());
+    });
+    std::vector<double> us;
+    Event a, b;
+    try {
+      SOFTTLED_CUDA_CHECK(cudaGraphLaunch(exec, stream_));  // warm-up
+      for (int i = 0; i < 7; ++i) {
+        SOFTTLED_CUDA_CHECK(cudaEventRecord(a.get(), stream_));
+        SOFTTLED_CUDA_CHECK(cudaGraphLaunch(exec, stream_));
+        SOFTTLED_CUDA_CHECK(cudaEventRecord(b.get(), stream_));
+        SOFTTLED_CUDA_CHECK(cudaEventSynchronize(b.get()));
+        us.push_back(elapsed_us(a, b));
+      }
+    } catch (...) {
+      cudaGraphExecDestroy(exec);
+      throw;
+    }
+    cudaGraphExecDestroy(exec);
+    std::sort(us.begin(), us.end());
+    return us[us.size() / 2];
+  }
+
+  template <class U>
+  void upload(const std::vector<U>& h, DeviceBuffer<U>& d) const {
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(d.data(), h.data(), h.size() * sizeof(U), cudaMemcpyHostToDevice, stream_));
+  }
+  template <class U>
+  void download(const DeviceBuffer<U>& d, std::vector<U>& h) const {
+    h.resize(d.size());
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h.data(), d.data(), d.bytes(), cudaMemcpyDeviceToHost, stream_));
+  }
+
+  Options opt_;
+  int nsm_ = 1;
+  std::string device_name_;
+  cudaStream_t stream_ = nullptr;
+  MeshPermutation perm_;
+  int n_ = 0, ne_ = 0;
+  std::vector<double> mass_;  // original node order
+  DeviceRest<T> rest_;
+  DeviceLive<T> live_;
+  mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
+  bool fext_active_ = false;
+  NeoHookean<T> mat_{};
+  StepParams<T> step_{};
+  int element_ = kT4;  // ElementType (solver.h)
+  ExecMode mode_ = ExecMode::kAuto;
+  int lanes_ = 1;
+  bool fused_pdl_ = true;
+  std::map<int, cudaGraphExec_t> graphs_;
+};
+
+}  // namespace
+}  // namespace cuda
+
+std::unique_ptr<Solver> make_cuda_solver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags,
+                                         Precision prec, const cuda::Options& opt) {
+  std::string why;
+  if (cuda::device_count(&why) <= 0) throw InputError("backend 'cuda': " + why);
+  if (prec == Precision::kFloat) return std::make_unique<cuda::CudaSolver<float>>(mesh, rho, flags, opt);
+  return std::make_unique<cuda::CudaSolver<double>>(mesh, rho, flags, opt);
+}
+
+}  // namespace softtled

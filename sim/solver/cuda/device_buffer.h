@@ -1,0 +1,69 @@
+#pragma once
+// RAII owner of one device allocation (the views in body_view.h only borrow pointers).
+// Move-only; frees in the destructor. Copies to and from host vectors are synchronous
+// unless a stream is given.
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "sim/solver/cuda/cuda_check.h"
+
+namespace softtled::cuda {
+
+template <class T>
+class DeviceBuffer {
+ public:
+  DeviceBuffer() = default;
+  explicit DeviceBuffer(std::size_t n) { resize(n); }
+  explicit DeviceBuffer(const std::vector<T>& host) { upload(host); }
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& o) noexcept : ptr_(std::exchange(o.ptr_, nullptr)), n_(std::exchange(o.n_, 0)) {}
+  DeviceBuffer& operator=(DeviceBuffer&& o) noexcept {
+    if (this != &o) {
+      release();
+      ptr_ = std::exchange(o.ptr_, nullptr);
+      n_ = std::exchange(o.n_, 0);
+    }
+    return *this;
+  }
+  ~DeviceBuffer() { release(); }
+
+  // Discards the contents when the size changes.
+  void resize(std::size_t n) {
+    if (n == n_) return;
+    release();
+    if (n > 0) SOFTTLED_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&ptr_), n * sizeof(T)));
+    n_ = n;
+  }
+  void upload(const std::vector<T>& host) {
+    resize(host.size());
+    if (n_) SOFTTLED_CUDA_CHECK(cudaMemcpy(ptr_, host.data(), n_ * sizeof(T), cudaMemcpyHostToDevice));
+  }
+  void download(std::vector<T>& host) const {
+    host.resize(n_);
+    if (n_) SOFTTLED_CUDA_CHECK(cudaMemcpy(host.data(), ptr_, n_ * sizeof(T), cudaMemcpyDeviceToHost));
+  }
+  void fill_zero() {
+    if (n_) SOFTTLED_CUDA_CHECK(cudaMemset(ptr_, 0, n_ * sizeof(T)));
+  }
+
+  T* data() { return ptr_; }
+  const T* data() const { return ptr_; }
+  std::size_t size() const { return n_; }
+  std::size_t bytes() const { return n_ * sizeof(T); }
+  bool empty() const { return n_ == 0; }
+
+ private:
+  void release() noexcept {
+    if (ptr_) cudaFree(ptr_);  // an error here cannot be reported from a destructor
+    ptr_ = nullptr;
+    n_ = 0;
+  }
+  T* ptr_ = nullptr;
+  std::size_t n_ = 0;
+};
+
+}  // namespace softtled::cuda

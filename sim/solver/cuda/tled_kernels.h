@@ -1,0 +1,128 @@
+#pragma once
+// Host-callable launchers for the CUDA kernels in tled_step.cu (plain C++: no CUDA
+// syntax here, so the solver's host code compiles with the ordinary C++ compiler).
+// Each kernel is one thread per element, node or render vertex and calls the same SIM_HD
+// function the CPU backend loops over:
+//   element stage  tet_corner_forces   (tet_forces.h), or for T4ANP (anp.h) three kernels:
+//                  anp_element_volume (elements), anp_node_pressure (nodes, through the
+//                  gather table), anp_corner_forces (elements)
+//   node stage     node_update         (central_difference.h; plane contact fused in)
+//   render         write_render_vertex (surface_render.h)
+//   fused step     both stages in one kernel per step (ExecMode::kFused, T4 only):
+//                  the corner expression of tet_corner_forces per gather entry, then
+//                  node_update per node (launch_fused_step below)
+// Launchers return the launch's cudaError_t; the caller checks it.
+#include <cuda_runtime_api.h>
+
+#include <cstdint>
+
+#include "sim/core/body_view.h"
+#include "sim/fem/central_difference.h"
+#include "sim/fem/neo_hookean.h"
+#include "sim/fem/surface_render.h"
+
+namespace softtled::cuda {
+
+// Everything one explicit step reads, by value (kernel parameters).
+//
+// The node stage comes in two forms. lanes == 1: one thread per node calls node_update
+// on (m, b), gathering its corner forces itself. lanes == 4 or 8: that many consecutive
+// lanes of a warp share a node; each sums every lanes-th corner of the node's gather list
+// (all loads issued at once), a fixed shuffle tree adds the partial sums (deterministic:
+// same order every run), and the first lane calls node_update on mn, the same rest arrays
+// with a one-slot gather table (gather_start[i] = i, gather_slot[i] = 0, ntet = 1), with
+// the total as the single corner in a per-thread array. A thread-per-node gather waits
+// one memory latency per few corners and the torus has nodes with 60 corners; this form
+// waits about one.
+template <class T>
+struct StepArgs {
+  TetMeshView<T> m;
+  BodyStateView<T> b;
+  NeoHookean<T> mat;
+  StepParams<T> p;
+  int lanes = 1;          // 1, 4 or 8 lanes per node in the node stage
+  TetMeshView<T> mn;      // m with the one-slot gather table (see above)
+  // Average nodal pressure tets (PhysicsParams::element == kT4ANP): the element stage is
+  // the three anp.h stages instead of tet_corner_forces.
+  bool anp = false;
+  T* vol_now = nullptr;   // ntet, V0_e J_e of the current step (anp_element_volume)
+  T* p_node = nullptr;    // nnode, nodal pressure kappa (J_i - 1) (anp_node_pressure)
+  // Fused step (ExecMode::kFused, launch_fused_step): node blocks. Block b owns nodes
+  // [fblock[b], fblock[b + 1]) and so the gather entries gather_start[fblock[b]] ..
+  // gather_start[fblock[b + 1]] (at most fsmem_entries of them: its shared-memory size).
+  const int* fblock = nullptr;
+  int nfblock = 0;
+  int fsmem_entries = 0;
+};
+
+struct LaunchShape {
+  int grid = 1;
+  int block = 256;
+  // Programmatic dependent launch (sm_90): the next kernel in the stream may be
+  // scheduled while this one runs; it waits (griddepcontrol.wait) before touching data.
+  bool pdl = false;
+  // With pdl: pull this kernel's rest-state data into L1 before the wait (pays off when
+  // the whole grid is one small wave; costs instructions on large meshes).
+  bool prefetch = false;
+};
+
+// Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
+// that would leave multiprocessors idle, so a small mesh spreads over the whole chip.
+inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
+  LaunchShape s;
+  s.block = 256;
+  while (s.block > 32 && (n + s.block - 1) / s.block < nsm) s.block /= 2;
+  s.grid = n > 0 ? (n + s.block - 1) / s.block : 1;
+  s.pdl = pdl;
+  s.prefetch = pdl && prefetch;
+  return s;
+}
+
+// T4: tet_corner_forces (ls: one thread per element).
+template <class T>
+cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+// T4ANP, in this order: element volumes (le: one thread per element), nodal pressures (ln:
+// a.lanes threads per node as in the node stage, shape_for(a.lanes * nnode, ...)), corner
+// forces (le). Deterministic: each thread writes its own element or node; the pressure
+// sums in a fixed order (for lanes > 1 the same lane split and shuffle tree as the node stage).
+template <class T>
+cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a);
+// Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).
+template <class T>
+cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+
+// Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
+// entry of its nodes, the force of that corner (the element recomputed by each of its 4
+// nodes, same arithmetic as tet_corner_forces) into shared memory, then a.lanes lanes per
+// node sum them in the node stage's order (same lane split, same shuffle tree) and the
+// first lane runs node_update on the node. Reads the displacement from (u_prev, du_prev),
+// writes (u_next, du_next): other blocks still read u_prev while a node is updated, so
+// the caller alternates two buffers. a.b.u / a.b.du are ignored; a.b.contact and
+// a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
+constexpr int kFusedMaxThreads = 256;
+template <class T>
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+                              const T* du_prev, T* u_next, T* du_next);
+
+// One cooperative launch running nsteps whole steps, grid-wide barriers between stages.
+template <class T>
+cudaError_t launch_persistent_steps(cudaStream_t s, int grid, int block, const StepArgs<T>& a, int nsteps);
+// Largest cooperative grid for that block size (blocks per SM x SMs).
+template <class T>
+int persistent_max_grid(int block, int nsm, int lanes);
+
+template <class T>
+cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
+                                   const T* u, const std::uint8_t* contact, float* dst);
+
+// out[e] = strain energy of element e, in double.
+template <class T>
+cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                                  const T* u, double* out);
+
+// Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
+// fixed tree order into partials (kSumBlocks of them), then one block reduces those.
+constexpr int kSumBlocks = 128;
+cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out);
+
+}  // namespace softtled::cuda

@@ -1,0 +1,81 @@
+#include "sim/solver/rest_state.h"
+
+#include <stdexcept>
+
+#include "sim/mesh/surface_mesh.h"
+
+namespace softtled {
+
+template <class T>
+RestArrays<T> build_rest_state(const TetMesh& m, double rho, const std::vector<std::uint8_t>& flags) {
+  RestArrays<T> r;
+  const int ne = m.ntet(), n = m.nnode();
+  if (int(flags.size()) != n) throw std::logic_error("build_rest_state: flags size");
+  r.ntet = ne;
+  r.nnode = n;
+  r.X0.resize(3 * n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) r.X0[k * n + i] = T(m.X[3 * i + k]);
+  r.tet.resize(4 * ne);
+  r.dhdX.resize(12 * ne);
+  r.vol.resize(ne);
+  r.mass.assign(n, 0.0);
+  for (int e = 0; e < ne; ++e) {
+    const int* t = &m.tet[4 * e];
+    for (int a = 0; a < 4; ++a) r.tet[a * ne + e] = t[a];
+    const double* X[4];
+    for (int a = 0; a < 4; ++a) X[a] = &m.X[3 * t[a]];
+    // Dm = [X1-X0, X2-X0, X3-X0]; rows of Dm^-1 are dh_a/dX for a = 1..3.
+    double D[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) D[k][c] = X[c + 1][k] - X[0][k];
+    const double det = D[0][0] * (D[1][1] * D[2][2] - D[1][2] * D[2][1]) -
+                       D[0][1] * (D[1][0] * D[2][2] - D[1][2] * D[2][0]) +
+                       D[0][2] * (D[1][0] * D[2][1] - D[1][1] * D[2][0]);
+    if (!(det > 0)) throw InputError("element " + std::to_string(e) + " has non-positive rest volume");
+    double Di[3][3];
+    Di[0][0] = (D[1][1] * D[2][2] - D[1][2] * D[2][1]) / det;
+    Di[0][1] = (D[0][2] * D[2][1] - D[0][1] * D[2][2]) / det;
+    Di[0][2] = (D[0][1] * D[1][2] - D[0][2] * D[1][1]) / det;
+    Di[1][0] = (D[1][2] * D[2][0] - D[1][0] * D[2][2]) / det;
+    Di[1][1] = (D[0][0] * D[2][2] - D[0][2] * D[2][0]) / det;
+    Di[1][2] = (D[0][2] * D[1][0] - D[0][0] * D[1][2]) / det;
+    Di[2][0] = (D[1][0] * D[2][1] - D[1][1] * D[2][0]) / det;
+    Di[2][1] = (D[0][1] * D[2][0] - D[0][0] * D[2][1]) / det;
+    Di[2][2] = (D[0][0] * D[1][1] - D[0][1] * D[1][0]) / det;
+    double g[4][3];
+    for (int k = 0; k < 3; ++k) {
+      g[1][k] = Di[0][k];
+      g[2][k] = Di[1][k];
+      g[3][k] = Di[2][k];
+      g[0][k] = -(g[1][k] + g[2][k] + g[3][k]);
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int k = 0; k < 3; ++k) r.dhdX[(a * 3 + k) * ne + e] = T(g[a][k]);
+    const double V0 = det / 6.0;
+    r.vol[e] = T(V0);
+    for (int a = 0; a < 4; ++a) r.mass[t[a]] += rho * V0 / 4.0;
+  }
+  r.flags = flags;
+  r.inv_mass.resize(n);
+  for (int i = 0; i < n; ++i) {
+    if (!(r.mass[i] > 0)) throw InputError("node " + std::to_string(i) + " belongs to no element");
+    r.inv_mass[i] = (flags[i] & kNodeFixed) ? T(0) : T(1.0 / r.mass[i]);
+  }
+  // Gather table: for each node the corner slots a * ne + e, in increasing element order,
+  // so every run sums the same numbers in the same order.
+  r.gather_start.assign(n + 1, 0);
+  for (int e = 0; e < ne; ++e)
+    for (int a = 0; a < 4; ++a) ++r.gather_start[m.tet[4 * e + a] + 1];
+  for (int i = 0; i < n; ++i) r.gather_start[i + 1] += r.gather_start[i];
+  r.gather_slot.resize(4 * ne);
+  std::vector<int> fill(r.gather_start.begin(), r.gather_start.end() - 1);
+  for (int e = 0; e < ne; ++e)
+    for (int a = 0; a < 4; ++a) r.gather_slot[fill[m.tet[4 * e + a]]++] = a * ne + e;
+  return r;
+}
+
+template RestArrays<float> build_rest_state<float>(const TetMesh&, double, const std::vector<std::uint8_t>&);
+template RestArrays<double> build_rest_state<double>(const TetMesh&, double, const std::vector<std::uint8_t>&);
+
+}  // namespace softtled

@@ -1,0 +1,85 @@
+#pragma once
+// The per-body solver interface both backends implement. step() is the hot path:
+//   element stage (tet_forces.h) -> node stage (central_difference.h, plane_contact.h)
+// The CPU backend (tled_cpu.cpp) loops over those functions with OpenMP; the CUDA
+// backend launches them.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/mesh/tet_mesh.h"
+
+namespace softtled {
+
+struct PlaneSpec {
+  double point[3];   // [m]
+  double normal[3];  // unit, pointing to the free side
+};
+
+inline double signed_distance(const PlaneSpec& pl, const double x[3]) {
+  return pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) + pl.normal[2] * (x[2] - pl.point[2]);
+}
+
+// Everything that may change while the simulation runs (the viewer edits these live).
+struct PhysicsParams {
+  double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
+  int material_model = 0;      // MaterialModel (neo_hookean.h)
+  int element = 0;             // ElementType: 0 linear tet (T4), 1 average nodal pressure (T4ANP, anp.h)
+  double alpha = 10;           // mass-proportional damping [1/s]
+  double dt = 1e-5;            // time step [s] (ignored when dt_auto)
+  bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
+  double lambda = 0.5;         // Courant-like factor for dt_auto
+  double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
+  std::vector<PlaneSpec> planes;
+  int contact_mode = 0;        // ContactMode
+  double mu = 0.5;             // Coulomb coefficient
+};
+
+// Host copy of the live state, struct-of-arrays, always in double.
+struct HostState {
+  std::vector<double> u;               // 3 x nnode
+  std::vector<double> du;              // 3 x nnode, u(t) - u(t - dt)
+  std::vector<std::uint8_t> contact;   // nnode, ContactState
+};
+
+enum class Precision { kFloat, kDouble };
+enum ElementType : int { kT4 = 0, kT4ANP = 1 };
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string backend() const = 0;
+  virtual Precision precision() const = 0;
+  virtual void set_params(const PhysicsParams& p) = 0;
+  virtual void step(long nsteps) = 0;
+  virtual void get_state(HostState& s) const = 0;
+  virtual void set_state(const HostState& s) = 0;
+  virtual double strain_energy() const = 0;
+  // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
+  virtual void set_external_forces(const std::vector<double>& f) = 0;
+  virtual const std::vector<double>& lumped_mass() const = 0;  // nnode [kg]
+
+  // Render hand-off (surface_render.h): kRenderFloatsPerVertex floats per boundary node
+  // into dst, which is host memory for the CPU backend and device memory (a mapped GL
+  // buffer) when render_buffer_on_device() is true.
+  virtual bool render_buffer_on_device() const = 0;
+  virtual void write_render_vertices(float* dst) = 0;
+
+  // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
+  virtual void set_cpu_threads(int /*threads*/) {}
+};
+
+// flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic:
+// one thread per kTetsPerThread elements (below that, two barriers per step cost more than
+// the work they split), and no more than the cores the 1-minute load average leaves idle:
+// a step has two barriers, and a thread that has to wait for a busy core turns each into
+// a scheduler time slice (measured here: 1 ms/step on one thread became 8 ms/step on two
+// with a compiler running on the other core).
+constexpr int kTetsPerThread = 2048;
+int auto_cpu_threads(int ntet);
+std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
+                                        const std::vector<std::uint8_t>& flags, Precision prec,
+                                        int threads = 0);
+
+}  // namespace softtled

@@ -1,0 +1,33 @@
+#include "sim/solver/solver_factory.h"
+
+#include "sim/mesh/surface_mesh.h"
+#if defined(SOFTTLED_HAVE_CUDA)
+#include "sim/solver/cuda/cuda_solver.h"
+#include "sim/solver/cuda/device_info.h"
+#endif
+
+namespace softtled {
+
+std::unique_ptr<Solver> make_solver(const std::string& backend, const TetMesh& mesh, double rho,
+                                    const std::vector<std::uint8_t>& flags, Precision prec,
+                                    std::string* note) {
+  if (backend == "cpu") return make_cpu_solver(mesh, rho, flags, prec);
+#if defined(SOFTTLED_HAVE_CUDA)
+  if (backend == "cuda") return make_cuda_solver(mesh, rho, flags, prec);  // InputError when no device
+  if (backend == "auto") {
+    std::string why;
+    if (cuda::device_count(&why) > 0) return make_cuda_solver(mesh, rho, flags, prec);
+    if (note) *note = "backend auto: " + why + "; running on the CPU";
+    return make_cpu_solver(mesh, rho, flags, prec);
+  }
+#else
+  if (backend == "auto") {
+    if (note) *note = "backend auto: no CUDA backend in this build; running on the CPU";
+    return make_cpu_solver(mesh, rho, flags, prec);
+  }
+  if (backend == "cuda") throw InputError("backend 'cuda': this build has no CUDA backend (configure with -DSOFTTLED_CUDA=ON)");
+#endif
+  throw InputError("unknown backend '" + backend + "' (use cpu, cuda or auto)");
+}
+
+}  // namespace softtled

@@ -1,0 +1,32 @@
+#pragma once
+// Host side: the live parameters (solver.h) turned into what the step kernels read, the
+// same for every backend.
+#include <stdexcept>
+
+#include "sim/fem/central_difference.h"
+#include "sim/fem/neo_hookean.h"
+#include "sim/solver/solver.h"
+
+namespace softtled {
+
+template <class T>
+inline StepParams<T> step_params_from(const PhysicsParams& p) {
+  if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
+  StepParams<T> s = make_step_params<T>(p.dt, p.alpha, p.g);
+  s.contact.nplanes = int(p.planes.size());
+  for (std::size_t i = 0; i < p.planes.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      s.contact.planes[i].p[k] = T(p.planes[i].point[k]);
+      s.contact.planes[i].n[k] = T(p.planes[i].normal[k]);
+    }
+  s.contact.mode = p.contact_mode;
+  s.contact.mu = T(p.mu);
+  return s;
+}
+
+template <class T>
+inline NeoHookean<T> material_from(const PhysicsParams& p) {
+  return neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
+}
+
+}  // namespace softtled

@@ -1,0 +1,127 @@
+// ParaView export carries the right fields (von Mises against the analytic uniaxial
+// Neo-Hookean stress), and the mesh cache returns exactly what TetGen produced.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene_helpers.h"
+#include "sim/mesh/mesh_cache.h"
+#include "sim/scene/simulation.h"
+#include "sim/mesh/surface_generators.h"
+#include "sim/io/vtu_writer.h"
+
+using namespace softtled;
+using namespace softtled::test;
+
+namespace {
+std::vector<double> data_array(const std::string& xml, const std::string& name) {
+  const auto at = xml.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return {};
+  const auto start = xml.find('>', at) + 1, end = xml.find("</DataArray>", start);
+  std::istringstream in(xml.substr(start, end - start));
+  std::vector<double> v;
+  double x;
+  while (in >> x) v.push_back(x);
+  return v;
+}
+}  // namespace
+
+TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
+  Simulation sim(box_scene("[material]\nnu = 0.3\n"));
+  const TetMesh& m = sim.mesh();
+  const int n = m.nnode();
+  // Homogeneous uniaxial stretch with the traction-free lateral stretch (bisection on the
+  // analytic P22 = 0, as in test_tet_forces).
+  const auto mat = neo_hookean_from_E_nu<double>(3000, 0.3);
+  auto P = [&](double l1, double l2, int i) {
+    const double l[3] = {l1, l2, l2}, J = l1 * l2 * l2, I1 = l1 * l1 + 2 * l2 * l2;
+    return l[i] * (mat.mu * std::pow(J, -2.0 / 3) * (1 - I1 / (3 * l[i] * l[i])) + mat.kappa * J * (J - 1) / (l[i] * l[i]));
+  };
+  const double l1 = 1.2;
+  double lo = 0.5, hi = 1.5;
+  for (int it = 0; it < 200; ++it) ((P(l1, 0.5 * (lo + hi), 1) > 0) ? hi : lo) = 0.5 * (lo + hi);
+  const double l2 = 0.5 * (lo + hi), J = l1 * l2 * l2;
+  const double sigma11 = P(l1, l2, 0) * l1 / J;  // Cauchy = P F^T / J
+  HostState st;
+  sim.solver().get_state(st);
+  for (int i = 0; i < n; ++i) {
+    st.u[i] = (l1 - 1) * m.X[3 * i];
+    st.u[n + i] = (l2 - 1) * m.X[3 * i + 1];
+    st.u[2 * n + i] = (l2 - 1) * m.X[3 * i + 2];
+    st.du[i] = 1e-3 * sim.time_step().dt;  // 1 mm/s along x
+  }
+  sim.set_state(st);
+  const std::string dir = ::testing::TempDir() + "vtu_series";
+  std::filesystem::remove_all(dir);
+  VtuSeries series(dir);
+  series.add(0.0, m, st, sim.time_step().dt, mat);
+  series.add(0.5, m, st, sim.time_step().dt, mat);
+  std::ifstream f(dir + "/frame_00001.vtu");
+  std::stringstream buf;
+  buf << f.rdbuf();
+  const std::string xml = buf.str();
+  const auto vm = data_array(xml, "von_mises"), Jc = data_array(xml, "J"), disp = data_array(xml, "displacement"),
+             vel = data_array(xml, "velocity");
+  ASSERT_EQ(int(vm.size()), m.ntet());
+  for (int e = 0; e < m.ntet(); ++e) {
+    EXPECT_NEAR(vm[e], std::fabs(sigma11), 1e-6 * std::fabs(sigma11)) << "von Mises of uniaxial stress is |sigma11|";
+    EXPECT_NEAR(Jc[e], J, 1e-8);  // written with 9 significant digits
+  }
+  ASSERT_EQ(int(disp.size()), 3 * n);
+  EXPECT_NEAR(disp[3 * 5], st.u[5], 1e-12);
+  EXPECT_NEAR(vel[3 * 7], 1e-3, 1e-9);
+  std::ifstream pvd(dir + "/series.pvd");
+  std::stringstream p;
+  p << pvd.rdbuf();
+  EXPECT_NE(p.str().find("timestep=\"0.5\" file=\"frame_00001.vtu\""), std::string::npos);
+}
+
+TEST(MeshCache, SecondMeshingIsACacheHitWithTheSameMesh) {
+  const std::string dir = ::testing::TempDir() + "mesh_cache";
+  std::filesystem::remove_all(dir);
+  const SurfaceMesh s = make_torus(7.5e-3, 2.5e-3, 30, 10);
+  bool hit = true;
+  const TetMesh a = cached_tetrahedralize(s, TetgenOptions{}, dir, &hit);
+  EXPECT_FALSE(hit);
+  const TetMesh b = cached_tetrahedralize(s, TetgenOptions{}, dir, &hit);
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(a.X, b.X);
+  EXPECT_EQ(a.tet, b.tet);
+  EXPECT_EQ(a.boundary_tri, b.boundary_tri);
+  // Different switches are a different entry.
+  TetgenOptions o;
+  o.radius_edge = 1.5;
+  const TetMesh c = cached_tetrahedralize(s, o, dir, &hit);
+  EXPECT_FALSE(hit);
+  EXPECT_NE(c.ntet(), a.ntet());
+  // A corrupt entry is re-meshed, not trusted.
+  for (const auto& e : std::filesystem::directory_iterator(dir)) std::ofstream(e.path(), std::ios::trunc) << "junk";
+  const TetMesh d = cached_tetrahedralize(s, TetgenOptions{}, dir, &hit);
+  EXPECT_FALSE(hit);
+  EXPECT_EQ(d.tet, a.tet);
+}
+
+TEST(FixedNodes, ClampedFaceDoesNotMove) {
+  Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [20, 4, 4]\ndivisions = [4, 1, 1]\n"
+                             "[floor]\nenabled = false\n[[fixed]]\nplane_point = [-10, 0, 0]\nplane_normal = [1, 0, 0]\n",
+                             "clamped"));
+  sim.advance(2000, 500);
+  HostState st;
+  sim.solver().get_state(st);
+  const int n = sim.mesh().nnode();
+  int moved_free = 0;
+  for (int i = 0; i < n; ++i) {
+    if (sim.mesh().X[3 * i] < -10e-3 + 1e-9)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(st.u[k * n + i], 0.0);
+    else if (std::fabs(st.u[n + i]) > 1e-6)
+      ++moved_free;
+  }
+  EXPECT_GT(moved_free, 0) << "the rest of the beam sags";
+  EXPECT_THROW(parse_scene("[[fixed]]\nbox_min = [0, 0, 0]\n", "bad"), InputError);
+  EXPECT_THROW(Simulation(parse_scene("[[fixed]]\nbox_min = [100, 100, 100]\nbox_max = [101, 101, 101]\n", "none")),
+               InputError);
+}

@@ -1,0 +1,255 @@
+#define _USE_MATH_DEFINES
+// Numerical stability at the extremes (one test each). Each asserts that the run is
+// stable and physically sane, or that the watchdog stops it with a diagnosis: never
+// silent garbage.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "scene_helpers.h"
+#include "sim/scene/simulation.h"
+#include "sim/mesh/surface_mesh.h"
+
+using namespace softtled;
+using namespace softtled::test;
+
+namespace {
+
+// A 10 mm box of 2x2x2 cells whose bottom is `gap` mm above a floor at y = -5 - gap.
+Scene box_on_floor(const std::string& extra, double gap = 1.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "[floor]\nenabled = true\npoint = [0, %.12g, 0]\n", -5.0 - gap);
+  return parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n" +
+                         std::string(buf) + extra,
+                     "extreme");
+}
+
+// Advances in chunks and returns the largest number of nodes in contact at any check.
+int advance_counting_contacts(Simulation& sim, double t_end, long check_every) {
+  int most = 0;
+  while (sim.time() < t_end - 1e-12) {
+    sim.advance(check_every, check_every);
+    most = std::max(most, sim.diagnostics().n_contact);
+  }
+  return most;
+}
+
+void expect_sane(Simulation& sim, const std::string& what) {
+  HostState st;
+  sim.solver().get_state(st);
+  for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << what;
+  const Diagnostics d = sim.diagnostics();
+  EXPECT_GT(d.min_gap, -1e-9) << what << ": a node is below a plane";
+  EXPECT_TRUE(std::isfinite(d.ke) && std::isfinite(d.se)) << what;
+}
+
+double min_J(Simulation& sim) {
+  HostState st;
+  sim.solver().get_state(st);
+  const TetMesh& m = sim.mesh();
+  const int n = m.nnode();
+  double jmin = 1e300;
+  for (int e = 0; e < m.ntet(); ++e) {
+    double x[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int k = 0; k < 3; ++k) x[a][k] = m.X[3 * m.tet[4 * e + a] + k] + st.u[k * n + m.tet[4 * e + a]];
+    const double* X[4] = {&m.X[3 * m.tet[4 * e]], &m.X[3 * m.tet[4 * e + 1]], &m.X[3 * m.tet[4 * e + 2]], &m.X[3 * m.tet[4 * e + 3]]};
+    jmin = std::min(jmin, tet_signed_volume(x[0], x[1], x[2], x[3]) / tet_signed_volume(X[0], X[1], X[2], X[3]));
+  }
+  return jmin;
+}
+
+}  // namespace
+
+TEST(Extremes, NearlyIncompressibleNu04999) {
+  Simulation sim(box_on_floor("[material]\nnu = 0.4999\n"));
+  EXPECT_GT(sim.time_step().c, 50.0);  // c grows as 1/sqrt(1 - 2 nu): the step shrinks, auto follows
+  sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
+  expect_sane(sim, "nu = 0.4999");
+  EXPECT_GT(sim.diagnostics().n_contact, 0);
+  EXPECT_GT(min_J(sim), 0.98) << "nearly incompressible: volume kept within 2 %";
+}
+
+TEST(Extremes, YoungsModulusFrom100PaTo1MPa) {
+  for (double E : {100.0, 3e3, 1e5, 1e6}) {
+    Simulation sim(box_on_floor("[material]\nE = " + std::to_string(E) + "\n"));
+    sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
+    expect_sane(sim, "E = " + std::to_string(E));
+    EXPECT_NEAR(sim.time_step().dt, 0.5 * sim.time_step().dt_cr, 1e-15);
+  }
+}
+
+TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
+  Simulation probe(box_on_floor(""));
+  const double dt_cr = probe.time_step().dt_cr, dt_eigen = probe.time_step().dt_eigen;
+  // 1.5 x dt_cr in a scene file: refused with a message naming the bound.
+  try {
+    Simulation sim(box_on_floor("[time]\ndt = " + std::to_string(1.5 * dt_cr) + "\n"));
+    ADD_FAILURE() << "dt above dt_cr accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("exceeds the stable step"), std::string::npos) << e.what();
+  }
+  // Forced through with allow_unstable at 1.5 x the eigenvalue bound: the watchdog stops
+  // it, names dt / dt_cr and the cause, and rolls back to a finite state.
+  Simulation sim(box_on_floor("[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"));
+  try {
+    sim.advance(20000, 20);
+    ADD_FAILURE() << "ran 20000 steps at 1.5 x 2/omega_max without diverging";
+  } catch (const SimulationDiverged& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("x dt_cr"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("above the stability limit"), std::string::npos) << msg;
+    HostState st;
+    sim.solver().get_state(st);
+    for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
+  }
+  // The same dt set live (viewer) is clamped, with a warning.
+  Simulation live(box_on_floor(""));
+  PhysicsParams p = live.params();
+  p.dt = 1.5 * dt_cr;
+  p.dt_auto = false;
+  const std::string warn = live.set_params(p);
+  EXPECT_NE(warn.find("clamped"), std::string::npos);
+  EXPECT_LE(live.time_step().dt, dt_cr);
+}
+
+TEST(Extremes, FastImpactFromOneMetre) {
+  // 1 m fall: 4.4 m/s at impact on a 10 mm box of soft tissue.
+  for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
+    // No damping, so it arrives at the full sqrt(2 g h) = 4.4 m/s.
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\nE = 30000.0\n[damping]\nalpha = 0.0\n", 1000.0));
+    try {
+      const int contacts = advance_counting_contacts(sim, 0.5, 2);
+      expect_sane(sim, model);
+      EXPECT_GT(contacts, 0) << model << ": must have hit the floor";
+      // Without the floor it would be 0.23 m below it by now.
+      EXPECT_GT(sim.diagnostics().centroid[1], -1.006 + 0.004);
+    } catch (const SimulationDiverged& e) {
+      // Acceptable only for the classic model, and only as a diagnosed inversion.
+      EXPECT_STREQ(model, "neo_hookean") << e.what();
+      EXPECT_NE(std::string(e.what()).find("inverted"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Extremes, SlopesOf0_45_89Degrees) {
+  for (double angle : {0.0, 45.0, 89.0}) {
+    for (const char* mode : {"sliding", "static"}) {
+      // Box centred 7 mm above the slope's pivot along its normal: 2 mm gap.
+      const double th = angle * M_PI / 180;
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n"
+                    "position = [%.9g, %.9g, 0]\nrotation_deg = [0, 0, %.9g]\n[floor]\nenabled = false\n"
+                    "[slope]\nenabled = true\nangle_deg = %.9g\npoint = [0, 0, 0]\n[contact]\nmode = \"%s\"\n",
+                    -std::sin(th) * 7, std::cos(th) * 7, angle, angle, mode);
+      Simulation sim(parse_scene(buf, "slope"));
+      const int contacts = advance_counting_contacts(sim, 0.08, 20);
+      expect_sane(sim, std::to_string(angle) + " deg " + mode);
+      const Diagnostics d = sim.diagnostics();
+      if (angle < 89) EXPECT_GT(contacts, 0) << angle << " " << mode;
+      if (angle == 89.0) EXPECT_LT(d.centroid[1], -0.02) << "on a near-vertical wall the box falls";
+    }
+  }
+}
+
+TEST(Extremes, SliverHeavyMeshRunsAtItsSmallStep) {
+  // No quality bound: TetGen's plain constrained Delaunay mesh of the torus has slivers.
+  Scene s = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"mesh.radius_edge=0", "body.segments=[45, 9]"});
+  Simulation sim(s);
+  const MeshQuality q = measure_quality(sim.mesh());
+  EXPECT_LT(q.min_dihedral_deg, 5.0) << "expected slivers without -q";
+  Scene good = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"body.segments=[45, 9]"});
+  Simulation ref(good);
+  EXPECT_LT(sim.time_step().dt_cr, ref.time_step().dt_cr) << "slivers must shrink the stable step";
+  sim.advance(std::lround(0.03 / sim.time_step().dt), 500);
+  expect_sane(sim, "sliver mesh");
+  EXPECT_GT(sim.diagnostics().n_contact, 0);
+}
+
+TEST(Extremes, OneElementMesh) {
+  const std::string path = ::testing::TempDir() + "one_tet.obj";
+  {
+    std::ofstream o(path);
+    o << "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  }
+  Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"file\"\nfile = \"" + path +
+                                 "\"\n[mesh]\nradius_edge = 0\n[floor]\nenabled = true\npoint = [0, -2, 0]\n",
+                             "one tet"));
+  EXPECT_EQ(sim.mesh().ntet(), 1);
+  const int contacts = advance_counting_contacts(sim, 0.1, 10);
+  expect_sane(sim, "one element");
+  EXPECT_GT(contacts, 0);
+}
+
+TEST(Extremes, ZeroGravityStaysExactlyAtRest) {
+  Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"));
+  sim.advance(2000, 500);
+  HostState st;
+  sim.solver().get_state(st);
+  for (double v : st.u) ASSERT_EQ(v, 0.0);
+}
+
+TEST(Extremes, NoDampingConservesFreeFallEnergy) {
+  Scene s = box_scene("[damping]\nalpha = 0.0\n");
+  Simulation sim(s);
+  const Diagnostics d0 = sim.diagnostics();
+  sim.advance(std::lround(0.05 / sim.time_step().dt), 200);
+  const Diagnostics d = sim.diagnostics();
+  // Diagnostics' KE uses the half-step velocity du/dt, which lags v(t) by g dt / 2:
+  // correct for it, then energy must be conserved to rounding.
+  double mass = 0;
+  for (double m : sim.solver().lumped_mass()) mass += m;
+  const double v_half = std::sqrt(2 * d.ke / mass), v = v_half + 9.81 * sim.time_step().dt / 2;
+  EXPECT_NEAR(0.5 * mass * v * v + d.pe, d0.ke + d0.pe, 1e-5 * std::fabs(d.pe - d0.pe));
+}
+
+TEST(Extremes, HeavyDampingReachesTerminalVelocity) {
+  Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"));
+  sim.advance(std::lround(0.02 / sim.time_step().dt), 200);  // 20 time constants
+  HostState st;
+  sim.solver().get_state(st);
+  const int n = sim.mesh().nnode();
+  const double v = st.du[n] / sim.time_step().dt;  // y velocity of node 0
+  EXPECT_NEAR(v, -9.81 / 1000.0, 1e-3 * 9.81 / 1000.0) << "terminal velocity g / alpha";
+}
+
+TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
+  // Start with the whole box mirrored through its centre plane x = 0 (every J = -1).
+  for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
+    Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"));
+    HostState st;
+    sim.solver().get_state(st);
+    const int n = sim.mesh().nnode();
+    for (int i = 0; i < n; ++i) st.u[i] = -2 * sim.mesh().X[3 * i];
+    sim.set_state(st);
+    if (std::string(model) == "neo_hookean") {
+      EXPECT_THROW(sim.advance(10, 10), SimulationDiverged) << "classic model: inversion must be reported";
+      continue;
+    }
+    sim.advance(std::lround(0.5 / sim.time_step().dt), 500);
+    expect_sane(sim, "inverted start");
+    EXPECT_GT(min_J(sim), 0.5) << "stable Neo-Hookean must un-invert every element";
+  }
+}
+
+TEST(Extremes, CrushingLoadSurvivesOrIsReported) {
+  // 2000 g on a 3 kPa box against the floor flattens it completely; the stiffness of the
+  // crushed state outgrows the rest-state step bound. Each model either survives or the
+  // watchdog stops it with a diagnosis and a finite, rolled-back state.
+  for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, -20000.0, 0]\n", 0.1));
+    try {
+      sim.advance(std::lround(0.02 / sim.time_step().dt), 5);
+      expect_sane(sim, model);
+    } catch (const SimulationDiverged& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("watchdog stopped the run at t = "), std::string::npos) << msg;
+      EXPECT_NE(msg.find("x dt_cr"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("Likely cause"), std::string::npos) << msg;
+      expect_sane(sim, std::string(model) + " after rollback");
+    }
+  }
+}
