@@ -1,6 +1,9 @@
 #include "sim/mesh/tetgen_mesher.h"
 
+#include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
@@ -10,29 +13,146 @@
 #include <tetgen.h>
 
 namespace softtled {
+namespace {
 
-std::string tetgen_switches(const TetgenOptions& o) {
+constexpr double kMm = 1000.0;  // TetGen meshes in millimetres (see tetrahedralize_surface)
+
+// The settings TetGen runs with, checked; lengths in millimetres.
+struct Switches {
+  bool quality = false;
+  double rho = 2.0;    // radius-edge bound (TetGen's default when q has no number)
+  double theta = 0.0;  // minimum dihedral angle [deg], 0: TetGen's default
+  double a_mm3 = 0.0;  // largest tet volume, 0: none
+  bool keep_boundary = false;
+};
+
+std::string num(double v) {
   std::ostringstream s;
-  if (!o.switches.empty()) {
-    s << o.switches;
-  } else {
-    s << "p";
-    if (o.radius_edge > 0) {
-      s << "q" << o.radius_edge;
-      if (o.min_dihedral > 0) s << "/" << o.min_dihedral;
+  s << v;
+  return s.str();
+}
+
+void check_rho(double rho, const std::string& where) {
+  if (!(rho >= kMinRadiusEdge && rho <= kMaxRadiusEdge))
+    throw InputError(where + ": the radius-edge bound must be in " + num(kMinRadiusEdge) + ".." + num(kMaxRadiusEdge) +
+                     " (TetGen does not terminate below 1), got " + num(rho));
+}
+
+void check_theta(double theta, const std::string& where) {
+  // 0, or at least 0.001 so that the number prints without an exponent (TetGen's q
+  // parser reads digits and '.' only).
+  if (!(theta == 0 || (theta >= 1e-3 && theta <= kMaxMinDihedralDeg)))
+    throw InputError(where + ": the minimum dihedral angle must be 0 (TetGen's default) or in 0.001.." +
+                     num(kMaxMinDihedralDeg) + " degrees (larger bounds do not terminate), got " + num(theta));
+}
+
+// Parses TetgenOptions::switches: only the documented subset, each letter once.
+Switches parse_switches(const std::string& text) {
+  const std::string key = "mesh.switches";
+  if (text.size() > kMaxSwitchesLength)
+    throw InputError(key + ": too long (" + std::to_string(text.size()) + " characters; at most " +
+                     std::to_string(kMaxSwitchesLength) + ")");
+  const std::string allowed = " (allowed: p, q[rho][/theta], a<volume in mm^3>, Y, z, Q)";
+  Switches s;
+  std::string seen;
+  std::size_t i = 0;
+  if (!text.empty() && text[0] == '-') ++i;
+  // A number: digits with at most one '.', and for 'a' an exponent e[+-]digits.
+  auto number = [&](bool exponent, const std::string& part_start, std::size_t start) -> double {
+    std::size_t j = i;
+    bool digits = false, dot = false;
+    while (j < text.size() && (std::isdigit(static_cast<unsigned char>(text[j])) || text[j] == '.')) {
+      if (text[j] == '.') {
+        if (dot) throw InputError(key + ": bad number in '" + text.substr(start, j + 1 - start) + "'" + allowed);
+        dot = true;
+      } else {
+        digits = true;
+      }
+      ++j;
     }
-    if (o.max_volume > 0) s << "a" << o.max_volume;
-    if (o.keep_boundary) s << "Y";
+    if (!digits) throw InputError(key + ": '" + part_start + "' needs a number here: '" + text.substr(start, j + 1 - start) + "'" + allowed);
+    if (exponent && j < text.size() && text[j] == 'e') {
+      std::size_t k = j + 1;
+      if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+      const std::size_t d0 = k;
+      while (k < text.size() && std::isdigit(static_cast<unsigned char>(text[k]))) ++k;
+      if (k == d0) throw InputError(key + ": bad exponent in '" + text.substr(start, k + 1 - start) + "'");
+      j = k;
+    }
+    const double v = std::strtod(text.substr(i, j - i).c_str(), nullptr);
+    i = j;
+    return v;
+  };
+  auto starts_number = [&] { return i < text.size() && (std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '.'); };
+  while (i < text.size()) {
+    const char c = text[i];
+    const std::size_t start = i;
+    if (std::string("pqaYzQ").find(c) == std::string::npos) {
+      const std::string shown = std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c) : "\\x" + num(int(static_cast<unsigned char>(c)));
+      throw InputError(key + ": '" + shown + "' is not supported" + allowed);
+    }
+    if (seen.find(c) != std::string::npos) throw InputError(key + ": '" + std::string(1, c) + "' given twice");
+    seen += c;
+    ++i;
+    if (c == 'q') {
+      s.quality = true;
+      if (starts_number()) s.rho = number(false, "q", start);
+      if (i < text.size() && text[i] == '/') {
+        ++i;
+        s.theta = number(false, "q.../", start);
+      }
+      check_rho(s.rho, key + ": '" + text.substr(start, i - start) + "'");
+      check_theta(s.theta, key + ": '" + text.substr(start, i - start) + "'");
+    } else if (c == 'a') {
+      s.a_mm3 = number(true, "a", start);
+      if (!(s.a_mm3 > 0 && std::isfinite(s.a_mm3)))
+        throw InputError(key + ": '" + text.substr(start, i - start) + "': the volume bound must be finite and > 0");
+    } else if (c == 'Y') {
+      s.keep_boundary = true;
+    }
+    if (c != 'q' && c != 'a' && starts_number())
+      throw InputError(key + ": '" + text.substr(start, i + 1 - start) + "': '" + std::string(1, c) + "' takes no number" + allowed);
   }
-  std::string r = s.str();
-  if (r.find('p') == std::string::npos) r = "p" + r;
+  return s;
+}
+
+Switches resolve(const TetgenOptions& o) {
+  if (!o.switches.empty()) return parse_switches(o.switches);
+  Switches s;
+  if (!(o.radius_edge == 0 || (o.radius_edge >= kMinRadiusEdge && o.radius_edge <= kMaxRadiusEdge)))
+    throw InputError("mesh.radius_edge: must be 0 (no quality bound) or in " + num(kMinRadiusEdge) + ".." +
+                     num(kMaxRadiusEdge) + " (TetGen does not terminate below 1), got " + num(o.radius_edge));
+  check_theta(o.min_dihedral, "mesh.min_dihedral_deg");
+  if (!(o.max_volume >= 0 && std::isfinite(o.max_volume) && std::isfinite(o.max_volume * kMm * kMm * kMm)))
+    throw InputError("mesh.max_volume: must be finite and >= 0 (0: no bound), got " + num(o.max_volume) + " m^3");
+  s.quality = o.radius_edge > 0;
+  s.rho = o.radius_edge;
+  s.theta = o.min_dihedral;
+  s.a_mm3 = o.max_volume * kMm * kMm * kMm;
+  s.keep_boundary = o.keep_boundary;
+  return s;
+}
+
+std::string format(const Switches& s) {
+  std::string r = "p";
+  if (s.quality) {
+    r += "q" + num(s.rho);
+    if (s.theta > 0) r += "/" + num(s.theta);
+  }
+  if (s.a_mm3 > 0) r += "a" + num(s.a_mm3);
+  if (s.keep_boundary) r += "Y";
   return r + "zQ";  // zero-based indices, quiet
 }
+
+}  // namespace
+
+std::string tetgen_switches(const TetgenOptions& o) { return format(resolve(o)); }
 
 TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) {
   // TetGen reads switches in double precision but is scale-sensitive only through "a";
   // mesh in millimetres so tolerances act on O(1) numbers, then convert back to metres.
-  const double to_mm = 1000.0;
+  const double to_mm = kMm;
+  const std::string sw = tetgen_switches(o);  // checked before TetGen sees anything
   tetgenio in, out;
   in.firstnumber = 0;
   in.numberofpoints = surf.npoint();
@@ -64,9 +184,6 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
       throw InputError("the surface intersects itself (" + std::to_string(probe.numberoftrifaces) +
                        " facets cross others); TetGen needs a closed surface without self-intersections");
   }
-  TetgenOptions scaled = o;
-  scaled.max_volume = o.max_volume * to_mm * to_mm * to_mm;
-  std::string sw = tetgen_switches(scaled);
   std::vector<char> buf(sw.begin(), sw.end());
   buf.push_back('\0');
   try {
