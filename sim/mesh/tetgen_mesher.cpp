@@ -1,5 +1,6 @@
 #include "sim/mesh/tetgen_mesher.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -148,11 +149,62 @@ std::string format(const Switches& s) {
 
 std::string tetgen_switches(const TetgenOptions& o) { return format(resolve(o)); }
 
+void check_surface_for_meshing(const SurfaceMesh& surface) {
+  const std::string what = "surface to mesh";
+  auto fail = [&](const std::string& msg) { throw InputError(what + ": " + msg); };
+  for (std::size_t i = 0; i < surface.xyz.size(); ++i)
+    if (!std::isfinite(surface.xyz[i])) fail("vertex " + std::to_string(i / 3) + " has a NaN or infinite coordinate");
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, far = 0;
+  int far_vertex = 0;
+  for (int i = 0; i < surface.npoint(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double x = surface.xyz[3 * i + k];
+      lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
+      if (std::fabs(x) > far) far = std::fabs(x), far_vertex = i;
+    }
+  const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(size >= kMinExtent && size <= kMaxExtent))
+    fail("size " + num(size) + " m (largest bounding-box side) is outside " + num(kMinExtent) + ".." + num(kMaxExtent) + " m");
+  if (!(far <= kMaxCoordinate))
+    fail("vertex " + std::to_string(far_vertex) + " is " + num(far) + " m from the origin (at most " + num(kMaxCoordinate) +
+         " m along each axis)");
+  if (!(far <= kMaxOffsetPerExtent * size))
+    fail("vertex " + std::to_string(far_vertex) + " is " + num(far) + " m from the origin, more than " +
+         num(kMaxOffsetPerExtent) + " times the body's size " + num(size) +
+         " m (its coordinates would lose the precision TetGen needs)");
+  {  // before the triangles are read
+    SurfaceMesh copy = surface;  // indices, closed, manifold, oriented, non-degenerate
+    check_and_orient_closed_surface(copy, what);
+  }
+  for (int t = 0; t < surface.ntri(); ++t) {
+    const double* p[3] = {&surface.xyz[3 * surface.tri[3 * t]], &surface.xyz[3 * surface.tri[3 * t + 1]],
+                          &surface.xyz[3 * surface.tri[3 * t + 2]]};
+    double longest = 0, shortest = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      const double* a = p[k];
+      const double* b = p[(k + 1) % 3];
+      const double l = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+      longest = std::max(longest, l), shortest = std::min(shortest, l);
+    }
+    if (!(shortest >= kMinEdgePerExtent * size))
+      fail("triangle " + std::to_string(t) + " has a short edge of " + num(shortest) + " m, below " + num(kMinEdgePerExtent) +
+           " of the body's size " + num(size) + " m (TetGen cannot resolve it)");
+    const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+    const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+    const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double height = std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) / longest;  // 2 area / base
+    if (!(height >= kMinHeightPerExtent * size))
+      fail("triangle " + std::to_string(t) + " is a sliver (height " + num(height) + " m, below " + num(kMinHeightPerExtent) +
+           " of the body's size " + num(size) + " m; TetGen cannot resolve it)");
+  }
+}
+
 TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) {
   // TetGen reads switches in double precision but is scale-sensitive only through "a";
   // mesh in millimetres so tolerances act on O(1) numbers, then convert back to metres.
   const double to_mm = kMm;
   const std::string sw = tetgen_switches(o);  // checked before TetGen sees anything
+  check_surface_for_meshing(surf);
   tetgenio in, out;
   in.firstnumber = 0;
   in.numberofpoints = surf.npoint();

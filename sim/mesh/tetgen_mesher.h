@@ -38,7 +38,24 @@ constexpr std::size_t kMaxSwitchesLength = 64;
 // InputError for options outside the ranges above or switches outside the subset.
 std::string tetgen_switches(const TetgenOptions& o);
 
-// Throws InputError for bad options, or when TetGen fails (self-intersecting input).
+// Ranges for the surface handed to TetGen (metres), chosen with margin from what TetGen
+// 1.5 survives: at scale 1e-200 or 1e100 it segfaults or asserts, at 1e10 m from the
+// origin a 20 mm torus meshes differently, and a point 1e-8 of the size off an edge is
+// merged into it (TetGen's tolerance is 1e-8 of the bounding box).
+constexpr double kMinExtent = 1e-6, kMaxExtent = 1e3;  // largest bounding-box side
+constexpr double kMaxCoordinate = 1e4;                 // |x| of every coordinate
+constexpr double kMaxOffsetPerExtent = 1e6;            // |x| <= this * size
+constexpr double kMinEdgePerExtent = 1e-6;             // shortest edge >= this * size
+constexpr double kMinHeightPerExtent = 1e-7;           // smallest triangle height >= this * size
+
+// Throws InputError unless the surface is fit for TetGen: closed, manifold and
+// consistently oriented (check_and_orient_closed_surface), finite, and inside the ranges
+// above. Messages start with "surface to mesh: " so that a caller can say what put the
+// surface there (body.scale, body.position, body.rotation_deg).
+void check_surface_for_meshing(const SurfaceMesh& s);
+
+// Checks the options and the surface (above), then meshes. Throws InputError for bad
+// input or when TetGen fails (self-intersecting input).
 TetMesh tetrahedralize_surface(const SurfaceMesh& s, const TetgenOptions& o);
 
 }  // namespace softtled

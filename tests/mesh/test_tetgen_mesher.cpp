@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -119,4 +120,92 @@ TEST(TetgenOptions, NumbersAreBoundedInsideTheMesher) {
   EXPECT_EQ(tetgen_switches(off), "pzQ");
   const TetMesh m = tetrahedralize_surface(small_box(), off);
   EXPECT_NEAR(mesh_volume(m), 1e-6, 1e-15);
+}
+
+namespace {
+
+// body.scale, body.rotation_deg (x, then y, then z) and body.position, as the scene applies them.
+SurfaceMesh placed(SurfaceMesh s, double scale, const double rot_deg[3], const double pos[3]) {
+  const double pi = 3.14159265358979323846;
+  const double a[3] = {rot_deg[0] * pi / 180, rot_deg[1] * pi / 180, rot_deg[2] * pi / 180};
+  for (int i = 0; i < s.npoint(); ++i) {
+    double* p = &s.xyz[3 * i];
+    for (int k = 0; k < 3; ++k) p[k] *= scale;
+    double y = p[1] * std::cos(a[0]) - p[2] * std::sin(a[0]), z = p[1] * std::sin(a[0]) + p[2] * std::cos(a[0]);
+    p[1] = y, p[2] = z;
+    double x = p[0] * std::cos(a[1]) + p[2] * std::sin(a[1]);
+    z = -p[0] * std::sin(a[1]) + p[2] * std::cos(a[1]);
+    p[0] = x, p[2] = z;
+    x = p[0] * std::cos(a[2]) - p[1] * std::sin(a[2]);
+    y = p[0] * std::sin(a[2]) + p[1] * std::cos(a[2]);
+    p[0] = x, p[1] = y;
+    for (int k = 0; k < 3; ++k) p[k] += pos[k];
+  }
+  return s;
+}
+
+}  // namespace
+
+// Extreme placements made TetGen assert (scale 1e100), segfault (scale 1e-200, position
+// 1e15) or silently mesh differently (position 1e10). The final surface is checked first.
+TEST(TetgenGeometry, ExtremePlacementsAreRefusedBeforeTetGen) {
+  const SurfaceMesh torus = make_torus(7.5e-3, 2.5e-3, 24, 8);  // 20 mm across
+  const double zero[3] = {0, 0, 0};
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    double scale, rot, pos;
+    const char* fragment;
+  } cases[] = {
+      {1e-200, 0, 0, "size"}, {1e-9, 0, 0, "size"},         {1e6, 0, 0, "size"},
+      {1e100, 0, 0, "size"},  {1e200, 0, 0, "size"}, {1e306, 0, 1e306, "size"}, {1, 0, 1e5, "from the origin"},
+      {1, 0, 1e15, "from the origin"}, {1, 0, 1e300, "from the origin"}, {1e-4, 0, 1e3, "times the body's size"},
+      {1, 0, inf, "NaN or infinite"},
+  };
+  for (const Case& c : cases) {
+    const double rot[3] = {c.rot, c.rot, c.rot}, pos[3] = {c.pos, 0, c.pos};
+    const SurfaceMesh s = placed(torus, c.scale, rot, pos);
+    char what[96];
+    std::snprintf(what, sizeof what, "scale %g position %g", c.scale, c.pos);
+    expect_input_error([&] { check_surface_for_meshing(s); }, {"surface to mesh", c.fragment}, what);
+    expect_input_error([&] { tetrahedralize_surface(s, TetgenOptions{}); }, {"surface to mesh", c.fragment}, what);
+  }
+  // Inside the documented range the mesh is the same, wherever the body is and however
+  // far it is turned (1e20 degrees is still a rotation).
+  const TetMesh ref = tetrahedralize_surface(torus, TetgenOptions{});
+  const double big_turn[3] = {1e20, -3e17, 7e15}, far[3] = {1e3, -1e3, 5e2};
+  const struct {
+    SurfaceMesh s;
+    double scale;
+  } fine[] = {{placed(torus, 1, zero, far), 1}, {placed(torus, 1e-3, zero, zero), 1e-3},
+              {placed(torus, 1e4, zero, zero), 1e4}, {placed(torus, 1, big_turn, zero), 1}};
+  for (const auto& f : fine) {
+    ASSERT_NO_THROW(check_surface_for_meshing(f.s));
+    const TetMesh m = tetrahedralize_surface(f.s, TetgenOptions{});
+    const double v = mesh_volume(ref) * f.scale * f.scale * f.scale;
+    EXPECT_NEAR(mesh_volume(m), v, 1e-6 * v) << "scale " << f.scale;
+    EXPECT_NEAR(enclosed_volume(f.s), v, 1e-6 * v) << "scale " << f.scale;  // far from the origin too
+  }
+}
+
+// A feature far below the body's size (TetGen's tolerance is 1e-8 of it: a point 1e-8 off
+// an edge was merged into it and the mesh came out wrong) is refused with its size.
+TEST(TetgenGeometry, TinyFeaturesAreRefused) {
+  auto split_tetrahedron = [](double x, double y) {
+    SurfaceMesh s;
+    s.xyz = {0, 0, 0, 0.01, 0, 0, 0, 0.01, 0, 0, 0, 0.01, x, y, 0};  // face 0-1-2 split at point 4
+    s.tri = {0, 1, 3, 1, 2, 3, 0, 3, 2, 0, 2, 4, 2, 1, 4, 1, 0, 4};
+    return s;
+  };
+  expect_input_error([&] { tetrahedralize_surface(split_tetrahedron(1e-10, 1e-10), TetgenOptions{}); },
+                     {"surface to mesh", "short edge"}, "point 1e-10 from a corner");
+  expect_input_error([&] { tetrahedralize_surface(split_tetrahedron(0.005, 1e-10), TetgenOptions{}); },
+                     {"surface to mesh", "sliver"}, "point 1e-10 off an edge");
+  const TetMesh m = tetrahedralize_surface(split_tetrahedron(0.003, 0.002), TetgenOptions{});
+  EXPECT_NEAR(mesh_volume(m), 1e-6 / 6, 1e-18);
+  // Indices out of range or an open surface never reach TetGen either.
+  SurfaceMesh bad = split_tetrahedron(0.003, 0.002);
+  bad.tri[0] = 99;
+  expect_input_error([&] { tetrahedralize_surface(bad, TetgenOptions{}); }, {"surface to mesh", "vertex 99"}, "index");
+  bad.tri.resize(15);
+  expect_input_error([&] { tetrahedralize_surface(bad, TetgenOptions{}); }, {"surface to mesh"}, "open");
 }
