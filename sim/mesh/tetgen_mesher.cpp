@@ -36,7 +36,7 @@ std::string num(double v) {
 void check_rho(double rho, const std::string& where) {
   if (!(rho >= kMinRadiusEdge && rho <= kMaxRadiusEdge))
     throw InputError(where + ": the radius-edge bound must be in " + num(kMinRadiusEdge) + ".." + num(kMaxRadiusEdge) +
-                     " (TetGen does not terminate below 1), got " + num(rho));
+                     " (TetGen does not terminate below that), got " + num(rho));
 }
 
 void check_theta(double theta, const std::string& where) {
@@ -117,12 +117,18 @@ Switches parse_switches(const std::string& text) {
   return s;
 }
 
+void check_budget(long max_tets) {
+  if (!(max_tets >= 1 && max_tets <= kMaxTetsLimit))
+    throw InputError("mesh.max_tets: must be in 1.." + std::to_string(kMaxTetsLimit) + ", got " + std::to_string(max_tets));
+}
+
 Switches resolve(const TetgenOptions& o) {
+  check_budget(o.max_tets);
   if (!o.switches.empty()) return parse_switches(o.switches);
   Switches s;
   if (!(o.radius_edge == 0 || (o.radius_edge >= kMinRadiusEdge && o.radius_edge <= kMaxRadiusEdge)))
     throw InputError("mesh.radius_edge: must be 0 (no quality bound) or in " + num(kMinRadiusEdge) + ".." +
-                     num(kMaxRadiusEdge) + " (TetGen does not terminate below 1), got " + num(o.radius_edge));
+                     num(kMaxRadiusEdge) + " (TetGen does not terminate below that), got " + num(o.radius_edge));
   check_theta(o.min_dihedral, "mesh.min_dihedral_deg");
   if (!(o.max_volume >= 0 && std::isfinite(o.max_volume) && std::isfinite(o.max_volume * kMm * kMm * kMm)))
     throw InputError("mesh.max_volume: must be finite and >= 0 (0: no bound), got " + num(o.max_volume) + " m^3");
@@ -199,12 +205,57 @@ void check_surface_for_meshing(const SurfaceMesh& surface) {
   }
 }
 
+namespace {
+
+double surface_area(const SurfaceMesh& s) {
+  double a = 0;
+  for (int t = 0; t < s.ntri(); ++t) {
+    const double* p = &s.xyz[3 * s.tri[3 * t]];
+    const double* q = &s.xyz[3 * s.tri[3 * t + 1]];
+    const double* r = &s.xyz[3 * s.tri[3 * t + 2]];
+    const double e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    a += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  }
+  return a;
+}
+
+double estimate(const SurfaceMesh& s, const Switches& sw) {
+  const double V = std::fabs(enclosed_volume(s)), A = surface_area(s), ntri = s.ntri();
+  const double a_m3 = sw.a_mm3 / (kMm * kMm * kMm);
+  // -a switches -q on with TetGen's default bound 2.
+  const bool quality = sw.quality || sw.a_mm3 > 0;
+  if (!quality) return 2.5 * ntri;
+  const double rho = sw.quality ? sw.rho : 2.0, theta = sw.quality ? sw.theta : 0.0;
+  const double g_rho = std::max(0.5, std::pow(rho - 1, -0.7));
+  const double t = theta / 22;
+  const double g_theta = std::pow(1 - t * t, -1.5);
+  const double layer = V > 0 ? 4 * A * A * A / (9 * V * V) : INFINITY;
+  const double volume = a_m3 > 0 ? 2.5 * V / a_m3 : 0;
+  return std::max(2.5 * ntri, layer) * g_rho * g_theta + volume;
+}
+
+}  // namespace
+
+double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o) { return estimate(s, resolve(o)); }
+
 TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) {
   // TetGen reads switches in double precision but is scale-sensitive only through "a";
   // mesh in millimetres so tolerances act on O(1) numbers, then convert back to metres.
   const double to_mm = kMm;
-  const std::string sw = tetgen_switches(o);  // checked before TetGen sees anything
+  const Switches settings = resolve(o);  // checked before TetGen sees anything
   check_surface_for_meshing(surf);
+  const double estimated = estimate(surf, settings);
+  if (!(estimated <= double(o.max_tets)))
+    throw InputError("mesh too large: about " + num(estimated) + " tetrahedra estimated (" + std::to_string(surf.ntri()) +
+                     " surface triangles, volume " + num(std::fabs(enclosed_volume(surf))) + " m^3, TetGen -" +
+                     format(settings) + "), above the budget of " + std::to_string(o.max_tets) +
+                     " (mesh.max_tets); use a coarser surface, a larger mesh.max_volume or a larger mesh.radius_edge");
+  // Backstop for a wrong estimate (TetGen runs that would not terminate): at most
+  // max_tets / kSteinerPerTet added points.
+  const long steiner_cap = std::max(1L, o.max_tets / kSteinerPerTet);
+  const std::string sw = format(settings);
+  const std::string sw_capped = sw + "S" + std::to_string(steiner_cap);
   tetgenio in, out;
   in.firstnumber = 0;
   in.numberofpoints = surf.npoint();
@@ -236,7 +287,7 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
       throw InputError("the surface intersects itself (" + std::to_string(probe.numberoftrifaces) +
                        " facets cross others); TetGen needs a closed surface without self-intersections");
   }
-  std::vector<char> buf(sw.begin(), sw.end());
+  std::vector<char> buf(sw_capped.begin(), sw_capped.end());
   buf.push_back('\0');
   try {
     tetrahedralize(buf.data(), &in, &out);
@@ -252,6 +303,13 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
   }
   if (out.numberoftetrahedra <= 0 || out.numberofcorners != 4)
     throw InputError("TetGen (-" + sw + ") produced no linear tetrahedra");
+  if (long(out.numberofpoints) - surf.npoint() >= steiner_cap || long(out.numberoftetrahedra) > o.max_tets)
+    throw InputError("mesh too large: TetGen -" + sw + " made " + std::to_string(out.numberoftetrahedra) +
+                     " tetrahedra and " + std::to_string(out.numberofpoints - surf.npoint()) + " added points (" +
+                     num(estimated) + " tetrahedra estimated), above the budget of " + std::to_string(o.max_tets) +
+                     " tetrahedra / " + std::to_string(steiner_cap) +
+                     " added points (mesh.max_tets); the quality bound may not be reachable on this surface: "
+                     "use a larger mesh.radius_edge or a smaller mesh.min_dihedral_deg");
   std::vector<double> X(out.pointlist, out.pointlist + 3 * out.numberofpoints);
   for (double& x : X) x /= to_mm;
   std::vector<int> tet(out.tetrahedronlist, out.tetrahedronlist + 4 * out.numberoftetrahedra);

@@ -13,25 +13,36 @@
 
 namespace softtled {
 
+// Mesh-size budget: 5 M tets is about 1 GB in TetGen and a minute of meshing, and 20x
+// the largest mesh the paper runs. kMaxTetsLimit keeps 4 x ntet inside an int.
+constexpr long kDefaultMaxTets = 5'000'000;
+constexpr long kMaxTetsLimit = 200'000'000;
+constexpr long kSteinerPerTet = 3;  // -S cap: max_tets / 3 added points
+
 struct TetgenOptions {
-  double radius_edge = 2.0;    // q: radius-edge ratio bound rho0 (paper: 2), 1..1000; 0 disables q
-  double min_dihedral = 0.0;   // q.../angle in degrees, 0..30; 0 leaves TetGen's default
+  double radius_edge = 2.0;    // q: radius-edge ratio bound rho0 (paper: 2), 1.1..1000; 0 disables q
+  double min_dihedral = 0.0;   // q.../angle in degrees, 0 or 0.001..20; 0 leaves TetGen's default
   double max_volume = 0.0;     // a: largest tet volume [m^3], finite; 0 = no bound
   bool keep_boundary = false;  // Y: no Steiner points on the input surface
   // Optional TetGen switches, replacing the four fields above. Only this subset is
   // accepted (at most 64 characters, each letter once, an optional leading '-'):
   //   p z Q        always used (added when missing)
-  //   q[rho][/th]  radius-edge bound rho in 1..1000 (default 2), min dihedral th in 0..30 deg
+  //   q[rho][/th]  radius-edge bound rho in 1.1..1000 (default 2), min dihedral th in 0..20 deg
   //   a<V>         largest tet volume V > 0 in mm^3 (TetGen meshes in millimetres)
   //   Y            keep the boundary
   // Anything else (T, r, w, i, m, S, O, ...) is refused: those switches read inputs that
   // SoftTLED never provides, crash TetGen 1.5 or hang it.
   std::string switches;
+  // Budget: refuse to mesh when the estimate (estimate_tet_count) is above it, and stop
+  // TetGen at max_tets / 3 added points (kSteinerPerTet) if it is wrong. 1..kMaxTetsLimit.
+  long max_tets = kDefaultMaxTets;
 };
 
-// Ranges enforced for the options (inclusive).
-constexpr double kMinRadiusEdge = 1.0, kMaxRadiusEdge = 1000.0;
-constexpr double kMaxMinDihedralDeg = 30.0;
+// Ranges enforced for the options (inclusive). Below rho 1.1 or above 20 degrees TetGen
+// 1.5 does not terminate on ordinary surfaces (q1.0/40 and q2/25 on the paper's torus ran
+// without end; q1.1 makes 180 tets per surface triangle there).
+constexpr double kMinRadiusEdge = 1.1, kMaxRadiusEdge = 1000.0;
+constexpr double kMaxMinDihedralDeg = 20.0;
 constexpr std::size_t kMaxSwitchesLength = 64;
 
 // The switches TetGen runs with (the "a" volume in mm^3, as TetGen sees it). Throws
@@ -54,7 +65,21 @@ constexpr double kMinHeightPerExtent = 1e-7;           // smallest triangle heig
 // surface there (body.scale, body.position, body.rotation_deg).
 void check_surface_for_meshing(const SurfaceMesh& s);
 
-// Checks the options and the surface (above), then meshes. Throws InputError for bad
+// Estimated number of tets TetGen makes for this surface and these options (checked
+// first). Calibrated with TetGen 1.5 on tori, boxes, spheres and plates: within a factor
+// of 3 for rho >= 1.4 and theta <= 10 (tests/mesh/test_tetgen_mesher); near rho 1.1 or
+// theta 20 TetGen varies 20-fold between shapes, and the -S cap and the final count
+// check catch what the estimate misses.
+//   quality  2.5 n_tri                surface triangles (TetGen makes 1 to 4 per triangle)
+//            4 A^3 / (9 V^2)          a layer of tets as thick as the body, h = 3V/A: the
+//                                     term that matters for plates and rods
+//            times g(rho) = max(0.5, (rho - 1)^-0.7) and g(theta) = (1 - (theta/22)^2)^-1.5
+//   volume   + 2.5 V / max_volume     TetGen's tets average 0.4 of the bound
+// Without -q and -a (radius_edge 0, no max_volume) it is 2.5 n_tri.
+double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o);
+
+// Checks the options and the surface (above), refuses a mesh estimated above o.max_tets
+// ("mesh too large: about N tetrahedra ..."), then meshes. Throws InputError for bad
 // input or when TetGen fails (self-intersecting input).
 TetMesh tetrahedralize_surface(const SurfaceMesh& s, const TetgenOptions& o);
 

@@ -209,3 +209,60 @@ TEST(TetgenGeometry, TinyFeaturesAreRefused) {
   bad.tri.resize(15);
   expect_input_error([&] { tetrahedralize_surface(bad, TetgenOptions{}); }, {"surface to mesh"}, "open");
 }
+
+// The estimate is close enough to refuse absurd meshes: within a factor of 3 of what
+// TetGen makes on shapes with surface-, thickness- and volume-driven sizes.
+TEST(TetgenBudget, EstimateIsWithinAFactorOfThree) {
+  TetgenOptions plain, small_tets, sharper;
+  small_tets.max_volume = 1e-10;
+  sharper.radius_edge = 1.4;
+  sharper.min_dihedral = 10;
+  const struct {
+    SurfaceMesh s;
+    const char* name;
+  } shapes[] = {{make_torus(7.5e-3, 2.5e-3, 91, 19), "paper torus"}, {make_box(0.02, 0.01, 0.008, 8, 8, 8), "box"},
+                {make_sphere(5e-3, 3), "sphere"}, {make_box(0.02, 0.02, 2e-4, 1, 1, 1), "plate 100:1 of 12 triangles"}};
+  for (const auto& shape : shapes)
+    for (const TetgenOptions* o : {&plain, &small_tets, &sharper}) {
+      const double est = estimate_tet_count(shape.s, *o);
+      const int actual = tetrahedralize_surface(shape.s, *o).ntet();
+      EXPECT_GT(est, actual / 3.0) << shape.name << " -" << tetgen_switches(*o) << ": " << actual << " tets";
+      EXPECT_LT(est, actual * 3.0) << shape.name << " -" << tetgen_switches(*o) << ": " << actual << " tets";
+    }
+}
+
+// A tiny max_volume ran 68 s and 4 GB before TetGen failed, a thin plate of 12 triangles
+// makes millions of tets: both are refused up front, with the estimate and the budget.
+TEST(TetgenBudget, TooLargeMeshesAreRefusedBeforeMeshing) {
+  const SurfaceMesh torus = make_torus(7.5e-3, 2.5e-3, 91, 19);
+  TetgenOptions tiny;
+  tiny.max_volume = 1e-18;  // 1e-9 mm^3
+  expect_input_error([&] { tetrahedralize_surface(torus, tiny); }, {"mesh too large", "max_tets", "5000000"}, "max_volume 1e-18");
+  TetgenOptions tiny_sw;
+  tiny_sw.switches = "pq2a1e-9";
+  expect_input_error([&] { tetrahedralize_surface(torus, tiny_sw); }, {"mesh too large"}, "switches a1e-9");
+  expect_input_error([&] { tetrahedralize_surface(make_box(0.02, 0.02, 1e-5, 1, 1, 1), TetgenOptions{}); },
+                     {"mesh too large"}, "plate 2000:1");
+  // The budget is an option: the paper's torus (about 7000 tets) fits the default, not 1000.
+  TetgenOptions small_budget;
+  small_budget.max_tets = 1000;
+  expect_input_error([&] { tetrahedralize_surface(torus, small_budget); }, {"mesh too large", "1000"}, "max_tets 1000");
+  small_budget.max_tets = 0;
+  expect_input_error([&] { tetgen_switches(small_budget); }, {"mesh.max_tets"}, "max_tets 0");
+  // When the estimate is low, TetGen's own count is checked too: q1.1 on a coarse torus
+  // makes about 190 tets per surface triangle.
+  TetgenOptions sharp;
+  sharp.radius_edge = 1.1;
+  const SurfaceMesh coarse = make_torus(7.5e-3, 2.5e-3, 24, 8);
+  sharp.max_tets = long(estimate_tet_count(coarse, sharp) * 1.05);
+  expect_input_error([&] { tetrahedralize_surface(coarse, sharp); }, {"mesh too large", "TetGen -pq1.1zQ made"}, "q1.1");
+}
+
+// body.segments = [4096, 4096] died with std::bad_alloc: generators refuse absurd counts
+// before allocating.
+TEST(TetgenBudget, GeneratorsRefuseAbsurdSegmentCounts) {
+  expect_input_error([] { make_torus(7.5e-3, 2.5e-3, 4096, 4096); }, {"torus", "4096 x 4096", "33554432"}, "torus");
+  expect_input_error([] { make_torus(7.5e-3, 2.5e-3, 1 << 30, 1 << 30); }, {"torus", "triangles"}, "int overflow");
+  expect_input_error([] { make_box(1, 1, 1, 1024, 1024, 1024); }, {"box", "1024 x 1024 x 1024"}, "box");
+  EXPECT_EQ(make_torus(7.5e-3, 2.5e-3, 500, 1000).ntri(), 1'000'000);  // the limit itself is fine
+}
