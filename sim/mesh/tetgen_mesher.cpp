@@ -1,12 +1,22 @@
 #include "sim/mesh/tetgen_mesher.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #ifndef TETLIBRARY
 #define TETLIBRARY  // library interface of tetgen.h: errors are thrown, not exit()
@@ -117,13 +127,15 @@ Switches parse_switches(const std::string& text) {
   return s;
 }
 
-void check_budget(long max_tets) {
+void check_budget(long max_tets, double time_limit_s) {
   if (!(max_tets >= 1 && max_tets <= kMaxTetsLimit))
     throw InputError("mesh.max_tets: must be in 1.." + std::to_string(kMaxTetsLimit) + ", got " + std::to_string(max_tets));
+  if (!(time_limit_s >= 0 && time_limit_s <= 1e6))
+    throw InputError("mesh.time_limit_s: must be in 0..1e6 s (0: no limit), got " + num(time_limit_s));
 }
 
 Switches resolve(const TetgenOptions& o) {
-  check_budget(o.max_tets);
+  check_budget(o.max_tets, o.time_limit_s);
   if (!o.switches.empty()) return parse_switches(o.switches);
   Switches s;
   if (!(o.radius_edge == 0 || (o.radius_edge >= kMinRadiusEdge && o.radius_edge <= kMaxRadiusEdge)))
@@ -239,6 +251,178 @@ double estimate(const SurfaceMesh& s, const Switches& sw) {
 
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o) { return estimate(s, resolve(o)); }
 
+namespace {
+
+// TetGen in a child process. TetGen 1.5 aborts on failed assertions and segfaults on
+// some inputs that pass every check we can make beforehand (the fuzzer found a rotated
+// box that trips "oriB != 0.0" in insphere_s); in the child that ends the child, not the
+// program, and a run past the time limit is killed. The child sends the result through
+// a pipe: a header, then the points and the tets.
+struct TetgenRun {
+  enum Status { kMesh, kIntersects, kThrew, kCrashed, kTimedOut, kTooLarge } status = kCrashed;
+  int code = 0;        // kThrew: TetGen's error code
+  long count = 0;      // kIntersects: facets found crossing others
+  long npoints = 0, ntets = 0;
+  std::string why;     // kCrashed: how the child ended
+  std::vector<double> X;  // 3 x npoints [TetGen's units]
+  std::vector<int> tet;   // 4 x ntets
+};
+
+struct ChildHeader {
+  std::int32_t status, code;
+  std::int64_t count, npoints, ntets;
+};
+
+bool write_all(int fd, const void* p, std::size_t n) {
+  const char* c = static_cast<const char*>(p);
+  while (n > 0) {
+    const ssize_t w = ::write(fd, c, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return false;
+    c += w, n -= std::size_t(w);
+  }
+  return true;
+}
+
+// Reads n bytes before the deadline; false on end of file, error or timeout (*late).
+bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_point deadline, bool limited, bool* late) {
+  char* c = static_cast<char*>(p);
+  while (n > 0) {
+    int wait_ms = -1;
+    if (limited) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+      if (left <= 0) return *late = true, false;
+      wait_ms = int(std::min<long long>(left, 1 << 30));
+    }
+    pollfd pfd{fd, POLLIN, 0};
+    const int r = ::poll(&pfd, 1, wait_ms);
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) return false;
+    if (r == 0) return *late = true, false;
+    const ssize_t got = ::read(fd, c, n);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return false;
+    c += got, n -= std::size_t(got);
+  }
+  return true;
+}
+
+[[noreturn]] void child_run(tetgenio& in, const std::string& switches, int fd) {
+  ChildHeader h{};
+  tetgenio* out = nullptr;
+  try {
+    // TetGen 1.5.0 throws on self-intersecting input but then crashes while unwinding (in
+    // ~memorypool), so detect intersections first with -d, which returns them as faces.
+    tetgenio* probe = new tetgenio;  // never freed: the child ends with _exit
+    char sw_d[] = "pdzQ";
+    tetrahedralize(sw_d, &in, probe);
+    if (probe->numberoftrifaces > 0) {
+      h.status = TetgenRun::kIntersects;
+      h.count = probe->numberoftrifaces;
+    } else {
+      std::vector<char> buf(switches.begin(), switches.end());
+      buf.push_back('\0');
+      out = new tetgenio;
+      tetrahedralize(buf.data(), &in, out);
+      h.status = TetgenRun::kMesh;
+      h.npoints = out->numberofpoints;
+      h.ntets = out->numberofcorners == 4 ? out->numberoftetrahedra : 0;
+    }
+  } catch (int code) {
+    h.status = TetgenRun::kThrew;
+    h.code = code;
+  } catch (...) {
+    h.status = TetgenRun::kThrew;
+    h.code = -1;
+  }
+  bool ok = write_all(fd, &h, sizeof h);
+  if (ok && h.status == TetgenRun::kMesh) {
+    ok = write_all(fd, out->pointlist, sizeof(REAL) * 3 * std::size_t(h.npoints)) &&
+         write_all(fd, out->tetrahedronlist, sizeof(int) * 4 * std::size_t(h.ntets));
+  }
+  ::_exit(ok ? 0 : 1);
+}
+
+TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double time_limit_s, long max_points, long max_tets) {
+  TetgenRun run;
+  int fds[2], err[2];  // the result; TetGen's stderr (its assertion messages)
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw InputError(std::string("cannot start TetGen: pipe: ") + std::strerror(errno));
+  if (::pipe2(err, O_CLOEXEC | O_NONBLOCK) != 0) {
+    const int e = errno;
+    ::close(fds[0]), ::close(fds[1]);
+    throw InputError(std::string("cannot start TetGen: pipe: ") + std::strerror(e));
+  }
+  std::fflush(nullptr);  // the child must not inherit unwritten output
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int e = errno;
+    ::close(fds[0]), ::close(fds[1]), ::close(err[0]), ::close(err[1]);
+    throw InputError(std::string("cannot start TetGen: fork: ") + std::strerror(e));
+  }
+  if (pid == 0) {
+    // TetGen prints warnings on stdout, which may be the program's data stream (--csv -):
+    // discard them. Its stderr goes to the parent (non-blocking: dropped when full).
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) ::dup2(null, 1);
+    ::dup2(err[1], 2);
+    ::close(fds[0]);
+    child_run(in, switches, fds[1]);
+  }
+  ::close(fds[1]);
+  ::close(err[1]);
+  const bool limited = time_limit_s > 0;
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::milliseconds(limited ? static_cast<long long>(std::min(time_limit_s, 1e9) * 1000) : 0);
+  bool late = false, complete = false;
+  ChildHeader h{};
+  if (read_all(fds[0], &h, sizeof h, deadline, limited, &late)) {
+    run.code = h.code;
+    run.count = long(h.count);
+    run.npoints = long(h.npoints);
+    run.ntets = long(h.ntets);
+    if (h.status == TetgenRun::kMesh) {
+      if (h.npoints < 0 || h.ntets < 0 || h.npoints > max_points || h.ntets > max_tets) {
+        run.status = TetgenRun::kTooLarge;  // not read: the counts alone are the answer
+        complete = true;
+      } else {
+        run.X.resize(3 * std::size_t(h.npoints));
+        run.tet.resize(4 * std::size_t(h.ntets));
+        complete = read_all(fds[0], run.X.data(), sizeof(double) * run.X.size(), deadline, limited, &late) &&
+                   read_all(fds[0], run.tet.data(), sizeof(int) * run.tet.size(), deadline, limited, &late);
+        if (complete) run.status = TetgenRun::kMesh;
+      }
+    } else if (h.status == TetgenRun::kIntersects || h.status == TetgenRun::kThrew) {
+      run.status = TetgenRun::Status(h.status);
+      complete = true;
+    }
+  }
+  ::close(fds[0]);
+  if (late) ::kill(pid, SIGKILL);
+  int wstatus = 0;
+  pid_t w;
+  do w = ::waitpid(pid, &wstatus, 0); while (w < 0 && errno == EINTR);
+  if (late) {
+    run.status = TetgenRun::kTimedOut;
+  } else if (!complete) {
+    run.status = TetgenRun::kCrashed;
+    if (w == pid && WIFSIGNALED(wstatus)) run.why = std::string("signal ") + std::to_string(WTERMSIG(wstatus)) + ", " + strsignal(WTERMSIG(wstatus));
+    else if (w == pid && WIFEXITED(wstatus)) run.why = "exit status " + std::to_string(WEXITSTATUS(wstatus));
+    else run.why = "ended without a result";
+    char buf[4096];
+    const ssize_t n = ::read(err[0], buf, sizeof buf - 1);
+    if (n > 0) {  // the last line TetGen wrote, e.g. its failed assertion
+      std::string text(buf, std::size_t(n));
+      while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+      const std::size_t nl = text.find_last_of('\n');
+      run.why += ": " + text.substr(nl == std::string::npos ? 0 : nl + 1);
+    }
+  }
+  ::close(err[0]);
+  return run;
+}
+
+}  // namespace
+
 TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) {
   // TetGen reads switches in double precision but is scale-sensitive only through "a";
   // mesh in millimetres so tolerances act on O(1) numbers, then convert back to metres.
@@ -256,7 +440,7 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
   const long steiner_cap = std::max(1L, o.max_tets / kSteinerPerTet);
   const std::string sw = format(settings);
   const std::string sw_capped = sw + "S" + std::to_string(steiner_cap);
-  tetgenio in, out;
+  tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = surf.npoint();
   in.pointlist = new REAL[surf.xyz.size()];
@@ -273,47 +457,47 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
     f.polygonlist[0].numberofvertices = 3;
     f.polygonlist[0].vertexlist = new int[3]{surf.tri[3 * t], surf.tri[3 * t + 1], surf.tri[3 * t + 2]};
   }
-  // TetGen 1.5.0 throws on self-intersecting input but then crashes while unwinding (in
-  // ~memorypool), so detect intersections first with -d, which returns them as faces.
-  {
-    tetgenio probe;
-    char sw_d[] = "pdzQ";
-    try {
-      tetrahedralize(sw_d, &in, &probe);
-    } catch (int code) {
-      throw InputError("TetGen intersection check failed with code " + std::to_string(code));
-    }
-    if (probe.numberoftrifaces > 0)
-      throw InputError("the surface intersects itself (" + std::to_string(probe.numberoftrifaces) +
+  const TetgenRun run = run_tetgen_isolated(in, sw_capped, o.time_limit_s,
+                                            surf.npoint() + steiner_cap + 16 * long(surf.ntri()) + 64, 2 * o.max_tets + 64);
+  switch (run.status) {
+    case TetgenRun::kMesh:
+      break;
+    case TetgenRun::kIntersects:
+      throw InputError("the surface intersects itself (" + std::to_string(run.count) +
                        " facets cross others); TetGen needs a closed surface without self-intersections");
+    case TetgenRun::kThrew: {
+      const int code = run.code;
+      const char* why = code == 1 ? "out of memory"
+                        : code == 2 ? "internal error"
+                        : code == 3 ? "the surface intersects itself"
+                        : code == 4 ? "a very small input feature (near-degenerate facets)"
+                        : code == 5 ? "two very close input facets"
+                        : code == 10 ? "an input error"
+                                     : "unknown failure";
+      throw InputError("TetGen (-" + sw + ") failed with code " + std::to_string(code) + ": " + why);
+    }
+    case TetgenRun::kCrashed:
+      throw InputError("TetGen (-" + sw + ") crashed on this surface (" + run.why +
+                       "). TetGen 1.5 has assertions that fail on some exactly co-spherical or co-planar point "
+                       "sets: move, turn or rescale the body slightly");
+    case TetgenRun::kTimedOut:
+      throw InputError("TetGen (-" + sw + ") did not finish within " + num(o.time_limit_s) +
+                       " s (mesh.time_limit_s); use a coarser mesh or a larger mesh.radius_edge");
+    case TetgenRun::kTooLarge:
+      break;  // reported below with the counts
   }
-  std::vector<char> buf(sw_capped.begin(), sw_capped.end());
-  buf.push_back('\0');
-  try {
-    tetrahedralize(buf.data(), &in, &out);
-  } catch (int code) {
-    const char* why = code == 1 ? "out of memory"
-                      : code == 2 ? "internal error"
-                      : code == 3 ? "the surface intersects itself"
-                      : code == 4 ? "a very small input feature (near-degenerate facets)"
-                      : code == 5 ? "two very close input facets"
-                      : code == 10 ? "an input error"
-                                   : "unknown failure";
-    throw InputError("TetGen (-" + sw + ") failed with code " + std::to_string(code) + ": " + why);
-  }
-  if (out.numberoftetrahedra <= 0 || out.numberofcorners != 4)
+  if (run.status == TetgenRun::kMesh && run.ntets <= 0)
     throw InputError("TetGen (-" + sw + ") produced no linear tetrahedra");
-  if (long(out.numberofpoints) - surf.npoint() >= steiner_cap || long(out.numberoftetrahedra) > o.max_tets)
-    throw InputError("mesh too large: TetGen -" + sw + " made " + std::to_string(out.numberoftetrahedra) +
-                     " tetrahedra and " + std::to_string(out.numberofpoints - surf.npoint()) + " added points (" +
+  if (run.status == TetgenRun::kTooLarge || run.npoints - surf.npoint() >= steiner_cap || run.ntets > o.max_tets)
+    throw InputError("mesh too large: TetGen -" + sw + " made " + std::to_string(run.ntets) +
+                     " tetrahedra and " + std::to_string(run.npoints - surf.npoint()) + " added points (" +
                      num(estimated) + " tetrahedra estimated), above the budget of " + std::to_string(o.max_tets) +
                      " tetrahedra / " + std::to_string(steiner_cap) +
                      " added points (mesh.max_tets); the quality bound may not be reachable on this surface: "
                      "use a larger mesh.radius_edge or a smaller mesh.min_dihedral_deg");
-  std::vector<double> X(out.pointlist, out.pointlist + 3 * out.numberofpoints);
+  std::vector<double> X = std::move(run.X);
   for (double& x : X) x /= to_mm;
-  std::vector<int> tet(out.tetrahedronlist, out.tetrahedronlist + 4 * out.numberoftetrahedra);
-  return make_tet_mesh(std::move(X), std::move(tet));
+  return make_tet_mesh(std::move(X), std::move(run.tet));
 }
 
 }  // namespace softtled

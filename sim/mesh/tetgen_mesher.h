@@ -18,6 +18,7 @@ namespace softtled {
 constexpr long kDefaultMaxTets = 5'000'000;
 constexpr long kMaxTetsLimit = 200'000'000;
 constexpr long kSteinerPerTet = 3;  // -S cap: max_tets / 3 added points
+constexpr double kDefaultTetgenTimeLimitS = 900;  // 5 M tets take about a minute
 
 struct TetgenOptions {
   double radius_edge = 2.0;    // q: radius-edge ratio bound rho0 (paper: 2), 1.1..1000; 0 disables q
@@ -36,6 +37,10 @@ struct TetgenOptions {
   // Budget: refuse to mesh when the estimate (estimate_tet_count) is above it, and stop
   // TetGen at max_tets / 3 added points (kSteinerPerTet) if it is wrong. 1..kMaxTetsLimit.
   long max_tets = kDefaultMaxTets;
+  // TetGen runs in a child process (its failed assertions and crashes end the child, not
+  // the program; they are reported as InputError); after this many seconds it is killed.
+  // 0: no limit; at most 1e6.
+  double time_limit_s = kDefaultTetgenTimeLimitS;
 };
 
 // Ranges enforced for the options (inclusive). Below rho 1.1 or above 20 degrees TetGen

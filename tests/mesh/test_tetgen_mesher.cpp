@@ -266,3 +266,31 @@ TEST(TetgenBudget, GeneratorsRefuseAbsurdSegmentCounts) {
   expect_input_error([] { make_box(1, 1, 1, 1024, 1024, 1024); }, {"box", "1024 x 1024 x 1024"}, "box");
   EXPECT_EQ(make_torus(7.5e-3, 2.5e-3, 500, 1000).ntri(), 1'000'000);  // the limit itself is fine
 }
+
+// TetGen 1.5 runs in a child process: the fuzzer found a plain rotated box on which it
+// fails an assertion ("oriB != 0.0" in insphere_s) and aborted the whole program. Now
+// the outcome is a mesh or an InputError, and a run past the time limit is stopped.
+TEST(TetgenIsolation, TetgenCrashIsAnErrorNotAnAbort) {
+  const double rot[3] = {30, 45, 60}, pos[3] = {0.5, -0.4, 1.0};
+  const SurfaceMesh box = placed(make_box(0.01, 0.02, 0.005, 2, 3, 1), 1, rot, pos);  // tests/fuzz/crashes/fuzz_mesh
+  TetgenOptions o;
+  o.max_volume = 2e-8;
+  try {
+    const TetMesh m = tetrahedralize_surface(box, o);
+    EXPECT_NEAR(mesh_volume(m), 1e-6, 1e-12);  // a TetGen without the bug meshes it
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("TetGen (-pq2a20zQ) crashed on this surface (signal 6"), std::string::npos)
+        << e.what();
+  }
+  // The process and TetGen still work afterwards.
+  EXPECT_NEAR(mesh_volume(tetrahedralize_surface(small_box(), TetgenOptions{})), 1e-6, 1e-15);
+}
+
+TEST(TetgenIsolation, TimeLimitStopsTetgen) {
+  TetgenOptions o;
+  o.time_limit_s = 1e-3;  // the paper's torus takes a good part of a second
+  expect_input_error([&] { tetrahedralize_surface(make_torus(7.5e-3, 2.5e-3, 91, 19), o); },
+                     {"did not finish within 0.001 s", "mesh.time_limit_s"}, "1 ms");
+  o.time_limit_s = -1;
+  expect_input_error([&] { tetgen_switches(o); }, {"mesh.time_limit_s"}, "negative limit");
+}
