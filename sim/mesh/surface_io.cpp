@@ -131,14 +131,19 @@ namespace {
 
 // Triangulates the polygons collected by a parser once all vertices are known.
 struct PolygonList {
+  std::string name;                // file name for messages
+  bool by_line = true;             // tag is a line number (OBJ) or a face number (OFF)
   std::vector<int> index;          // all polygons' vertex indices, one after another
   std::vector<std::size_t> start;  // polygon k is index[start[k] .. start[k + 1])
-  std::vector<std::string> where;  // "name:line" or "name: face f" for messages
-  void add(const std::vector<int>& poly, std::string at) {
+  std::vector<long> tag;           // line or face of polygon k, for messages
+  void add(const std::vector<int>& poly, long at) {
     if (start.empty()) start.push_back(0);
     index.insert(index.end(), poly.begin(), poly.end());
     start.push_back(index.size());
-    where.push_back(std::move(at));
+    tag.push_back(at);
+  }
+  std::string where(std::size_t k) const {
+    return by_line ? name + ":" + std::to_string(tag[k]) : name + ": face " + std::to_string(tag[k]);
   }
   void triangulate_into(SurfaceMesh& s) const {
     std::vector<int> poly;
@@ -146,10 +151,10 @@ struct PolygonList {
       poly.assign(index.begin() + start[k], index.begin() + start[k + 1]);
       for (int v : poly)
         if (v < 0 || v >= s.npoint())
-          throw InputError(where[k] + ": refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()) +
+          throw InputError(where(k) + ": refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()) +
                            " (0-based)");
       if (!triangulate_polygon(s.xyz, poly, s.tri))
-        throw InputError(where[k] + ": face of " + std::to_string(poly.size()) +
+        throw InputError(where(k) + ": face of " + std::to_string(poly.size()) +
                          " vertices is not a simple polygon (it intersects itself, repeats a vertex or is degenerate)");
     }
   }
@@ -159,7 +164,7 @@ struct PolygonList {
 
 SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   SurfaceMesh s;
-  PolygonList polygons;
+  PolygonList polygons{name, true, {}, {}, {}};
   std::istringstream in(data);
   std::string line;
   int lineno = 0;
@@ -188,7 +193,7 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
                            std::to_string(kMaxPolygonVertices) + " vertices");
       }
       if (poly.size() < 3) throw InputError(name + ":" + std::to_string(lineno) + ": face with fewer than 3 vertices");
-      polygons.add(poly, name + ":" + std::to_string(lineno));
+      polygons.add(poly, lineno);
     }
     if (s.xyz.size() > 3 * kMaxElements || polygons.index.size() > 3 * kMaxElements) throw InputError(name + ": too large");
   }
@@ -303,7 +308,7 @@ SurfaceMesh parse_off(const std::string& data, const std::string& name) {
     for (int k = 0; k < 3; ++k) s.xyz.push_back(in.number());
     for (std::size_t k = 3; k < fixed + extra; ++k) in.number();  // normal, colour, texture: checked, unused
   }
-  PolygonList polygons;
+  PolygonList polygons{name, false, {}, {}, {}};
   std::vector<int> poly;
   for (long f = 0; f < nf; ++f) {
     in.ensure();
@@ -316,7 +321,7 @@ SurfaceMesh parse_off(const std::string& data, const std::string& name) {
     // Trailing colour on the face's own line: none, a colour-map index, RGB or RGBA.
     if (starts_line && on_line >= std::size_t(k) + 1 && on_line - std::size_t(k) - 1 <= 4)
       for (std::size_t c = on_line - std::size_t(k) - 1; c > 0; --c) in.number();
-    polygons.add(poly, in.at() + ": " + face);
+    polygons.add(poly, f);
   }
   if (in.ensure()) throw InputError(in.at() + ": unexpected data after the last face ('" + in.peek() + "')");
   polygons.triangulate_into(s);
