@@ -13,6 +13,8 @@
 // Outcomes: a mesh that satisfies the post-conditions below, or InputError. A crash, an
 // assertion in TetGen, a sanitizer report or another exception is a finding.
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <sstream>
 #include <vector>
 
@@ -97,7 +99,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
     o.max_tets = kFuzzMaxTets;
     o.time_limit_s = kFuzzTimeLimitS;
-    const TetMesh m = tetrahedralize_surface(surface, o);
+    TetMesh m;
+    try {
+      m = tetrahedralize_surface(surface, o);
+    } catch (const InputError& e) {
+      // TetGen's own crashes are handled (an InputError); set FUZZ_MESH_REPORT_TETGEN_CRASH=1
+      // to collect the inputs that trigger them.
+      if (std::getenv("FUZZ_MESH_REPORT_TETGEN_CRASH") && std::string(e.what()).find(") crashed on this surface") != std::string::npos)
+        require(false, e.what());
+      throw;
+    }
     // What the mesher promises for a mesh it returns.
     require(m.ntet() > 0 && m.ntet() <= kFuzzMaxTets, "0 < ntet <= max_tets");
     for (double x : m.X) require(std::isfinite(x), "finite node coordinates");
