@@ -387,7 +387,7 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
   return s;
 }
 
-std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only) {
   auto os_error = [&](const char* what) { return InputError(path + ": " + what + ": " + std::strerror(errno)); };
   auto kind = [](mode_t m) {
     return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
@@ -401,6 +401,10 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
   };
   struct stat st;
   if (::stat(path.c_str(), &st) != 0) throw os_error("cannot open file");
+  if (check_only) {
+    if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file (" + kind(st.st_mode) + ")");
+    return {};
+  }
   check(st);  // before opening: opening a FIFO blocks until a writer comes
   // O_NONBLOCK: should the path have become a FIFO since stat, open still returns.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -434,9 +438,10 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
 
 SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes) {
   const std::string ext = lower_ext(path);
-  if (ext != "obj" && ext != "off" && ext != "stl")
-    throw InputError(path + ": unknown surface format '." + ext + "' (use .obj, .off or .stl)");
-  const std::string data = read_input_file(path, max_bytes);
+  const bool known = ext == "obj" || ext == "off" || ext == "stl";
+  // What the path is comes first (a directory or device is named as such), then the format.
+  const std::string data = read_input_file(path, known ? max_bytes : 0, !known);
+  if (!known) throw InputError(path + ": unknown surface format '." + ext + "' (use .obj, .off or .stl)");
   if (ext == "obj") return parse_obj(data, path);
   if (ext == "off") return parse_off(data, path);
   return parse_stl(data, path);

@@ -27,7 +27,8 @@ SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes = kDef
 // before it is opened, so a FIFO cannot block), at most max_bytes. Errors name the path
 // and carry the OS reason: "PATH: cannot open file: No such file or directory",
 // "PATH: not a regular file (a directory)", "PATH: N bytes, above the limit of M bytes".
-std::string read_input_file(const std::string& path, std::uint64_t max_bytes);
+// check_only: only the stat checks (exists, regular file); returns "".
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only = false);
 
 // Appends the triangles of a simple polygon (indices into xyz, 3 x npoint) to `out`, by
 // ear clipping in the polygon's best-fit plane (Newell normal), keeping its orientation.

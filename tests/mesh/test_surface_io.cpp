@@ -73,6 +73,10 @@ TEST(SurfaceFiles, OnlyRegularFilesAreRead) {
   EXPECT_NE(e.find(dir), std::string::npos) << e;
   e = load_error("/dev/null.obj");  // no such file: the OS reason is in the message
   EXPECT_NE(e.find("cannot open file: No such file or directory"), std::string::npos) << e;
+  e = load_error("/dev/null");  // what the path is comes before its (missing) extension
+  EXPECT_NE(e.find("/dev/null: not a regular file (a character device)"), std::string::npos) << e;
+  e = load_error(d);
+  EXPECT_NE(e.find("not a regular file (a directory)"), std::string::npos) << e;
   try {
     read_input_file("/dev/null", 1 << 20);
     ADD_FAILURE() << "/dev/null read";
