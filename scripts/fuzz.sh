@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Fuzzes the surface loaders (OBJ, OFF, STL) and the scene parser with libFuzzer, ASan and
-# UBSan for a bounded time each, and fails on any finding (crash, sanitizer report,
-# exception other than InputError, timeout, out-of-memory, leak).
+# Fuzzes the surface loaders (OBJ, OFF, STL), the scene parser, and the path from a scene
+# through placement to TetGen (fuzz_mesh) with libFuzzer, ASan and UBSan for a bounded time
+# each, and fails on any finding (crash, TetGen assertion, sanitizer report, exception other
+# than InputError, timeout, out-of-memory, leak).
 #
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #   SECONDS_PER_TARGET  default 60; 0 only replays the seed corpus and tests/fuzz/crashes
-#   TARGET              fuzz_obj fuzz_off fuzz_stl fuzz_scene (default: all)
+#   TARGET              fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh (default: all)
 # Environment: FUZZ_BUILD_DIR (default build-fuzz), CXX (default clang++).
 #
 # Seeds are read from tests/fuzz/corpus/<target>/ and never modified; new inputs go to
@@ -17,13 +18,13 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}
 SECONDS_EACH=${1:-60}
 shift || true
-TARGETS=${*:-fuzz_obj fuzz_off fuzz_stl fuzz_scene}
+TARGETS=${*:-fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh}
 export CXX=${CXX:-clang++}
 
 # Debian packages: clang (the compiler) and libclang-rt-14-dev (libFuzzer, ASan and UBSan
 # runtimes of clang 14); installed only when missing.
 source "$ROOT/scripts/packages.sh"
-ensure_packages clang libclang-rt-14-dev cmake libtomlplusplus-dev
+ensure_packages clang libclang-rt-14-dev cmake libtomlplusplus-dev libtet1.5-dev
 
 cmake -S "$ROOT/tests/fuzz" -B "$BUILD" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER="$CXX" >/dev/null
 cmake --build "$BUILD" -j"${FUZZ_BUILD_JOBS:-$(nproc)}" >/dev/null
@@ -31,8 +32,11 @@ cmake --build "$BUILD" -j"${FUZZ_BUILD_JOBS:-$(nproc)}" >/dev/null
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:symbolize=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
-declare -A MAX_LEN=([fuzz_obj]=4096 [fuzz_off]=4096 [fuzz_stl]=8192 [fuzz_scene]=8192)
-declare -A DICT=([fuzz_obj]=obj [fuzz_off]=off [fuzz_stl]=stl [fuzz_scene]=scene)
+declare -A MAX_LEN=([fuzz_obj]=4096 [fuzz_off]=4096 [fuzz_stl]=8192 [fuzz_scene]=8192 [fuzz_mesh]=8192)
+declare -A DICT=([fuzz_obj]=obj [fuzz_off]=off [fuzz_stl]=stl [fuzz_scene]=scene [fuzz_mesh]=mesh)
+# Seconds per input: fuzz_mesh runs TetGen (its tet budget is capped at 20000 in the
+# harness, well under a second; the limit catches a TetGen run that does not end).
+declare -A TIMEOUT=([fuzz_mesh]=30)
 failed=()
 summary=()
 for t in $TARGETS; do
@@ -43,7 +47,7 @@ for t in $TARGETS; do
   if [ -d "$ROOT/tests/fuzz/crashes/$t" ] && [ -n "$(ls -A "$ROOT/tests/fuzz/crashes/$t")" ]; then
     dirs+=("$ROOT/tests/fuzz/crashes/$t")
   fi
-  args=(-timeout=10 -rss_limit_mb=2048 -max_len="${MAX_LEN[$t]}" -print_final_stats=1
+  args=(-timeout="${TIMEOUT[$t]:-10}" -rss_limit_mb=2048 -max_len="${MAX_LEN[$t]}" -print_final_stats=1
         -dict="$ROOT/tests/fuzz/dict/${DICT[$t]}.dict" -artifact_prefix="$art")
   if [ "$SECONDS_EACH" = 0 ]; then args+=(-runs=0); else args+=(-max_total_time="$SECONDS_EACH"); fi
   echo "fuzz: $t for ${SECONDS_EACH} s (log: $log)"

@@ -1,6 +1,7 @@
 #include "sim/mesh/surface_generators.h"
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <tuple>
@@ -8,10 +9,20 @@
 #include <vector>
 
 namespace softtled {
+namespace {
+
+void check_triangle_count(const char* what, std::int64_t n, const std::string& why) {
+  if (n > kMaxGeneratedTriangles)
+    throw InputError(std::string(what) + ": " + why + " make " + std::to_string(n) + " triangles, more than " +
+                     std::to_string(kMaxGeneratedTriangles) + " (the mesh would exceed the tet budget)");
+}
+
+}  // namespace
 
 SurfaceMesh make_torus(double R, double r, int nu, int nv) {
-  if (!(R > 0) || !(r > 0) || !(r < R)) throw InputError("torus: need 0 < tube radius < major radius");
+  if (!(R > 0) || !(r > 0) || !(r < R) || !std::isfinite(R)) throw InputError("torus: need 0 < tube radius < major radius, finite");
   if (nu < 3 || nv < 3) throw InputError("torus: need at least 3 x 3 segments");
+  check_triangle_count("torus", 2 * std::int64_t(nu) * nv, std::to_string(nu) + " x " + std::to_string(nv) + " segments");
   SurfaceMesh s;
   const double pi = 3.14159265358979323846;
   for (int i = 0; i < nu; ++i) {
@@ -33,8 +44,10 @@ SurfaceMesh make_torus(double R, double r, int nu, int nv) {
 }
 
 SurfaceMesh make_box(double lx, double ly, double lz, int nx, int ny, int nz) {
-  if (!(lx > 0) || !(ly > 0) || !(lz > 0)) throw InputError("box: sides must be positive");
+  if (!(lx > 0) || !(ly > 0) || !(lz > 0) || !std::isfinite(lx + ly + lz)) throw InputError("box: sides must be positive and finite");
   if (nx < 1 || ny < 1 || nz < 1) throw InputError("box: divisions must be at least 1");
+  check_triangle_count("box", 4 * (std::int64_t(nx) * ny + std::int64_t(ny) * nz + std::int64_t(nz) * nx),
+                       std::to_string(nx) + " x " + std::to_string(ny) + " x " + std::to_string(nz) + " divisions");
   SurfaceMesh s;
   std::map<std::tuple<int, int, int>, int> index;  // lattice point -> vertex, shared by faces
   const int n[3] = {nx, ny, nz};
@@ -73,7 +86,7 @@ SurfaceMesh make_box(double lx, double ly, double lz, int nx, int ny, int nz) {
 }
 
 SurfaceMesh make_sphere(double r, int levels) {
-  if (!(r > 0)) throw InputError("sphere: radius must be positive");
+  if (!(r > 0) || !std::isfinite(r)) throw InputError("sphere: radius must be positive and finite");
   if (levels < 0 || levels > 7) throw InputError("sphere: subdivision levels must be 0..7");
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   std::vector<double> v = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,

@@ -4,6 +4,10 @@
 
 namespace softtled {
 
+// Generators refuse more triangles than this before allocating (the tet-count estimate
+// for 1 M surface triangles is already the default mesh budget of 5 M tets).
+constexpr long kMaxGeneratedTriangles = 1'000'000;
+
 // Torus with its axis along z, centred at the origin: major radius R (centre of the tube),
 // tube radius r, nu segments around the axis and nv around the tube, each quad split into
 // two triangles. The paper's torus: R = 7.5 mm, r = 2.5 mm, 91 x 19 -> 1729 points,

@@ -2,13 +2,19 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <tuple>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace softtled {
 namespace {
@@ -33,8 +39,132 @@ constexpr std::size_t kMaxElements = 50'000'000;  // refuse absurd counts before
 
 }  // namespace
 
+bool triangulate_polygon(const std::vector<double>& xyz, const std::vector<int>& poly, std::vector<int>& out) {
+  const int n = int(poly.size());
+  if (n < 3) return false;
+  if (n == 3) {
+    out.insert(out.end(), poly.begin(), poly.end());
+    return true;
+  }
+  const int npoint = int(xyz.size() / 3);
+  for (int i = 0; i < n; ++i) {
+    if (poly[i] < 0 || poly[i] >= npoint) return false;
+    for (int j = 0; j < i; ++j)
+      if (poly[i] == poly[j]) return false;
+  }
+  // Coordinates relative to the first vertex; Newell's normal of the polygon.
+  std::vector<double> p(3 * n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) p[3 * i + k] = xyz[3 * poly[i] + k] - xyz[3 * poly[0] + k];
+  double N[3] = {0, 0, 0};
+  for (int i = 0; i < n; ++i) {
+    const double* c = &p[3 * i];
+    const double* d = &p[3 * ((i + 1) % n)];
+    N[0] += (c[1] - d[1]) * (c[2] + d[2]);
+    N[1] += (c[2] - d[2]) * (c[0] + d[0]);
+    N[2] += (c[0] - d[0]) * (c[1] + d[1]);
+  }
+  const double len = std::sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+  if (!(len > 0) || !std::isfinite(len)) return false;
+  for (double& v : N) v /= len;
+  // In-plane basis (u, v) with u x v = N: the polygon projects counter-clockwise.
+  const int axis = std::fabs(N[0]) <= std::fabs(N[1]) && std::fabs(N[0]) <= std::fabs(N[2]) ? 0
+                   : std::fabs(N[1]) <= std::fabs(N[2])                                    ? 1
+                                                                                            : 2;
+  double e[3] = {0, 0, 0};
+  e[axis] = 1;
+  double u[3] = {N[1] * e[2] - N[2] * e[1], N[2] * e[0] - N[0] * e[2], N[0] * e[1] - N[1] * e[0]};
+  const double ul = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (double& x : u) x /= ul;
+  const double v[3] = {N[1] * u[2] - N[2] * u[1], N[2] * u[0] - N[0] * u[2], N[0] * u[1] - N[1] * u[0]};
+  std::vector<double> q(2 * n);
+  for (int i = 0; i < n; ++i) {
+    const double* c = &p[3 * i];
+    q[2 * i] = c[0] * u[0] + c[1] * u[1] + c[2] * u[2];
+    q[2 * i + 1] = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
+  }
+  auto cross = [&](int a, int b, int c) {  // (b - a) x (c - a), z component
+    return (q[2 * b] - q[2 * a]) * (q[2 * c + 1] - q[2 * a + 1]) - (q[2 * b + 1] - q[2 * a + 1]) * (q[2 * c] - q[2 * a]);
+  };
+  auto d2 = [&](int a, int b) {
+    const double dx = q[2 * b] - q[2 * a], dy = q[2 * b + 1] - q[2 * a + 1];
+    return dx * dx + dy * dy;
+  };
+  auto same = [&](int a, int b) { return q[2 * a] == q[2 * b] && q[2 * a + 1] == q[2 * b + 1]; };
+  // Strictly convex corner, with the same tolerance as the surface check's degenerate test.
+  auto convex = [&](int a, int b, int c) { return cross(a, b, c) > 1e-12 * std::max(d2(a, b), d2(a, c)); };
+  std::vector<int> prev(n), next(n);
+  for (int i = 0; i < n; ++i) prev[i] = (i + n - 1) % n, next[i] = (i + 1) % n;
+  const std::size_t out0 = out.size();
+  int m = n, cur = 0, misses = 0;
+  while (m > 3) {
+    const int a = prev[cur], b = cur, c = next[cur];
+    bool ear = convex(a, b, c);
+    // Only a corner that is not strictly convex can lie in the ear (or on its edges).
+    for (int r = next[c]; ear && r != a; r = next[r]) {
+      if (convex(prev[r], r, next[r]) || same(r, a) || same(r, b) || same(r, c)) continue;
+      if (cross(a, b, r) >= 0 && cross(b, c, r) >= 0 && cross(c, a, r) >= 0) ear = false;
+    }
+    if (ear) {
+      out.insert(out.end(), {poly[a], poly[b], poly[c]});
+      next[a] = c, prev[c] = a;
+      --m;
+      cur = c;
+      misses = 0;
+    } else {
+      cur = next[cur];
+      if (++misses > m) {  // a full turn without an ear: not a simple polygon
+        out.resize(out0);
+        return false;
+      }
+    }
+  }
+  if (!convex(prev[cur], cur, next[cur])) {
+    out.resize(out0);
+    return false;
+  }
+  out.insert(out.end(), {poly[prev[cur]], poly[cur], poly[next[cur]]});
+  return true;
+}
+
+namespace {
+
+// Triangulates the polygons collected by a parser once all vertices are known.
+struct PolygonList {
+  std::string name;                // file name for messages
+  bool by_line = true;             // tag is a line number (OBJ) or a face number (OFF)
+  std::vector<int> index;          // all polygons' vertex indices, one after another
+  std::vector<std::size_t> start;  // polygon k is index[start[k] .. start[k + 1])
+  std::vector<long> tag;           // line or face of polygon k, for messages
+  void add(const std::vector<int>& poly, long at) {
+    if (start.empty()) start.push_back(0);
+    index.insert(index.end(), poly.begin(), poly.end());
+    start.push_back(index.size());
+    tag.push_back(at);
+  }
+  std::string where(std::size_t k) const {
+    return by_line ? name + ":" + std::to_string(tag[k]) : name + ": face " + std::to_string(tag[k]);
+  }
+  void triangulate_into(SurfaceMesh& s) const {
+    std::vector<int> poly;
+    for (std::size_t k = 0; k + 1 < start.size(); ++k) {
+      poly.assign(index.begin() + start[k], index.begin() + start[k + 1]);
+      for (int v : poly)
+        if (v < 0 || v >= s.npoint())
+          throw InputError(where(k) + ": refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()) +
+                           " (0-based)");
+      if (!triangulate_polygon(s.xyz, poly, s.tri))
+        throw InputError(where(k) + ": face of " + std::to_string(poly.size()) +
+                         " vertices is not a simple polygon (it intersects itself, repeats a vertex or is degenerate)");
+    }
+  }
+};
+
+}  // namespace
+
 SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   SurfaceMesh s;
+  PolygonList polygons{name, true, {}, {}, {}};
   std::istringstream in(data);
   std::string line;
   int lineno = 0;
@@ -58,51 +188,143 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
         int idx = static_cast<int>(v);
         idx = idx > 0 ? idx - 1 : s.npoint() + idx;  // negative: relative to the end
         poly.push_back(idx);
+        if (poly.size() > std::size_t(kMaxPolygonVertices))
+          throw InputError(name + ":" + std::to_string(lineno) + ": face with more than " +
+                           std::to_string(kMaxPolygonVertices) + " vertices");
       }
       if (poly.size() < 3) throw InputError(name + ":" + std::to_string(lineno) + ": face with fewer than 3 vertices");
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) s.tri.insert(s.tri.end(), {poly[0], poly[k], poly[k + 1]});
+      polygons.add(poly, lineno);
     }
-    if (s.xyz.size() > 3 * kMaxElements || s.tri.size() > 3 * kMaxElements) throw InputError(name + ": too large");
+    if (s.xyz.size() > 3 * kMaxElements || polygons.index.size() > 3 * kMaxElements) throw InputError(name + ": too large");
   }
+  polygons.triangulate_into(s);
   check_and_orient_closed_surface(s, name);
   return s;
 }
 
-SurfaceMesh parse_off(const std::string& data, const std::string& name) {
-  std::istringstream in(data);
-  std::vector<std::string> tok;
-  std::string line;
-  while (std::getline(in, line)) {  // strip comments, keep tokens
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream ls(line);
-    std::string t;
-    while (ls >> t) tok.push_back(t);
-  }
-  std::size_t p = 0;
-  if (tok.empty() || tok[p] != "OFF") throw InputError(name + ": missing 'OFF' header");
-  ++p;
-  auto next = [&]() -> double {
-    if (p >= tok.size()) throw InputError(name + ": file ends early");
-    return to_number(tok[p++], name, 0);
-  };
-  const double nv = next(), nf = next();
-  next();  // edge count, unused
-  if (!(nv >= 0 && nf >= 0 && nv < kMaxElements && nf < kMaxElements))
-    throw InputError(name + ": bad vertex or face count");
-  SurfaceMesh s;
-  for (int i = 0; i < int(nv) * 3; ++i) s.xyz.push_back(next());
-  for (int f = 0; f < int(nf); ++f) {
-    const double k = next();
-    if (!(k >= 3 && k < 1000)) throw InputError(name + ": face " + std::to_string(f) + " has a bad vertex count");
-    std::vector<int> poly;
-    for (int j = 0; j < int(k); ++j) {
-      const double v = next();
-      if (v != std::floor(v) || v < 0 || v >= nv) throw InputError(name + ": face " + std::to_string(f) + " has a bad vertex index");
-      poly.push_back(int(v));
+namespace {
+
+// Tokens of an OFF file line by line ('#' starts a comment), so that a parser can tell
+// whether an entry fills its line (then trailing columns are colours or normals).
+class OffTokens {
+ public:
+  OffTokens(const std::string& data, const std::string& name) : d_(data), name_(name) {}
+  // Moves to the next line with tokens if the current one is used up; false at the end.
+  bool ensure() {
+    while (k_ == line_.size()) {
+      if (pos_ >= d_.size()) return false;
+      std::size_t eol = d_.find('\n', pos_);
+      if (eol == std::string::npos) eol = d_.size();
+      std::size_t end = d_.find('#', pos_);
+      if (end == std::string::npos || end > eol) end = eol;
+      ++lineno_;
+      line_.clear();
+      k_ = 0;
+      for (std::size_t i = pos_; i < end;) {
+        while (i < end && std::isspace(static_cast<unsigned char>(d_[i]))) ++i;
+        const std::size_t j0 = i;
+        while (i < end && !std::isspace(static_cast<unsigned char>(d_[i]))) ++i;
+        if (i > j0) line_.emplace_back(d_.substr(j0, i - j0));
+      }
+      pos_ = eol + 1;
     }
-    for (std::size_t j = 1; j + 1 < poly.size(); ++j) s.tri.insert(s.tri.end(), {poly[0], poly[j], poly[j + 1]});
+    return true;
   }
+  bool at_line_start() const { return k_ == 0; }
+  const std::string& peek() const { return line_[k_]; }  // needs left_in_line() > 0
+  std::size_t left_in_line() const { return line_.size() - k_; }
+  const std::string& take() {
+    if (!ensure()) throw InputError(name_ + ": file ends early (line " + std::to_string(lineno_) + ")");
+    return line_[k_++];
+  }
+  double number() { return to_number(take(), name_, lineno_); }
+  // An integer in [lo, hi]; `what` names it in the message.
+  long integer(long lo, long hi, const std::string& what) {
+    const std::string& t = take();
+    const double v = to_number(t, name_, lineno_);
+    if (v != std::floor(v) || !(v >= lo && v <= hi))
+      throw InputError(at() + ": " + what + " '" + t + "' is not an integer in " + std::to_string(lo) + ".." +
+                       std::to_string(hi));
+    return long(v);
+  }
+  std::string at() const { return name_ + ":" + std::to_string(lineno_); }
+
+ private:
+  const std::string& d_;
+  const std::string& name_;
+  std::size_t pos_ = 0;
+  int lineno_ = 0;
+  std::vector<std::string> line_;
+  std::size_t k_ = 0;
+};
+
+}  // namespace
+
+SurfaceMesh parse_off(const std::string& data, const std::string& name) {
+  OffTokens in(data, name);
+  // Header: [ST][C][N][4][n]OFF (geomview's OFF format).
+  if (!in.ensure()) throw InputError(name + ": missing 'OFF' header");
+  const std::string header = in.take();
+  std::size_t h = 0;
+  bool texture = false, colour = false, normal = false;
+  if (header.compare(0, 2, "ST") == 0) texture = true, h += 2;
+  if (h < header.size() && header[h] == 'C') colour = true, ++h;
+  if (h < header.size() && header[h] == 'N') normal = true, ++h;
+  if (header.substr(h) != "OFF") {
+    if (header.size() > 3 && header.compare(header.size() - 3, 3, "OFF") == 0)
+      throw InputError(name + ": header '" + header + "': only 3-D OFF with the prefixes ST, C and N is supported");
+    throw InputError(name + ": missing 'OFF' header");
+  }
+  if (in.left_in_line() > 0 && in.peek() == "BINARY") throw InputError(name + ": binary OFF is not supported (write it as text)");
+  // Counts: "nv nf ne" or "nv nf", on their own line or after the header; when more
+  // numbers follow on that line (everything on one line), exactly three.
+  in.ensure();
+  const std::size_t ncounts = in.left_in_line() == 2 || in.left_in_line() == 3 ? in.left_in_line() : 3;
+  const long nv = in.integer(0, long(kMaxElements), "vertex count");
+  const long nf = in.integer(0, long(kMaxElements), "face count");
+  if (ncounts == 3) in.integer(0, std::numeric_limits<long>::max() / 2, "edge count");  // unused
+  SurfaceMesh s;
+  s.xyz.reserve(3 * std::size_t(std::min<long>(nv, long(data.size() / 6 + 1))));
+  // Vertex columns: x y z, normal (N), colour (C: RGB or RGBA), texture s t (ST). One
+  // vertex per line (then up to 4 trailing colour values are accepted with or without C)
+  // or, when the first vertex line holds more, a plain stream of numbers.
+  const std::size_t fixed = 3 + (normal ? 3 : 0) + (texture ? 2 : 0);
+  bool per_line = true;
+  if (nv > 0) {
+    in.ensure();
+    per_line = in.at_line_start() && in.left_in_line() <= fixed + 4;
+  }
+  for (long i = 0; i < nv; ++i) {
+    std::size_t extra = colour ? 4 : 0;  // stream: geomview's RGBA
+    if (per_line) {
+      in.ensure();
+      if (!in.at_line_start() || in.left_in_line() < fixed)
+        throw InputError(in.at() + ": vertex " + std::to_string(i) + " needs " + std::to_string(fixed) + " numbers on its line");
+      extra = in.left_in_line() - fixed;
+      if (extra > 4)
+        throw InputError(in.at() + ": vertex " + std::to_string(i) + " has " + std::to_string(in.left_in_line()) +
+                         " numbers; expected " + std::to_string(fixed) + " and at most 4 colour values");
+    }
+    for (int k = 0; k < 3; ++k) s.xyz.push_back(in.number());
+    for (std::size_t k = 3; k < fixed + extra; ++k) in.number();  // normal, colour, texture: checked, unused
+  }
+  PolygonList polygons{name, false, {}, {}, {}};
+  std::vector<int> poly;
+  for (long f = 0; f < nf; ++f) {
+    in.ensure();
+    const bool starts_line = in.at_line_start();
+    const std::size_t on_line = in.left_in_line();
+    const std::string face = "face " + std::to_string(f);
+    const long k = in.integer(3, kMaxPolygonVertices, face + ": vertex count");
+    poly.clear();
+    for (long j = 0; j < k; ++j) poly.push_back(int(in.integer(0, std::max(0L, nv - 1), face + ": vertex index")));
+    // Trailing colour on the face's own line: none, a colour-map index, RGB or RGBA.
+    if (starts_line && on_line >= std::size_t(k) + 1 && on_line - std::size_t(k) - 1 <= 4)
+      for (std::size_t c = on_line - std::size_t(k) - 1; c > 0; --c) in.number();
+    polygons.add(poly, f);
+  }
+  if (in.ensure()) throw InputError(in.at() + ": unexpected data after the last face ('" + in.peek() + "')");
+  polygons.triangulate_into(s);
   check_and_orient_closed_surface(s, name);
   return s;
 }
@@ -165,24 +387,75 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
   return s;
 }
 
-SurfaceMesh load_surface(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path + ": cannot open file");
-  std::ostringstream buf;
-  buf << f.rdbuf();
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only) {
+  auto os_error = [&](const char* what) { return InputError(path + ": " + what + ": " + std::strerror(errno)); };
+  auto kind = [](mode_t m) {
+    return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
+         : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "not a plain file";
+  };
+  auto check = [&](const struct stat& st) {
+    if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file (" + kind(st.st_mode) + ")");
+    if (std::uint64_t(st.st_size) > max_bytes)
+      throw InputError(path + ": " + std::to_string(st.st_size) + " bytes, above the limit of " + std::to_string(max_bytes) +
+                       " bytes for input files");
+  };
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) throw os_error("cannot open file");
+  if (check_only) {
+    if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file (" + kind(st.st_mode) + ")");
+    return {};
+  }
+  check(st);  // before opening: opening a FIFO blocks until a writer comes
+  // O_NONBLOCK: should the path have become a FIFO since stat, open still returns.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw os_error("cannot open file");
+  std::string data;
+  try {
+    if (::fstat(fd, &st) != 0) throw os_error("cannot open file");
+    check(st);
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0) throw os_error("cannot open file");
+    data.reserve(std::size_t(st.st_size) + 1);
+    std::vector<char> buf(1 << 16);
+    for (;;) {
+      const ssize_t r = ::read(fd, buf.data(), buf.size());
+      if (r < 0) {
+        if (errno == EINTR) continue;
+        throw os_error("read error");
+      }
+      if (r == 0) break;
+      if (std::uint64_t(data.size()) + std::uint64_t(r) > max_bytes)  // it grew since fstat
+        throw InputError(path + ": above the limit of " + std::to_string(max_bytes) + " bytes for input files");
+      data.append(buf.data(), std::size_t(r));
+    }
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd);
+  return data;
+}
+
+SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes) {
   const std::string ext = lower_ext(path);
-  if (ext == "obj") return parse_obj(buf.str(), path);
-  if (ext == "off") return parse_off(buf.str(), path);
-  if (ext == "stl") return parse_stl(buf.str(), path);
-  throw InputError(path + ": unknown surface format '." + ext + "' (use .obj, .off or .stl)");
+  const bool known = ext == "obj" || ext == "off" || ext == "stl";
+  // What the path is comes first (a directory or device is named as such), then the format.
+  const std::string data = read_input_file(path, known ? max_bytes : 0, !known);
+  if (!known) throw InputError(path + ": unknown surface format '." + ext + "' (use .obj, .off or .stl)");
+  if (ext == "obj") return parse_obj(data, path);
+  if (ext == "off") return parse_off(data, path);
+  return parse_stl(data, path);
 }
 
 void write_obj(const SurfaceMesh& s, const std::string& path) {
   std::ofstream o(path);
-  if (!o) throw InputError(path + ": cannot write");
+  if (!o) throw InputError(path + ": cannot write: " + std::strerror(errno));
   o.precision(17);
   for (int i = 0; i < s.npoint(); ++i) o << "v " << s.xyz[3 * i] << ' ' << s.xyz[3 * i + 1] << ' ' << s.xyz[3 * i + 2] << '\n';
   for (int t = 0; t < s.ntri(); ++t) o << "f " << s.tri[3 * t] + 1 << ' ' << s.tri[3 * t + 1] + 1 << ' ' << s.tri[3 * t + 2] + 1 << '\n';
+  errno = 0;
+  o.close();  // flushes: a full disk shows here
+  if (!o) throw InputError(path + ": write failed" + (errno ? std::string(": ") + std::strerror(errno) : std::string()));
 }
 
 }  // namespace softtled

@@ -9,11 +9,18 @@
 namespace softtled {
 
 double enclosed_volume(const SurfaceMesh& s) {
+  // Relative to the first vertex, not the origin: far from the origin the determinants
+  // of absolute coordinates cancel (a 20 mm torus 1 km away lost 15 % of its volume).
+  if (s.xyz.size() < 3) return 0;
+  const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
   double v = 0;
   for (int t = 0; t < s.ntri(); ++t) {
-    const double* a = &s.xyz[3 * s.tri[3 * t]];
-    const double* b = &s.xyz[3 * s.tri[3 * t + 1]];
-    const double* c = &s.xyz[3 * s.tri[3 * t + 2]];
+    double p[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) p[k][d] = s.xyz[3 * s.tri[3 * t + k] + d] - o[d];
+    const double* a = p[0];
+    const double* b = p[1];
+    const double* c = p[2];
     v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
           a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
   }

@@ -1,0 +1,245 @@
+// Surface loaders: only regular files, with the OS reason in errors and a size cap;
+// polygon faces ear-clipped (concave faces keep their shape); the OFF variants found in
+// the wild (colour columns, COFF, comments, short counts line).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fcntl.h>
+#include <fstream>
+#include <future>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "sim/mesh/surface_generators.h"
+#include "sim/mesh/surface_io.h"
+#include "sim/mesh/tetgen_mesher.h"
+
+using namespace softtled;
+
+namespace {
+
+std::string data_dir() {
+  const std::string f = __FILE__;
+  return f.substr(0, f.find_last_of('/')) + "/data/";
+}
+
+std::string load_error(const std::string& path, std::uint64_t max_bytes = kDefaultMaxSurfaceBytes) {
+  try {
+    load_surface(path, max_bytes);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+void write_file(const std::string& path, const std::string& content) {
+  std::ofstream o(path, std::ios::binary);
+  o << content;
+}
+
+double mesh_volume(const TetMesh& m) {
+  double v = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    v += tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
+  }
+  return v;
+}
+
+double polygon_area_2d(const std::vector<double>& xyz, const std::vector<int>& tri) {  // z = 0 plane, signed
+  double a = 0;
+  for (std::size_t t = 0; t < tri.size(); t += 3) {
+    const double* p = &xyz[3 * tri[t]];
+    const double* q = &xyz[3 * tri[t + 1]];
+    const double* r = &xyz[3 * tri[t + 2]];
+    a += 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+  }
+  return a;
+}
+
+}  // namespace
+
+// A directory gave "empty surface", /dev/null too, and a FIFO blocked forever.
+TEST(SurfaceFiles, OnlyRegularFilesAreRead) {
+  const std::string d = ::testing::TempDir();
+  const std::string dir = d + "a_directory.obj";
+  ::mkdir(dir.c_str(), 0755);
+  std::string e = load_error(dir);
+  EXPECT_NE(e.find("not a regular file (a directory)"), std::string::npos) << e;
+  EXPECT_NE(e.find(dir), std::string::npos) << e;
+  e = load_error("/dev/null.obj");  // no such file: the OS reason is in the message
+  EXPECT_NE(e.find("cannot open file: No such file or directory"), std::string::npos) << e;
+  e = load_error("/dev/null");  // what the path is comes before its (missing) extension
+  EXPECT_NE(e.find("/dev/null: not a regular file (a character device)"), std::string::npos) << e;
+  e = load_error(d);
+  EXPECT_NE(e.find("not a regular file (a directory)"), std::string::npos) << e;
+  try {
+    read_input_file("/dev/null", 1 << 20);
+    ADD_FAILURE() << "/dev/null read";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("not a regular file (a character device)"), std::string::npos) << err.what();
+  }
+  const std::string fifo = d + "a_fifo.off";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  auto pending = std::async(std::launch::async, [&] { return load_error(fifo); });
+  if (pending.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+    ADD_FAILURE() << "load_surface blocked on a FIFO";
+    const int w = ::open(fifo.c_str(), O_WRONLY);  // let it return so the test can end
+    if (w >= 0) ::close(w);
+  }
+  e = pending.get();
+  EXPECT_NE(e.find("not a regular file (a FIFO)"), std::string::npos) << e;
+  std::remove(fifo.c_str());
+  ::rmdir(dir.c_str());
+}
+
+TEST(SurfaceFiles, ErrorsCarryTheOsReasonAndSizeIsCapped) {
+  const std::string d = ::testing::TempDir();
+  const std::string f = d + "tetra.obj";
+  write_file(f, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+  EXPECT_EQ(load_surface(f).ntri(), 4);
+  std::string e = load_error(f, 20);  // the cap is an argument (default kDefaultMaxSurfaceBytes)
+  EXPECT_NE(e.find("above the limit of 20 bytes"), std::string::npos) << e;
+  EXPECT_EQ(kDefaultMaxSurfaceBytes, 512ull << 20);
+  if (::geteuid() != 0) {  // root reads anything
+    ::chmod(f.c_str(), 0);
+    e = load_error(f);
+    EXPECT_NE(e.find("Permission denied"), std::string::npos) << e;
+    ::chmod(f.c_str(), 0644);
+  }
+  e = load_error(d + "missing/dir/x.stl");
+  EXPECT_NE(e.find("cannot open file: No such file or directory"), std::string::npos) << e;
+  // Writes are checked to the end: a full device is an error, not a short file.
+  try {
+    write_obj(make_box(1, 1, 1, 8, 8, 8), "/dev/full");
+    ADD_FAILURE() << "write to /dev/full succeeded";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("No space left on device"), std::string::npos) << err.what();
+  }
+  std::remove(f.c_str());
+}
+
+// Concave faces were fan-triangulated from their first vertex, which leaves the polygon:
+// the L prism was rejected as self-intersecting. Ear clipping keeps its volume.
+TEST(SurfaceFiles, ConcavePolygonFacesKeepTheirShape) {
+  for (const char* f : {"l_prism.obj", "l_prism_colours.off"}) {
+    const SurfaceMesh s = load_surface(data_dir() + f);
+    EXPECT_EQ(s.ntri(), 2 * 4 + 6 * 2) << f;  // two hexagons (4 triangles each), six quads
+    EXPECT_NEAR(enclosed_volume(s), 3.0, 1e-12) << f;
+    const TetMesh m = tetrahedralize_surface(s, TetgenOptions{});
+    EXPECT_NEAR(mesh_volume(m), 3.0, 1e-9) << f;
+  }
+}
+
+TEST(SurfaceFiles, EarClippingTriangulatesSimplePolygonsOnly) {
+  // A ten-pointed star in z = 0, slightly warped (best-fit plane), area known.
+  std::vector<double> xyz;
+  std::vector<int> star;
+  const double pi = 3.14159265358979323846;
+  double area = 0;
+  for (int i = 0; i < 20; ++i) {
+    const double r = i % 2 ? 0.4 : 1.0, a = 2 * pi * i / 20;
+    xyz.insert(xyz.end(), {r * std::cos(a), r * std::sin(a), 1e-9 * (i % 3)});
+    star.push_back(i);
+  }
+  for (int i = 0; i < 20; ++i) {
+    const double* p = &xyz[3 * i];
+    const double* q = &xyz[3 * ((i + 1) % 20)];
+    area += 0.5 * (p[0] * q[1] - q[0] * p[1]);
+  }
+  std::vector<int> tri;
+  ASSERT_TRUE(triangulate_polygon(xyz, star, tri));
+  EXPECT_EQ(tri.size(), 3u * 18);
+  EXPECT_NEAR(polygon_area_2d(xyz, tri), area, 1e-9);  // every triangle inside, same orientation
+  // The same star clockwise: triangles clockwise too.
+  std::vector<int> reversed(star.rbegin(), star.rend()), tri_r;
+  ASSERT_TRUE(triangulate_polygon(xyz, reversed, tri_r));
+  EXPECT_NEAR(polygon_area_2d(xyz, tri_r), -area, 1e-9);
+  // A square with a vertex in the middle of each side: no zero-area triangles.
+  std::vector<double> sq = {0, 0, 0, 1, 0, 0, 2, 0, 0, 2, 1, 0, 2, 2, 0, 1, 2, 0, 0, 2, 0, 0, 1, 0};
+  std::vector<int> ring = {0, 1, 2, 3, 4, 5, 6, 7}, tsq;
+  ASSERT_TRUE(triangulate_polygon(sq, ring, tsq));
+  EXPECT_EQ(tsq.size(), 3u * 6);
+  for (std::size_t t = 0; t < tsq.size(); t += 3)
+    EXPECT_GT(polygon_area_2d(sq, {tsq[t], tsq[t + 1], tsq[t + 2]}), 1e-3) << "triangle " << t / 3;
+  EXPECT_NEAR(polygon_area_2d(sq, tsq), 4.0, 1e-12);
+  // A bow tie crosses itself; repeated or collinear vertices have no triangulation.
+  std::vector<double> bow = {0, 0, 0, 1, 1, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<int> none;
+  EXPECT_FALSE(triangulate_polygon(bow, {0, 1, 2, 3}, none));
+  EXPECT_FALSE(triangulate_polygon(sq, {0, 1, 2, 1}, none));
+  const std::vector<double> line = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+  EXPECT_FALSE(triangulate_polygon(line, {0, 1, 2, 3}, none));
+  EXPECT_TRUE(none.empty());
+  const std::string d = ::testing::TempDir();
+  write_file(d + "bowtie.obj", "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 5 2\nf 2 5 3\nf 3 5 4\nf 4 5 1\n");
+  const std::string e = load_error(d + "bowtie.obj");
+  EXPECT_NE(e.find("bowtie.obj:6: face of 4 vertices is not a simple polygon"), std::string::npos) << e;
+}
+
+// OFF with per-face colours was rejected. Colour columns, COFF, comments, the counts line
+// with or without the edge count, counts after the header, one-line files: all load the
+// same cube.
+TEST(SurfaceFiles, OffVariantsLoad) {
+  const SurfaceMesh ref = make_box(1, 1, 1, 1, 1, 1);
+  const std::string v = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+  const std::string f = "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  std::string vc, fc, vn;  // per-vertex RGBA, per-face RGB, normals
+  {
+    std::istringstream vs(v), fs(f);
+    for (std::string l; std::getline(vs, l);) vc += l + " 0.5 0.5 0.5 1\n", vn += l + " 0 0 1\n";
+    for (std::string l; std::getline(fs, l);) fc += l + " 255 128 0\n";
+  }
+  const std::string d = ::testing::TempDir();
+  const struct {
+    const char* name;
+    std::string text;
+  } variants[] = {
+      {"plain", "OFF\n8 6 12\n" + v + f},
+      {"no_edge_count", "OFF\n8 6\n" + v + f},
+      {"counts_on_header_line", "OFF 8 6 12\n" + v + f},
+      {"face_colours", "OFF\n8 6 0\n" + v + fc},
+      {"coff", "COFF\n8 6 12\n" + vc + fc},
+      {"noff", "NOFF\n8 6 12\n" + vn + f},
+      {"comments", "# made by hand\nOFF # header\n\n8 6 12 # counts\n" + v + "# faces\n" + f + "# end\n"},
+      {"one_line_vertices", "OFF 8 6 12\n0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\n" + f},
+      {"crlf", "OFF\r\n8 6 12\r\n0 0 0\r\n1 0 0\r\n1 1 0\r\n0 1 0\r\n0 0 1\r\n1 0 1\r\n1 1 1\r\n0 1 1\r\n" + f},
+  };
+  for (const auto& c : variants) {
+    const std::string path = d + c.name + ".off";
+    write_file(path, c.text);
+    try {
+      const SurfaceMesh s = load_surface(path);
+      EXPECT_EQ(s.npoint(), 8) << c.name;
+      EXPECT_NEAR(enclosed_volume(s), 1.0, 1e-12) << c.name;
+    } catch (const InputError& e) {
+      ADD_FAILURE() << c.name << ": " << e.what();
+    }
+    std::remove(path.c_str());
+  }
+  EXPECT_NEAR(enclosed_volume(load_surface(data_dir() + "cube_coff.off")), 1.0, 1e-12);
+  // What is still refused, clearly.
+  const struct {
+    const char* name;
+    std::string text;
+    const char* fragment;
+  } bad[] = {
+      {"binary", "OFF BINARY\n", "binary OFF"},
+      {"four_d", "4OFF\n8 6 12\n", "only 3-D OFF"},
+      {"trailing", "OFF\n8 6 12\n" + v + f + "4 0 1 2 3\n", "unexpected data after the last face"},
+      {"too_many_colours", "OFF\n8 6 12\n" + v + "4 0 3 2 1 1 2 3 4 5\n", "face"},
+      {"fractional_count", "OFF\n8.5 6 12\n", "vertex count '8.5'"},
+  };
+  for (const auto& c : bad) {
+    const std::string path = d + c.name + ".off";
+    write_file(path, c.text);
+    const std::string e = load_error(path);
+    EXPECT_NE(e.find(c.fragment), std::string::npos) << c.name << ": " << e;
+    std::remove(path.c_str());
+  }
+}
