@@ -21,6 +21,7 @@
 
 #include "commands.h"
 #include "sim/fem/central_difference.h"
+#include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
@@ -134,19 +135,18 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
     }
     return stats_of(us).median;
   };
-  const int ne = r.ntet, n = r.nnode;
   StageRow s;
   s.forces = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
+#pragma omp parallel num_threads(threads)
+    cpu_element_stage(m, mat, kT4, b.u, AnpScratch<T>{}, b.fcorner);
   });
   s.update = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int i = 0; i < n; ++i) node_update(m, b, sp_free, i);
+#pragma omp parallel num_threads(threads)
+    cpu_node_stage(m, b, sp_free);
   });
   const double with_contact = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+#pragma omp parallel num_threads(threads)
+    cpu_node_stage(m, b, sp);
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);

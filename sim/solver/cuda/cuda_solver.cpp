@@ -63,12 +63,9 @@ struct DeviceRest {
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
-  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i  } the node stage's one-slot gather
-  DeviceBuffer<int> zeros;  // nnode: 0                } table (tled_kernels.h, StepArgs)
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
   TetMeshView<T> view;
-  TetMeshView<T> node_view;  // view with the one-slot gather table (StepArgs::mn)
   SurfaceView surface;
 };
 
@@ -139,14 +136,6 @@ class CudaSolver final : public CudaSolverApi {
     v.gather_start = rest_.gather_start.data();
     v.gather_slot = rest_.gather_slot.data();
     v.flags = rest_.flags.data();
-    std::vector<int> ident(std::size_t(n_) + 1);
-    for (int i = 0; i <= n_; ++i) ident[i] = i;
-    rest_.ident.upload(ident);
-    rest_.zeros.upload(std::vector<int>(std::size_t(std::max(n_, 1)), 0));
-    rest_.node_view = v;
-    rest_.node_view.ntet = 1;  // gather_node_force's component stride 4 * ntet = 4
-    rest_.node_view.gather_start = rest_.ident.data();
-    rest_.node_view.gather_slot = rest_.zeros.data();
     build_fused_blocks(r.gather_start);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
@@ -287,7 +276,7 @@ class CudaSolver final : public CudaSolverApi {
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
     StageTimes t;
     t.reps = reps;
-    // Element stage: tet_corner_forces, or the three T4ANP kernels together.
+    // Element stage: element_corner_forces, or the three T4ANP kernels together.
     t.forces_us = time_graph(reps, [&] { return launch_element_stage(a, pdl); }) / reps;
     t.update_contact_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a); }) / reps;
     t.update_only_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a_free); }) / reps;
@@ -445,7 +434,6 @@ class CudaSolver final : public CudaSolverApi {
     a.mat = mat_;
     a.p = p;
     a.lanes = lanes_;
-    a.mn = rest_.node_view;
     a.anp = element_ == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());

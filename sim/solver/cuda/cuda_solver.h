@@ -2,8 +2,8 @@
 // CUDA backend of Solver (issue 3). Plain C++ header: no CUDA types, so the factory, the
 // bench and the tests include it with the ordinary compiler.
 //
-// One step = element kernel (tet_corner_forces) then node kernel (node_update: gather,
-// central difference, plane contact). With PhysicsParams::element == kT4ANP the element
+// One step = element kernel (element_corner_forces) then node kernel (gather_node_force,
+// update_node: central difference, plane contact). With PhysicsParams::element == kT4ANP the element
 // kernel is three (anp.h: element volumes, nodal pressures, corner forces), in every
 // mode below. How the steps reach the GPU is the ExecMode:
 //   plain       two stream launches per step

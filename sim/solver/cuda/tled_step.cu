@@ -68,7 +68,7 @@ __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T
   if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
   pdl_wait();  // u is written by the previous step's node stage
   if (e >= m.ntet) return;
-  tet_corner_forces(m, mat, u, fcorner, e);
+  element_corner_forces(m, mat, u, fcorner, e);
 }
 
 template <class T, bool kPrefetch>
@@ -78,7 +78,9 @@ __global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T
   if (kPrefetch && i < m.nnode) prefetch_node_rest(m, i);
   pdl_wait();  // fcorner is written by the element stage
   if (i >= m.nnode) return;
-  node_update(m, b, p, i);
+  T f[3];
+  gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
+  update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i);
 }
 
 // ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
@@ -154,7 +156,7 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
   const int stride = 4 * a.m.ntet;
   const T* fc = a.b.fcorner;
   if (g.lane == 1 && g.i < a.m.nnode) {
-    // node_update's live reads, in flight together with the corner loads below (only
+    // update_node's live reads, in flight together with the corner loads below (only
     // after the grid dependency: the previous node stage writes them).
     const int n = a.m.nnode;
     for (int k = 0; k < 3; ++k) {
@@ -182,15 +184,7 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
 #pragma unroll
   for (int off = G / 2; off > 0; off /= 2)
     for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
-  if (g.lane == 0 && g.i < a.m.nnode) {
-    // The sum goes to node_update as the node's one "corner": slot 0 of a per-thread
-    // array, component stride 4 (mn.ntet = 1, mn.gather_slot[i] = 0).
-    T one[12];
-    for (int k = 0; k < 3; ++k) one[4 * k] = f[k];
-    BodyStateView<T> bn = a.b;
-    bn.fcorner = one;
-    node_update(a.mn, bn, a.p, g.i);
-  }
+  if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i);
 }
 
 template <class T, int G, bool kPrefetch>
@@ -198,10 +192,8 @@ __global__ void node_lanes_kernel(const StepArgs<T> a) {
   pdl_launch_dependents();
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
-  if (kPrefetch && g.lane == 0 && g.i < a.m.nnode) {
-    const TetMeshView<T>& m = a.mn;
-    prefetch_l1(m.gather_start + g.i);
-    prefetch_l1(m.gather_slot + g.i);
+  if (kPrefetch && g.lane == 0 && g.i < a.m.nnode) {  // update_node's rest reads
+    const TetMeshView<T>& m = a.m;
     prefetch_l1(m.flags + g.i);
     prefetch_l1(m.inv_mass + g.i);
     for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + g.i);
@@ -212,8 +204,8 @@ __global__ void node_lanes_kernel(const StepArgs<T> a) {
 
 // T4ANP nodal pressure with G lanes per node (same lane layout as the node stage): each
 // lane sums V0_e J_e and V0_e over every G-th corner of the node's gather list, all loads
-// in flight at once, a fixed shuffle tree adds the partial sums, and the first lane calls
-// anp_node_pressure on the one-slot view mn with the two sums as its single element. A
+// in flight at once, a fixed shuffle tree adds the partial sums, and the first lane turns
+// them into the pressure (anp_pressure, the value function the one-lane stage calls). A
 // thread-per-node gather waits a memory latency per few corners (60 on the torus).
 // Every lane of the warp must call this (the shuffles use the full mask).
 template <class T, int G>
@@ -245,12 +237,7 @@ __device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const L
     sv += __shfl_down_sync(0xffffffffu, sv, off, G);
     sv0 += __shfl_down_sync(0xffffffffu, sv0, off, G);
   }
-  if (g.lane == 0 && g.i < a.m.nnode) {
-    const T one_v[1] = {sv}, one_v0[1] = {sv0};
-    TetMeshView<T> mn = a.mn;  // gather_start[i] = i, gather_slot[i] = 0, ntet = 1
-    mn.vol = one_v0;
-    anp_node_pressure(mn, a.mat, one_v, a.p_node, g.i);
-  }
+  if (g.lane == 0 && g.i < a.m.nnode) a.p_node[g.i] = anp_pressure(a.mat, sv, sv0);
 }
 
 template <class T, int G, bool kPrefetch>
@@ -275,7 +262,8 @@ template <class T>
 struct CornerRest {
   int node[4];  // the element's nodes (m.tet)
   T g[12];      // the element's dh/dX (all four corners: deformation_gradient)
-  T ga[3];      // dh_a/dX of this corner
+  T ga[3];      // dh_a/dX of this corner (loaded again: indexing g by a runtime corner
+                // would move g from registers to local memory)
   T vol;
 };
 
@@ -285,67 +273,25 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
   const int a = s / m.ntet, e = s - a * m.ntet;
 #pragma unroll
   for (int b = 0; b < 4; ++b) r.node[b] = m.tet[b * m.ntet + e];
-#pragma unroll
-  for (int c = 0; c < 12; ++c) r.g[c] = m.dhdX[c * m.ntet + e];
+  load_dhdX(m, e, r.g);
 #pragma unroll
   for (int k = 0; k < 3; ++k) r.ga[k] = m.dhdX[(a * 3 + k) * m.ntet + e];
   r.vol = m.vol[e];
 }
 
-// The force of one corner, bit for bit what tet_corner_forces (tet_forces.h) writes for
-// it: the same deformation_gradient, neo_hookean_pk1 and corner_force_from_stress calls on
-// a one-element view of the same numbers
-// (--fmad=false: no contraction, so the same operations round the same way).
+// The force of one corner, bit for bit what element_corner_forces (tet_forces.h) writes
+// for it: the same deformation_gradient, neo_hookean_pk1 and corner_force value functions
+// on the same numbers (--fmad=false: no contraction, so the same operations round the
+// same way).
 template <class T>
-__device__ __forceinline__ void corner_force(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
-                                             const CornerRest<T>& r, T f[3]) {
-  TetMeshView<T> lv;  // element 0 of a one-element view; nnode stays (u's stride)
-  lv.ntet = 1;
-  lv.nnode = m.nnode;
-  lv.tet = r.node;
-  lv.dhdX = r.g;
-  const Mat3<T> F = deformation_gradient(lv, u, 0);
-  const Mat3<T> P = neo_hookean_pk1(mat, F);
-  corner_force_from_stress(P, r.vol, r.ga, f);
-}
-
-// node_update on node i with its summed force f, on one-node copies of its arrays (so it
-// reads u_prev / du_prev and the result goes to u_next / du_next, not in place).
-template <class T>
-__device__ __forceinline__ void fused_node_update(const StepArgs<T>& a, int i, const T f[3], const T* __restrict__ u_prev,
-                                                  const T* __restrict__ du_prev, T* __restrict__ u_next,
-                                                  T* __restrict__ du_next) {
-  const int n = a.m.nnode;
-  T x0[3], uu[3], dd[3], fe[3], one[12];
+__device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int nnode, const T* __restrict__ u,
+                                                   const CornerRest<T>& r, T f[3]) {
+  T ue[4][3];
 #pragma unroll
-  for (int k = 0; k < 3; ++k) {
-    x0[k] = a.m.X0[k * n + i];
-    uu[k] = u_prev[k * n + i];
-    dd[k] = du_prev[k * n + i];
-    fe[k] = a.b.fext ? a.b.fext[k * n + i] : T(0);
-    one[4 * k] = f[k];
-  }
-  const int gs[2] = {0, 1}, gslot[1] = {0};
-  TetMeshView<T> m1;  // node 0 of a one-node view: one corner (slot 0, stride 4)
-  m1.ntet = 1;
-  m1.nnode = 1;
-  m1.X0 = x0;
-  m1.inv_mass = a.m.inv_mass + i;
-  m1.flags = a.m.flags + i;
-  m1.gather_start = gs;
-  m1.gather_slot = gslot;
-  BodyStateView<T> b1;
-  b1.u = uu;
-  b1.du = dd;
-  b1.fcorner = one;
-  b1.contact = a.b.contact + i;
-  b1.fext = fe;  // always (0 without user forces: node_update's own fallback value), so fe stays in registers
-  node_update(m1, b1, a.p, 0);
+  for (int b = 0; b < 4; ++b)
 #pragma unroll
-  for (int k = 0; k < 3; ++k) {
-    u_next[k * n + i] = uu[k];
-    du_next[k * n + i] = dd[k];
-  }
+    for (int k = 0; k < 3; ++k) ue[b][k] = u[k * nnode + r.node[b]];
+  corner_force(neo_hookean_pk1(mat, deformation_gradient(r.g, ue)), r.vol, r.ga, f);
 }
 
 template <class T, int G>
@@ -377,13 +323,13 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   pdl_wait();  // u_prev is written by the previous step
   if (first) {
     T f[3];
-    corner_force(m, a.mat, u_prev, r, f);
+    fused_corner_force(a.mat, m.nnode, u_prev, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + tid] = f[k];
   }
   for (int j = jb + tid + nt; j < je; j += nt) {
     load_corner_rest(m, j, r);
     T f[3];
-    corner_force(m, a.mat, u_prev, r, f);
+    fused_corner_force(a.mat, m.nnode, u_prev, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - jb)] = f[k];
   }
   __syncthreads();
@@ -407,7 +353,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
 #pragma unroll
     for (int off = G / 2; off > 0; off /= 2)
       for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
-    if (valid && lane == 0) fused_node_update(a, i, f, u_prev, du_prev, u_next, du_next);
+    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i);
   }
 }
 
@@ -431,11 +377,15 @@ __global__ void persistent_steps_kernel(const StepArgs<T> a, int nsteps) {
       grid.sync();
       for (int e = first; e < a.m.ntet; e += stride) anp_corner_forces(a.m, a.mat, a.b.u, a.p_node, a.b.fcorner, e);
     } else {
-      for (int e = first; e < a.m.ntet; e += stride) tet_corner_forces(a.m, a.mat, a.b.u, a.b.fcorner, e);
+      for (int e = first; e < a.m.ntet; e += stride) element_corner_forces(a.m, a.mat, a.b.u, a.b.fcorner, e);
     }
     grid.sync();
     if (G == 1) {
-      for (int i = first; i < a.m.nnode; i += stride) node_update(a.m, a.b, a.p, i);
+      for (int i = first; i < a.m.nnode; i += stride) {
+        T f[3];
+        gather_node_force(a.m.gather_start, a.m.gather_slot, a.b.fcorner, 4 * a.m.ntet, i, f);
+        update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, i);
+      }
     } else {
       for (int t = first; t < nthreads; t += stride) lane_finish<T, G>(a, lane_slots<T, G>(a.m, t));
     }
@@ -456,7 +406,7 @@ __global__ void element_energy_kernel(const TetMeshView<T> m, const NeoHookean<T
                                       double* __restrict__ out) {
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= m.ntet) return;
-  out[e] = double(tet_strain_energy(m, mat, u, e));
+  out[e] = double(element_strain_energy(m, mat, u, e));
 }
 
 constexpr int kSumThreads = 256;
