@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "commands.h"
-#include "sim/fem/central_difference.h"
 #include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
+#include "sim/solver/step_params.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_mesh.h"
@@ -84,44 +84,27 @@ double step_bytes(long ntet, long nnode, long ncontact, int real) {
   return elem + node;
 }
 
-std::vector<std::uint8_t> contact_flags(const Scene& s, const TetMesh& m) {
-  std::vector<std::uint8_t> f(m.nnode(), 0);
-  if (s.contact_nodes == "all") {
-    for (auto& x : f) x |= kNodeContact;
-  } else {
-    for (int i : m.surface_nodes) f[i] |= kNodeContact;
-  }
-  return f;
-}
-
-// The CPU backend's loops, stage by stage, over the same SIM_HD functions (tled_cpu.cpp
-// runs both stages inside one parallel region; here each is timed alone).
+// The CPU backend's stages (sim/solver/cpu_step.h: the functions CpuSolver::step runs
+// inside one parallel region), each timed alone in a region of its own, on the rest state
+// the run uses: build_rest_state with the run's node flags (contact-tested and fixed) and
+// the run's step parameters (step_config_from, as Solver::set_params).
 template <class T>
 StageRow cpu_stages(Simulation& sim, int threads, int reps) {
-  const Scene& sc = sim.scene();
-  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()));
+  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.solver().node_flags());
   const TetMeshView<T> m = r.view();
   HostState hs;
   sim.solver().get_state(hs);
   std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
+  std::vector<T> vol_now(r.ntet), p_node(r.nnode);
   std::vector<std::uint8_t> contact(hs.contact);
   BodyStateView<T> b;
   b.u = u.data();
   b.du = du.data();
   b.fcorner = fc.data();
   b.contact = contact.data();
-  const PhysicsParams& pp = sim.params();
-  const NeoHookean<T> mat = neo_hookean_from_E_nu<T>(pp.E, pp.nu, pp.material_model);
-  StepParams<T> sp = make_step_params<T>(pp.dt, pp.alpha, pp.g);
-  sp.contact.nplanes = int(std::min<std::size_t>(pp.planes.size(), kMaxPlanes));
-  for (int i = 0; i < sp.contact.nplanes; ++i)
-    for (int k = 0; k < 3; ++k) {
-      sp.contact.planes[i].p[k] = T(pp.planes[i].point[k]);
-      sp.contact.planes[i].n[k] = T(pp.planes[i].normal[k]);
-    }
-  sp.contact.mode = pp.contact_mode;
-  sp.contact.mu = T(pp.mu);
-  StepParams<T> sp_free = sp;
+  const StepConfig<T> c = step_config_from<T>(sim.params());
+  const AnpScratch<T> anp{vol_now.data(), p_node.data()};
+  StepParams<T> sp_free = c.step;
   sp_free.contact.nplanes = 0;
   const std::vector<T> u0 = u, du0 = du;
   auto time_loop = [&](auto&& body) {
@@ -138,7 +121,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
   StageRow s;
   s.forces = time_loop([&] {
 #pragma omp parallel num_threads(threads)
-    cpu_element_stage(m, mat, kT4, b.u, AnpScratch<T>{}, b.fcorner);
+    cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
   });
   s.update = time_loop([&] {
 #pragma omp parallel num_threads(threads)
@@ -146,7 +129,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
   });
   const double with_contact = time_loop([&] {
 #pragma omp parallel num_threads(threads)
-    cpu_node_stage(m, b, sp);
+    cpu_node_stage(m, b, c.step);
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
@@ -181,7 +164,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.dt = sim.time_step().dt;
   r.device = "CPU";
   long ncontact = 0;
-  for (auto f : contact_flags(sc, sim.mesh())) ncontact += (f & kNodeContact) ? 1 : 0;
+  for (auto f : solver.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
   r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == "float" ? 4 : 8);
 
 #if defined(SOFTTLED_HAVE_CUDA)
@@ -276,7 +259,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       opt.reorder = false;
       opt.mode = gpu->exec_mode();
       opt.node_lanes = gpu->node_lanes();
-      auto plain = make_cuda_solver(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()),
+      auto plain = make_cuda_solver(sim.mesh(), sc.rho, solver.node_flags(),
                                     sc.precision == "float" ? Precision::kFloat : Precision::kDouble, opt);
       plain->set_params(sim.params());
       sim.reset();

@@ -47,23 +47,17 @@ class CpuSolver final : public Solver {
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
-  void set_params(const PhysicsParams& p) override {
-    step_ = step_params_from<T>(p);
-    mat_ = material_from<T>(p);
-    element_ = p.element;
-  }
+  void set_params(const PhysicsParams& p) override { cfg_ = step_config_from<T>(p); }
 
   void step(long nsteps) override {
     const TetMeshView<T> m = mesh_;
     const BodyStateView<T> b = view();
-    const NeoHookean<T> mat = mat_;
-    const StepParams<T> sp = step_;
-    const int element = element_;
+    const StepConfig<T> c = cfg_;
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
-      cpu_element_stage(m, mat, element, b.u, anp, b.fcorner);
-      cpu_node_stage(m, b, sp);
+      cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
+      cpu_node_stage(m, b, c.step);
     }
   }
 
@@ -83,7 +77,7 @@ class CpuSolver final : public Solver {
   double strain_energy() const override {
     double se = 0;
 #pragma omp parallel for reduction(+ : se) num_threads(threads_)
-    for (int e = 0; e < rest_.ntet; ++e) se += double(element_strain_energy(mesh_, mat_, u_.data(), e));
+    for (int e = 0; e < rest_.ntet; ++e) se += double(element_strain_energy(mesh_, cfg_.mat, u_.data(), e));
     return se;
   }
 
@@ -97,6 +91,7 @@ class CpuSolver final : public Solver {
   }
 
   const std::vector<double>& lumped_mass() const override { return rest_.mass; }
+  const std::vector<std::uint8_t>& node_flags() const override { return rest_.flags; }
 
   bool render_buffer_on_device() const override { return false; }
   void write_render_vertices(float* dst) override {
@@ -122,10 +117,8 @@ class CpuSolver final : public Solver {
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
-  int element_ = kT4;
   std::vector<std::uint8_t> contact_;
-  NeoHookean<T> mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
-  StepParams<T> step_{};
+  StepConfig<T> cfg_;
 };
 
 }  // namespace

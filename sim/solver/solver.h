@@ -59,6 +59,9 @@ class Solver {
   // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
   virtual void set_external_forces(const std::vector<double>& f) = 0;
   virtual const std::vector<double>& lumped_mass() const = 0;  // nnode [kg]
+  // nnode NodeFlag bytes the solver was built with (contact-tested, fixed), in the mesh's
+  // node order: the rest state a run uses, for tools that rebuild it (the bench).
+  virtual const std::vector<std::uint8_t>& node_flags() const = 0;
 
   // Render hand-off (surface_render.h): kRenderFloatsPerVertex floats per boundary node
   // into dst, which is host memory for the CPU backend and device memory (a mapped GL

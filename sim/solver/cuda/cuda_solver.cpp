@@ -99,7 +99,8 @@ double elapsed_us(const Event& a, const Event& b) {
 template <class T>
 class CudaSolver final : public CudaSolverApi {
  public:
-  CudaSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, const Options& opt) : opt_(opt) {
+  CudaSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, const Options& opt)
+      : opt_(opt), flags_(flags) {
     int dev = 0;
     SOFTTLED_CUDA_CHECK(cudaGetDevice(&dev));
     const DeviceInfo info = device_info(dev);
@@ -174,9 +175,6 @@ class CudaSolver final : public CudaSolverApi {
     partials_.resize(kSumBlocks);
     energy_sum_.resize(1);
 
-    mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
-    const double g[3] = {0, -9.81, 0};
-    step_ = make_step_params<T>(1e-5, 10, g);
     set_exec_mode(opt.mode);
     set_node_lanes(opt.node_lanes);
     SOFTTLED_CUDA_CHECK(cudaDeviceSynchronize());
@@ -193,9 +191,7 @@ class CudaSolver final : public CudaSolverApi {
   int render_vertex_count() const override { return rest_.surface.nvert; }
 
   void set_params(const PhysicsParams& p) override {
-    step_ = step_params_from<T>(p);
-    mat_ = material_from<T>(p);
-    element_ = p.element;
+    cfg_ = step_config_from<T>(p);
     clear_graphs();  // the parameters are baked into the captured kernel nodes
   }
 
@@ -217,7 +213,7 @@ class CudaSolver final : public CudaSolverApi {
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
-    const StepArgs<T> a = args(step_);
+    const StepArgs<T> a = args(cfg_.step);
     switch (run_mode()) {
       case ExecMode::kPlain:
         for (long s = 0; s < nsteps; ++s) enqueue_step(a, false);
@@ -268,8 +264,8 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
 
     const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
-    const StepArgs<T> a = args(step_);
-    StepParams<T> free_p = step_;
+    const StepArgs<T> a = args(cfg_.step);
+    StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
     const StepArgs<T> a_free = args(free_p);
     const LaunchShape sn = node_shape(pdl);
@@ -338,7 +334,7 @@ class CudaSolver final : public CudaSolverApi {
   double strain_energy() const override {
     if (ne_ == 0) return 0;
     const LaunchShape ls = shape_for(ne_, nsm_, false);
-    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, mat_, live_.u.data(), energy_.data()));
+    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, cfg_.mat, live_.u.data(), energy_.data()));
     SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), ne_, partials_.data(), energy_sum_.data()));
     double e = 0;
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&e, energy_sum_.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
@@ -369,6 +365,7 @@ class CudaSolver final : public CudaSolverApi {
   }
 
   const std::vector<double>& lumped_mass() const override { return mass_; }
+  const std::vector<std::uint8_t>& node_flags() const override { return flags_; }
 
   bool render_buffer_on_device() const override { return true; }
   void write_render_vertices(float* dst) override {
@@ -388,7 +385,7 @@ class CudaSolver final : public CudaSolverApi {
   // better coalescing per warp). With T4ANP fused runs as graph-pdl (run_mode).
   ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
   ExecMode run_mode() const {
-    return mode_ == ExecMode::kFused && element_ == kT4ANP ? ExecMode::kGraphPdl : mode_;
+    return mode_ == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : mode_;
   }
 
   // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
@@ -431,10 +428,10 @@ class CudaSolver final : public CudaSolverApi {
     a.b.fcorner = const_cast<T*>(live_.fcorner.data());
     a.b.contact = const_cast<std::uint8_t*>(live_.contact.data());
     a.b.fext = fext_active_ ? live_.fext.data() : nullptr;
-    a.mat = mat_;
+    a.mat = cfg_.mat;
     a.p = p;
     a.lanes = lanes_;
-    a.anp = element_ == kT4ANP;
+    a.anp = cfg_.element == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
     a.fblock = rest_.fblock.data();
@@ -488,7 +485,7 @@ class CudaSolver final : public CudaSolverApi {
   cudaGraphExec_t graph(int k) {
     auto it = graphs_.find(k);
     if (it != graphs_.end()) return it->second;
-    const StepArgs<T> a = args(step_);
+    const StepArgs<T> a = args(cfg_.step);
     const bool fused = run_mode() == ExecMode::kFused;
     const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
     cudaGraphExec_t exec = nullptr;
@@ -571,13 +568,12 @@ class CudaSolver final : public CudaSolverApi {
   MeshPermutation perm_;
   int n_ = 0, ne_ = 0;
   std::vector<double> mass_;  // original node order
+  std::vector<std::uint8_t> flags_;  // original node order
   DeviceRest<T> rest_;
   DeviceLive<T> live_;
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   bool fext_active_ = false;
-  NeoHookean<T> mat_{};
-  StepParams<T> step_{};
-  int element_ = kT4;  // ElementType (solver.h)
+  StepConfig<T> cfg_;
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   bool fused_pdl_ = true;

@@ -15,6 +15,7 @@
 // Launchers return the launch's cudaError_t; the caller checks it.
 #include <cuda_runtime_api.h>
 
+#include <cstddef>
 #include <cstdint>
 
 #include "sim/core/body_view.h"
@@ -62,6 +63,7 @@ struct LaunchShape {
   // With pdl: pull this kernel's rest-state data into L1 before the wait (pays off when
   // the whole grid is one small wave; costs instructions on large meshes).
   bool prefetch = false;
+  std::size_t smem_bytes = 0;  // dynamic shared memory per block
 };
 
 // Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while

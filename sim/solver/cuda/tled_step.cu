@@ -43,6 +43,16 @@ __device__ __forceinline__ void prefetch_l1(const void* p) {
   asm volatile("prefetch.L1 [%0];" ::"l"(p));  // generic address
 }
 
+// Sum over the G consecutive lanes that share a node (lane 0 of the group gets the total)
+// by a fixed shuffle tree: the same additions in the same order every run. Every lane of
+// the warp must call it (full mask).
+template <int G, class T>
+__device__ __forceinline__ T lane_sum(T v) {
+#pragma unroll
+  for (int off = G / 2; off > 0; off /= 2) v += __shfl_down_sync(0xffffffffu, v, off, G);
+  return v;
+}
+
 template <class T>
 __device__ __forceinline__ void prefetch_element_rest(const TetMeshView<T>& m, int e) {
   for (int a = 0; a < 4; ++a) prefetch_l1(m.tet + a * m.ntet + e);
@@ -181,9 +191,7 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
     const int s = a.m.gather_slot[j];
     for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
   }
-#pragma unroll
-  for (int off = G / 2; off > 0; off /= 2)
-    for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
+  for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
   if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i);
 }
 
@@ -232,11 +240,8 @@ __device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const L
     sv += a.vol_now[e];
     sv0 += a.m.vol[e];
   }
-#pragma unroll
-  for (int off = G / 2; off > 0; off /= 2) {
-    sv += __shfl_down_sync(0xffffffffu, sv, off, G);
-    sv0 += __shfl_down_sync(0xffffffffu, sv0, off, G);
-  }
+  sv = lane_sum<G>(sv);
+  sv0 = lane_sum<G>(sv0);
   if (g.lane == 0 && g.i < a.m.nnode) a.p_node[g.i] = anp_pressure(a.mat, sv, sv0);
 }
 
@@ -350,9 +355,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
     T f[3] = {T(0), T(0), T(0)};
     for (int j = j0 + lane; j < j1; j += G)
       for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
-#pragma unroll
-    for (int off = G / 2; off > 0; off /= 2)
-      for (int k = 0; k < 3; ++k) f[k] += __shfl_down_sync(0xffffffffu, f[k], off, G);
+    for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
     if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i);
   }
 }
@@ -428,12 +431,19 @@ __global__ void block_sum_kernel(const double* __restrict__ in, int n, int chunk
   if (threadIdx.x == 0) out[blockIdx.x] = sh[0];
 }
 
+// Every launch goes through here: the shape, the dynamic shared memory (raising the
+// kernel's limit when it needs more than the default 48 KiB) and, with ls.pdl, the
+// programmatic-stream-serialization attribute.
 template <class Kernel, class... Args>
 cudaError_t launch(cudaStream_t s, const LaunchShape& ls, Kernel k, Args... args) {
+  if (ls.smem_bytes > 48 * 1024) {
+    const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(ls.smem_bytes));
+    if (e != cudaSuccess) return e;
+  }
   cudaLaunchConfig_t cfg = {};
   cfg.gridDim = dim3(unsigned(ls.grid));
   cfg.blockDim = dim3(unsigned(ls.block));
-  cfg.dynamicSmemBytes = 0;
+  cfg.dynamicSmemBytes = ls.smem_bytes;
   cfg.stream = s;
   cudaLaunchAttribute attr[1];
   attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
@@ -506,28 +516,11 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
   ls.grid = a.nfblock;
   ls.block = block;
   ls.pdl = pdl;
-  const std::size_t smem = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
-  auto go = [&](auto kernel) {
-    cudaLaunchConfig_t cfg = {};
-    cfg.gridDim = dim3(unsigned(ls.grid));
-    cfg.blockDim = dim3(unsigned(ls.block));
-    cfg.dynamicSmemBytes = smem;
-    cfg.stream = s;
-    cudaLaunchAttribute attr[1];
-    attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
-    attr[0].val.programmaticStreamSerializationAllowed = 1;
-    cfg.attrs = pdl ? attr : nullptr;
-    cfg.numAttrs = pdl ? 1 : 0;
-    if (smem > 48 * 1024) {
-      const cudaError_t e = cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem));
-      if (e != cudaSuccess) return e;
-    }
-    return cudaLaunchKernelEx(&cfg, kernel, a, u_prev, du_prev, u_next, du_next);
-  };
+  ls.smem_bytes = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
   switch (a.lanes) {
-    case 1: return go(fused_step_kernel<T, 1>);
-    case 4: return go(fused_step_kernel<T, 4>);
-    case 8: return go(fused_step_kernel<T, 8>);
+    case 1: return launch(s, ls, fused_step_kernel<T, 1>, a, u_prev, du_prev, u_next, du_next);
+    case 4: return launch(s, ls, fused_step_kernel<T, 4>, a, u_prev, du_prev, u_next, du_next);
+    case 8: return launch(s, ls, fused_step_kernel<T, 8>, a, u_prev, du_prev, u_next, du_next);
   }
   return cudaErrorInvalidValue;
 }
@@ -574,11 +567,13 @@ cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const T
 
 cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out) {
   const int chunk = (n + kSumBlocks - 1) / kSumBlocks;
-  block_sum_kernel<<<kSumBlocks, kSumThreads, 0, s>>>(in, n, chunk > 0 ? chunk : 1, partials);
-  cudaError_t e = cudaGetLastError();
+  LaunchShape ls;
+  ls.grid = kSumBlocks;
+  ls.block = kSumThreads;
+  const cudaError_t e = launch(s, ls, block_sum_kernel, in, n, chunk > 0 ? chunk : 1, partials);
   if (e != cudaSuccess) return e;
-  block_sum_kernel<<<1, kSumThreads, 0, s>>>(partials, kSumBlocks, kSumBlocks, out);
-  return cudaGetLastError();
+  ls.grid = 1;
+  return launch(s, ls, block_sum_kernel, static_cast<const double*>(partials), int(kSumBlocks), int(kSumBlocks), out);
 }
 
 #define SOFTTLED_INSTANTIATE(T)                                                                                          \
