@@ -239,7 +239,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       const cuda::ExecMode keep = gpu->exec_mode();
       const int keep_lanes = gpu->node_lanes();
       const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
-      for (cuda::ExecMode m : {cuda::ExecMode::kPlain, cuda::ExecMode::kGraph, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kPersistent, cuda::ExecMode::kFused}) {
+      // The product's two steps (what auto picks between) and graph-pdl's fallback.
+      for (cuda::ExecMode m : {cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph}) {
         sim.reset();
         gpu->set_exec_mode(m);
         r.modes.emplace_back(cuda::exec_mode_name(m) + lanes_tag, timed_samples(gpu));
@@ -343,7 +344,7 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
-  c->add_option("--mode", o->mode, "CUDA execution: auto, plain, graph, graph-pdl, persistent, fused");
+  c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph");
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)");
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(CLI::Range(3, 1000));
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(CLI::Range(1, 100000));

@@ -28,20 +28,17 @@ namespace cuda {
 const char* exec_mode_name(ExecMode m) {
   switch (m) {
     case ExecMode::kAuto: return "auto";
-    case ExecMode::kPlain: return "plain";
-    case ExecMode::kGraph: return "graph";
-    case ExecMode::kGraphPdl: return "graph-pdl";
-    case ExecMode::kPersistent: return "persistent";
     case ExecMode::kFused: return "fused";
+    case ExecMode::kGraphPdl: return "graph-pdl";
+    case ExecMode::kGraph: return "graph";
   }
   return "?";
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kPlain, ExecMode::kGraph, ExecMode::kGraphPdl, ExecMode::kPersistent,
-                     ExecMode::kFused})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, plain, graph, graph-pdl, persistent or fused)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, fused, graph-pdl or graph)");
 }
 
 Options options_from_env() {
@@ -213,31 +210,12 @@ class CudaSolver final : public CudaSolverApi {
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
-    const StepArgs<T> a = args(cfg_.step);
-    switch (run_mode()) {
-      case ExecMode::kPlain:
-        for (long s = 0; s < nsteps; ++s) enqueue_step(a, false);
-        break;
-      case ExecMode::kPersistent: {
-        const int block = 64;
-        const int need = (std::max(ne_, lanes_ * n_) + block - 1) / block;
-        const int grid = std::max(1, std::min(need, persistent_max_grid<T>(block, nsm_, lanes_)));
-        for (long done = 0; done < nsteps;) {
-          const int k = int(std::min<long>(nsteps - done, 1L << 20));
-          SOFTTLED_CUDA_CHECK(launch_persistent_steps<T>(stream_, grid, block, a, k));
-          done += k;
-        }
-        break;
-      }
-      default: {
-        // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
-        const int K = std::max(1, opt_.steps_per_graph);
-        long left = nsteps;
-        for (; left >= K; left -= K) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(K), stream_));
-        for (int j = 30; j >= 0; --j)
-          if (left & (1L << j)) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(1 << j), stream_));
-      }
-    }
+    // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
+    const int K = std::max(1, opt_.steps_per_graph);
+    long left = nsteps;
+    for (; left >= K; left -= K) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(K), stream_));
+    for (int j = 30; j >= 0; --j)
+      if (left & (1L << j)) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(1 << j), stream_));
     SOFTTLED_CUDA_CHECK(cudaGetLastError());
   }
 
@@ -509,8 +487,8 @@ class CudaSolver final : public CudaSolverApi {
         fused_pdl_ = false;
         return graph(k);
       }
-      // A driver that cannot capture programmatic launches: plain graphs instead.
-      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using plain graphs\n", e.what());
+      // A driver that cannot capture programmatic launches: graphs without PDL (kGraph).
+      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using graphs without it\n", e.what());
       clear_graphs();
       mode_ = ExecMode::kGraph;
       return graph(k);

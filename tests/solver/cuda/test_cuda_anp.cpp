@@ -58,7 +58,7 @@ TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
     bool have_ref = false;
     // kFused is T4 only: with T4ANP it runs as graph-pdl.
     for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kPlain, cuda::ExecMode::kPersistent, cuda::ExecMode::kFused}) {
+                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
       auto sim = make_sim(s, "cuda");
       auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
       ASSERT_NE(api, nullptr);
