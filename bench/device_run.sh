@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One call on the GPU machine (issue 3): build with CUDA, the CUDA tests, the benches
+# One call on the GPU machine: build with CUDA, the CUDA tests, the benches
 # (Table II form, sweep), an Nsight Compute look at the two step kernels, and
 # compute-sanitizer memcheck on a short torus drop. Run from the project root there:
 #   source .gl/setup.sh && bench/device_run.sh [SOURCE_DIR] [STAGES]

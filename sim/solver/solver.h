@@ -1,8 +1,9 @@
 #pragma once
 // The per-body solver interface both backends implement. step() is the hot path:
 //   element stage (tet_forces.h) -> node stage (central_difference.h, plane_contact.h)
-// The CPU backend (tled_cpu.cpp) loops over those functions with OpenMP; the CUDA
-// backend launches them.
+// The CPU backend (cpu_solver.cpp, its loops in cpu_step.h) runs those functions with
+// OpenMP; the CUDA backend (cuda/cuda_solver.cpp, the GPU step in cuda/tled_step.cu)
+// launches them.
 #include <cstdint>
 #include <memory>
 #include <string>

@@ -356,11 +356,11 @@ class CudaSolver final : public CudaSolverApi {
   }
 
  private:
-  // Chosen from the bench (bench/NOTES.md, H100): the fused one-kernel step up to ~28k
-  // tets (torus 4.84 -> 2.95 us/step, 28k 6.32 -> 5.09), PDL graphs above (100k: fused
-  // 14.3 us against 11.2: the 4x element arithmetic is no longer free); 8 lanes per node on
-  // small meshes (max node degree ~60 on the torus), 4 on large ones (fewer idle lanes,
-  // better coalescing per warp). With T4ANP fused runs as graph-pdl (run_mode).
+  // Chosen from the bench (bench/NOTES.md, "The auto rule"): the fused one-kernel step
+  // while its 4x element arithmetic is free (up to 256 tets per SM), PDL graphs above; 8
+  // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
+  // (fewer idle lanes, better coalescing per warp). With T4ANP fused runs as graph-pdl
+  // (run_mode).
   ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
   ExecMode run_mode() const {
     return mode_ == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : mode_;
