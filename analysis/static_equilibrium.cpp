@@ -63,40 +63,28 @@ StaticResult solve_static_equilibrium(const TetMesh& m, double E, double nu, dou
               if (dof[j] >= 0 && fp[j] != fm[j]) trip.emplace_back(dof[j], c, (fp[j] - fm[j]) / (2 * h));
           }
       } else {
-        // Element stiffness 12 x 12 from a one-element view of the element's own data.
-        int tl[4] = {0, 1, 2, 3};
-        double dh[12], v0, ul[12], fc[12], fpe[12], fme[12];
-        const std::uint8_t fl[4] = {0, 0, 0, 0};
-        TetMeshView<double> one;
-        one.ntet = 1;
-        one.nnode = 4;
-        one.tet = tl;
-        one.dhdX = dh;
-        one.vol = &v0;
-        one.flags = fl;
+        // Element stiffness 12 x 12: central differences of the element's own corner forces
+        // (tet_corner_forces on its values, the function the solvers call).
+        double dh[12], ul[4][3], fp4[4][3], fm4[4][3];
         for (int e = 0; e < ne; ++e) {
           for (int j = 0; j < 12; ++j) dh[j] = r.dhdX[j * ne + e];
-          v0 = r.vol[e];
+          const double v0 = r.vol[e];
           for (int a = 0; a < 4; ++a)
-            for (int k = 0; k < 3; ++k) ul[k * 4 + a] = res.u[k * n + m.tet[4 * e + a]];
+            for (int k = 0; k < 3; ++k) ul[a][k] = res.u[k * n + m.tet[4 * e + a]];
           for (int b = 0; b < 4; ++b)
             for (int kb = 0; kb < 3; ++kb) {
               const int c = dof[kb * n + m.tet[4 * e + b]];
               if (c < 0) continue;
-              const double keep = ul[kb * 4 + b];
-              ul[kb * 4 + b] = keep + h;
-              tet_corner_forces(one, mat, ul, fc, 0);
-              for (int a = 0; a < 4; ++a)
-                for (int ka = 0; ka < 3; ++ka) fpe[a * 3 + ka] = fc[ka * 4 + a];
-              ul[kb * 4 + b] = keep - h;
-              tet_corner_forces(one, mat, ul, fc, 0);
-              for (int a = 0; a < 4; ++a)
-                for (int ka = 0; ka < 3; ++ka) fme[a * 3 + ka] = fc[ka * 4 + a];
-              ul[kb * 4 + b] = keep;
+              const double keep = ul[b][kb];
+              ul[b][kb] = keep + h;
+              tet_corner_forces(mat, dh, v0, ul, fp4);
+              ul[b][kb] = keep - h;
+              tet_corner_forces(mat, dh, v0, ul, fm4);
+              ul[b][kb] = keep;
               for (int a = 0; a < 4; ++a)
                 for (int ka = 0; ka < 3; ++ka) {
                   const int rrow = dof[ka * n + m.tet[4 * e + a]];
-                  if (rrow >= 0) trip.emplace_back(rrow, c, (fpe[a * 3 + ka] - fme[a * 3 + ka]) / (2 * h));
+                  if (rrow >= 0) trip.emplace_back(rrow, c, (fp4[a][ka] - fm4[a][ka]) / (2 * h));
                 }
             }
         }

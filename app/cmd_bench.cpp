@@ -20,8 +20,9 @@
 #include <vector>
 
 #include "commands.h"
-#include "sim/fem/central_difference.h"
+#include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
+#include "sim/solver/step_params.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_mesh.h"
@@ -83,44 +84,27 @@ double step_bytes(long ntet, long nnode, long ncontact, int real) {
   return elem + node;
 }
 
-std::vector<std::uint8_t> contact_flags(const Scene& s, const TetMesh& m) {
-  std::vector<std::uint8_t> f(m.nnode(), 0);
-  if (s.contact_nodes == "all") {
-    for (auto& x : f) x |= kNodeContact;
-  } else {
-    for (int i : m.surface_nodes) f[i] |= kNodeContact;
-  }
-  return f;
-}
-
-// The CPU backend's loops, stage by stage, over the same SIM_HD functions (tled_cpu.cpp
-// runs both stages inside one parallel region; here each is timed alone).
+// The CPU backend's stages (sim/solver/cpu_step.h: the functions CpuSolver::step runs
+// inside one parallel region), each timed alone in a region of its own, on the rest state
+// the run uses: build_rest_state with the run's node flags (contact-tested and fixed) and
+// the run's step parameters (step_config_from, as Solver::set_params).
 template <class T>
 StageRow cpu_stages(Simulation& sim, int threads, int reps) {
-  const Scene& sc = sim.scene();
-  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()));
+  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.solver().node_flags());
   const TetMeshView<T> m = r.view();
   HostState hs;
   sim.solver().get_state(hs);
   std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
+  std::vector<T> vol_now(r.ntet), p_node(r.nnode);
   std::vector<std::uint8_t> contact(hs.contact);
   BodyStateView<T> b;
   b.u = u.data();
   b.du = du.data();
   b.fcorner = fc.data();
   b.contact = contact.data();
-  const PhysicsParams& pp = sim.params();
-  const NeoHookean<T> mat = neo_hookean_from_E_nu<T>(pp.E, pp.nu, pp.material_model);
-  StepParams<T> sp = make_step_params<T>(pp.dt, pp.alpha, pp.g);
-  sp.contact.nplanes = int(std::min<std::size_t>(pp.planes.size(), kMaxPlanes));
-  for (int i = 0; i < sp.contact.nplanes; ++i)
-    for (int k = 0; k < 3; ++k) {
-      sp.contact.planes[i].p[k] = T(pp.planes[i].point[k]);
-      sp.contact.planes[i].n[k] = T(pp.planes[i].normal[k]);
-    }
-  sp.contact.mode = pp.contact_mode;
-  sp.contact.mu = T(pp.mu);
-  StepParams<T> sp_free = sp;
+  const StepConfig<T> c = step_config_from<T>(sim.params());
+  const AnpScratch<T> anp{vol_now.data(), p_node.data()};
+  StepParams<T> sp_free = c.step;
   sp_free.contact.nplanes = 0;
   const std::vector<T> u0 = u, du0 = du;
   auto time_loop = [&](auto&& body) {
@@ -134,19 +118,18 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
     }
     return stats_of(us).median;
   };
-  const int ne = r.ntet, n = r.nnode;
   StageRow s;
   s.forces = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
+#pragma omp parallel num_threads(threads)
+    cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
   });
   s.update = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int i = 0; i < n; ++i) node_update(m, b, sp_free, i);
+#pragma omp parallel num_threads(threads)
+    cpu_node_stage(m, b, sp_free);
   });
   const double with_contact = time_loop([&] {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+#pragma omp parallel num_threads(threads)
+    cpu_node_stage(m, b, c.step);
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
@@ -181,7 +164,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.dt = sim.time_step().dt;
   r.device = "CPU";
   long ncontact = 0;
-  for (auto f : contact_flags(sc, sim.mesh())) ncontact += (f & kNodeContact) ? 1 : 0;
+  for (auto f : solver.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
   r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == "float" ? 4 : 8);
 
 #if defined(SOFTTLED_HAVE_CUDA)
@@ -256,7 +239,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       const cuda::ExecMode keep = gpu->exec_mode();
       const int keep_lanes = gpu->node_lanes();
       const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
-      for (cuda::ExecMode m : {cuda::ExecMode::kPlain, cuda::ExecMode::kGraph, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kPersistent, cuda::ExecMode::kFused}) {
+      // The product's two steps (what auto picks between) and graph-pdl's fallback.
+      for (cuda::ExecMode m : {cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph}) {
         sim.reset();
         gpu->set_exec_mode(m);
         r.modes.emplace_back(cuda::exec_mode_name(m) + lanes_tag, timed_samples(gpu));
@@ -276,7 +260,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       opt.reorder = false;
       opt.mode = gpu->exec_mode();
       opt.node_lanes = gpu->node_lanes();
-      auto plain = make_cuda_solver(sim.mesh(), sc.rho, contact_flags(sc, sim.mesh()),
+      auto plain = make_cuda_solver(sim.mesh(), sc.rho, solver.node_flags(),
                                     sc.precision == "float" ? Precision::kFloat : Precision::kDouble, opt);
       plain->set_params(sim.params());
       sim.reset();
@@ -360,7 +344,7 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
-  c->add_option("--mode", o->mode, "CUDA execution: auto, plain, graph, graph-pdl, persistent, fused");
+  c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph");
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)");
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(CLI::Range(3, 1000));
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(CLI::Range(1, 100000));

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One call on the GPU machine (issue 3): build with CUDA, the CUDA tests, the benches
+# One call on the GPU machine: build with CUDA, the CUDA tests, the benches
 # (Table II form, sweep), an Nsight Compute look at the two step kernels, and
 # compute-sanitizer memcheck on a short torus drop. Run from the project root there:
 #   source .gl/setup.sh && bench/device_run.sh [SOURCE_DIR] [STAGES]
@@ -30,7 +30,7 @@ if has build; then
   # Keep going past a broken target elsewhere in the tree; stop only if ours are missing.
   { cmake -S "$SRC" -B "$B" $SOFTTLED_DEVICE_CMAKE_ARGS -DSOFTTLED_CUDA=ON -DSOFTTLED_BUILD_BENCH=OFF &&
     cmake --build "$B" -j16 -- -k; } > "$OUT/build.log" 2>&1 || grep -E "error|Error" "$OUT/build.log" | head -20
-  if [ ! -x "$B/softtled" ] || [ ! -x "$B/tests/cuda/test_cuda_solver" ]; then
+  if [ ! -x "$B/softtled" ] || [ ! -x "$B/tests/solver/cuda/test_cuda_solver" ]; then
     tail -40 "$OUT/build.log"
     exit 1
   fi
@@ -58,7 +58,7 @@ if has cpu; then
 fi
 
 if has sanitize; then
-  for mode in fused graph-pdl persistent plain; do
+  for mode in fused graph-pdl graph; do
     say "compute-sanitizer memcheck: torus drop, 5 ms, mode $mode"
     SOFTTLED_CUDA_MODE=$mode compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.005 solver.precision=float > "$OUT/memcheck_$mode.txt" 2>&1
@@ -66,8 +66,14 @@ if has sanitize; then
     grep -E "ERROR SUMMARY|LEAK SUMMARY|simulated" "$OUT/memcheck_$mode.txt" | tee -a "$LOG"
     rm -f "$OUT/memcheck_$mode.txt"
   done
+  say "compute-sanitizer racecheck: fused step (shared memory), torus drop, 2 ms"
+  SOFTTLED_CUDA_MODE=fused compute-sanitizer --tool racecheck --error-exitcode 9 \
+    "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.002 solver.precision=float > "$OUT/racecheck.txt" 2>&1
+  echo "racecheck (fused) rc=$?" | tee -a "$LOG"
+  grep -E "RACECHECK SUMMARY|ERROR SUMMARY|hazard" "$OUT/racecheck.txt" | head -5 | tee -a "$LOG"
+  rm -f "$OUT/racecheck.txt"
   say "compute-sanitizer memcheck: render, energy, external forces"
-  compute-sanitizer --tool memcheck --error-exitcode 9 "$B/tests/cuda/test_cuda_solver" \
+  compute-sanitizer --tool memcheck --error-exitcode 9 "$B/tests/solver/cuda/test_cuda_solver" \
     --gtest_filter='*Render*:*External*' > "$OUT/memcheck_tests.txt" 2>&1
   echo "memcheck (tests) rc=$?" | tee -a "$LOG"
   grep -E "ERROR SUMMARY|PASSED|FAILED" "$OUT/memcheck_tests.txt" | tee -a "$LOG"

@@ -27,7 +27,24 @@ SIM_HD inline T det3(const Mat3<T>& a) {
          a(0, 2) * (a(1, 0) * a(2, 1) - a(1, 1) * a(2, 0));
 }
 
-// Inverse of a symmetric matrix given its determinant (C = F^T F is symmetric).
+// cof(a) = det(a) a^-T, defined for any a (also singular or inverted).
+template <class T>
+SIM_HD inline Mat3<T> cofactor3(const Mat3<T>& F) {
+  Mat3<T> c;
+  c(0, 0) = F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1);
+  c(0, 1) = F(1, 2) * F(2, 0) - F(1, 0) * F(2, 2);
+  c(0, 2) = F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0);
+  c(1, 0) = F(0, 2) * F(2, 1) - F(0, 1) * F(2, 2);
+  c(1, 1) = F(0, 0) * F(2, 2) - F(0, 2) * F(2, 0);
+  c(1, 2) = F(0, 1) * F(2, 0) - F(0, 0) * F(2, 1);
+  c(2, 0) = F(0, 1) * F(1, 2) - F(0, 2) * F(1, 1);
+  c(2, 1) = F(0, 2) * F(1, 0) - F(0, 0) * F(1, 2);
+  c(2, 2) = F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
+  return c;
+}
+
+// Inverse of any invertible matrix given its determinant: the adjugate cof(a)^T times
+// 1/det, written out (general, not only symmetric input).
 template <class T>
 SIM_HD inline Mat3<T> inverse3(const Mat3<T>& a, T det) {
   Mat3<T> r;

@@ -12,47 +12,83 @@
 // pressure (through the same gather table), element forces.
 #include "sim/core/body_view.h"
 #include "sim/core/mat3.h"
-#include "sim/fem/neo_hookean.h"
 #include "sim/core/sim_hd.h"
+#include "sim/fem/neo_hookean.h"
 #include "sim/fem/tet_forces.h"
+#include "sim/fem/tet_kinematics.h"
 
 namespace softtled {
 
-// Stage 1: V0_e J_e of each element.
+// ---- value functions ----
+
+// Stage 1: the current volume V0_e J_e of an element.
 template <class T>
-SIM_HD inline void anp_element_volume(const TetMeshView<T>& m, const T* u, T* vol_now, int e) {
-  vol_now[e] = m.vol[e] * det3(deformation_gradient(m, u, e));
+SIM_HD inline T anp_element_volume(const T dhdX[12], T V0, const T u[4][3]) {
+  return V0 * det3(deformation_gradient(dhdX, u));
 }
 
-// Stage 2: nodal pressure from the nodal volume ratio.
+// Stage 2: nodal pressure from the node's summed current (v) and rest (v0) volumes.
 template <class T>
-SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* vol_now,
-                                     T* p_node, int i) {
-  T v = T(0), v0 = T(0);
-  for (int j = m.gather_start[i]; j < m.gather_start[i + 1]; ++j) {
-    const int e = m.gather_slot[j] % m.ntet;
-    v += vol_now[e];
-    v0 += m.vol[e];
-  }
-  p_node[i] = mat.kappa * (v / v0 - T(1));
+SIM_HD inline T anp_pressure(const NeoHookean<T>& mat, T v, T v0) {
+  return mat.kappa * (v / v0 - T(1));
 }
 
-// Stage 3: corner forces with the deviatoric Neo-Hookean stress and the averaged pressure.
+// Stage 3: deviatoric Neo-Hookean stress plus the element's averaged pressure p.
 template <class T>
-SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
-                                     T* fcorner, int e) {
-  const Mat3<T> F = deformation_gradient(m, u, e);
+SIM_HD inline Mat3<T> anp_stress(const NeoHookean<T>& mat, const Mat3<T>& F, T p) {
   NeoHookean<T> dev = mat;
   dev.kappa = T(0);  // deviatoric part only (Taylor form); the pressure comes from the nodes
   dev.model = kTaylorNeoHookean;
   Mat3<T> P = neo_hookean_pk1(dev, F);
   const Mat3<T> cof = cofactor3(F);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P(i, j) += p * cof(i, j);
+  return P;
+}
+
+// ---- the backends' loop bodies on the struct-of-arrays views ----
+
+template <class T>
+SIM_HD inline void anp_element_volume(const TetMeshView<T>& m, const T* u, T* vol_now, int e) {
+  T g[12], ue[4][3];
+  load_dhdX(m, e, g);
+  load_corner_u(m, u, e, ue);
+  vol_now[e] = anp_element_volume(g, m.vol[e], ue);
+}
+
+// Current and rest volume of node i's elements, summed in gather order (one slot per
+// element touching the node).
+template <class T>
+SIM_HD inline void gather_node_volume(const int* gather_start, const int* gather_slot, int ntet, const T* vol_now,
+                                      const T* vol0, int i, T& v, T& v0) {
+  v = T(0);
+  v0 = T(0);
+  for (int j = gather_start[i]; j < gather_start[i + 1]; ++j) {
+    const int e = gather_slot[j] % ntet;
+    v += vol_now[e];
+    v0 += vol0[e];
+  }
+}
+
+template <class T>
+SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* vol_now, T* p_node,
+                                     int i) {
+  T v, v0;
+  gather_node_volume(m.gather_start, m.gather_slot, m.ntet, vol_now, m.vol, i, v, v0);
+  p_node[i] = anp_pressure(mat, v, v0);
+}
+
+template <class T>
+SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
+                                     T* fcorner, int e) {
+  T g[12], ue[4][3], f[4][3];
+  load_dhdX(m, e, g);
+  load_corner_u(m, u, e, ue);
   T p = T(0);
   for (int a = 0; a < 4; ++a) p += p_node[m.tet[a * m.ntet + e]];
   p *= T(0.25);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) P(i, j) += p * cof(i, j);
-  write_corner_forces(m, P, fcorner, e);
+  corner_forces(anp_stress(mat, deformation_gradient(g, ue), p), m.vol[e], g, f);
+  store_corner_forces(m, f, fcorner, e);
 }
 
 }  // namespace softtled

@@ -8,8 +8,13 @@
 // eq. (8) round at ~1e-9 m while a step's real change is ~1e-10 m, and g2 + g3 != 1 after
 // rounding acts as a spurious spring (../shared/physics-notes.md s.1). du carries the
 // motion at its own exponent, so float works.
-#include "sim/core/body_view.h"
+//
+// Value functions (gather_node_force, integrate_node) take plain numbers; update_node is
+// the loads and stores around integrate_node that every backend's node loop shares.
+#include <cstdint>
+
 #include "sim/contact/plane_contact.h"
+#include "sim/core/body_view.h"
 #include "sim/core/sim_hd.h"
 
 namespace softtled {
@@ -33,46 +38,77 @@ inline StepParams<T> make_step_params(double dt, double alpha, const double g[3]
   return p;
 }
 
+// Node i's internal force: the sum of its corner forces in gather-table order.
+// fcorner: 3 x stride (component k of slot s at [k * stride + s]; stride = 4 * ntet).
 template <class T>
-SIM_HD inline void gather_node_force(const TetMeshView<T>& m, const T* fcorner, int i, T f[3]) {
-  const int stride = 4 * m.ntet;
+SIM_HD inline void gather_node_force(const int* gather_start, const int* gather_slot, const T* fcorner, int stride,
+                                     int i, T f[3]) {
   f[0] = f[1] = f[2] = T(0);
-  for (int j = m.gather_start[i]; j < m.gather_start[i + 1]; ++j) {
-    const int s = m.gather_slot[j];
+  for (int j = gather_start[i]; j < gather_start[i + 1]; ++j) {
+    const int s = gather_slot[j];
     f[0] += fcorner[s];
     f[1] += fcorner[stride + s];
     f[2] += fcorner[2 * stride + s];
   }
 }
 
+// One node's new state after a step.
 template <class T>
-SIM_HD inline void node_update(const TetMeshView<T>& m, const BodyStateView<T>& b,
-                               const StepParams<T>& p, int i) {
+struct NodeState {
+  T u[3];                // displacement u(t + dt)
+  T du[3];               // increment u(t + dt) - u(t)
+  std::uint8_t contact;  // ContactState of this step
+};
+
+// Central difference (increment form above) and plane contact for one node.
+//   f: internal force [N]; x0: rest position [m] (read only for contact-tested nodes);
+//   u, du: the node's displacement and last increment; fext: user force [N].
+// A fixed node keeps its displacement and gets a zero increment.
+template <class T>
+SIM_HD inline NodeState<T> integrate_node(const T f[3], const T x0[3], const T u[3], const T du[3], T inv_mass,
+                                          std::uint8_t flags, const T fext[3], const StepParams<T>& p) {
+  NodeState<T> s;
+  if (flags & kNodeFixed) {
+    for (int k = 0; k < 3; ++k) {
+      s.u[k] = u[k];
+      s.du[k] = T(0);
+    }
+    s.contact = kFree;
+    return s;
+  }
+  for (int k = 0; k < 3; ++k) s.du[k] = p.gamma1 * (p.g[k] + (fext[k] - f[k]) * inv_mass) + p.c_du * du[k];
+  s.contact = kFree;
+  if ((flags & kNodeContact) && p.contact.nplanes > 0) {
+    const T x[3] = {x0[0] + u[0], x0[1] + u[1], x0[2] + u[2]};
+    s.contact = project_to_planes(p.contact, x, s.du);
+  }
+  for (int k = 0; k < 3; ++k) s.u[k] = u[k] + s.du[k];
+  return s;
+}
+
+// The node loop's body, given node i's summed force f: loads its values from the
+// struct-of-arrays (component k of node i at [k * nnode + i]), integrate_node, stores.
+// Reads (u_in, du_in) and writes (u_out, du_out): the same arrays in place, or the fused
+// GPU step's double buffers. fext may be null (no user forces).
+template <class T>
+SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
+                               const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i) {
   const int n = m.nnode;
   const std::uint8_t flags = m.flags[i];
-  if (flags & kNodeFixed) {
-    b.du[i] = b.du[n + i] = b.du[2 * n + i] = T(0);
-    b.contact[i] = kFree;
-    return;
-  }
-  T f[3];
-  gather_node_force(m, b.fcorner, i, f);
-  const T im = m.inv_mass[i];
-  T du[3];
+  T x0[3] = {T(0), T(0), T(0)}, u[3], du[3], fe[3];
+  const bool tested = (flags & kNodeContact) && p.contact.nplanes > 0;
   for (int k = 0; k < 3; ++k) {
-    const T fe = b.fext ? b.fext[k * n + i] : T(0);
-    du[k] = p.gamma1 * (p.g[k] + (fe - f[k]) * im) + p.c_du * b.du[k * n + i];
+    if (tested) x0[k] = m.X0[k * n + i];  // only contact-tested nodes need their position
+    u[k] = u_in[k * n + i];
+    du[k] = du_in[k * n + i];
+    fe[k] = fext ? fext[k * n + i] : T(0);
   }
-  std::uint8_t state = kFree;
-  if ((flags & kNodeContact) && p.contact.nplanes > 0) {
-    const T x[3] = {m.X0[i] + b.u[i], m.X0[n + i] + b.u[n + i], m.X0[2 * n + i] + b.u[2 * n + i]};
-    state = project_to_planes(p.contact, x, du);
-  }
-  b.contact[i] = state;
+  const NodeState<T> s = integrate_node(f, x0, u, du, m.inv_mass[i], flags, fe, p);
   for (int k = 0; k < 3; ++k) {
-    b.du[k * n + i] = du[k];
-    b.u[k * n + i] += du[k];
+    u_out[k * n + i] = s.u[k];
+    du_out[k * n + i] = s.du[k];
   }
+  contact[i] = s.contact;
 }
 
 }  // namespace softtled

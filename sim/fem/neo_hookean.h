@@ -42,22 +42,6 @@ inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTay
   return m;
 }
 
-// cof(F) = J F^-T, defined for any F (also singular or inverted).
-template <class T>
-SIM_HD inline Mat3<T> cofactor3(const Mat3<T>& F) {
-  Mat3<T> c;
-  c(0, 0) = F(1, 1) * F(2, 2) - F(1, 2) * F(2, 1);
-  c(0, 1) = F(1, 2) * F(2, 0) - F(1, 0) * F(2, 2);
-  c(0, 2) = F(1, 0) * F(2, 1) - F(1, 1) * F(2, 0);
-  c(1, 0) = F(0, 2) * F(2, 1) - F(0, 1) * F(2, 2);
-  c(1, 1) = F(0, 0) * F(2, 2) - F(0, 2) * F(2, 0);
-  c(1, 2) = F(0, 1) * F(2, 0) - F(0, 0) * F(2, 1);
-  c(2, 0) = F(0, 1) * F(1, 2) - F(0, 2) * F(1, 1);
-  c(2, 1) = F(0, 2) * F(1, 0) - F(0, 0) * F(1, 2);
-  c(2, 2) = F(0, 0) * F(1, 1) - F(0, 1) * F(1, 0);
-  return c;
-}
-
 // First Piola-Kirchhoff stress P = F S, written with cof(F) so it needs no inverse:
 //   P = mu J^(-2/3) (F - I1/3 cof(F)/J) + kappa (J-1) cof(F)
 // Stable Neo-Hookean: W = mu/2 (Ic - 3) + lambda/2 (J - a)^2 - mu/2 log(Ic + 1),

@@ -3,60 +3,83 @@
 // the precomputed shape-function derivatives, Neo-Hookean stress, corner forces
 //   f_a = V0 * P * dh_a/dX          (P = F S, first Piola-Kirchhoff)
 // written per corner; the per-node gather sums them later without atomics.
+//
+// Value functions first (plain numbers in and out: what every backend calls), then the
+// loads and stores of one element from the struct-of-arrays views (body_view.h).
 #include "sim/core/body_view.h"
 #include "sim/core/mat3.h"
-#include "sim/fem/neo_hookean.h"
 #include "sim/core/sim_hd.h"
+#include "sim/fem/neo_hookean.h"
+#include "sim/fem/tet_kinematics.h"
 
 namespace softtled {
-
-// F = I + sum_a u_a (x) dh_a/dX, built from displacements so float keeps F - I accurate.
-template <class T>
-SIM_HD inline Mat3<T> deformation_gradient(const TetMeshView<T>& m, const T* u, int e) {
-  Mat3<T> F = identity3<T>();
-  const int n = m.nnode;
-  for (int a = 0; a < 4; ++a) {
-    const int node = m.tet[a * m.ntet + e];
-    const T ua[3] = {u[node], u[n + node], u[2 * n + node]};
-    const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
-                    m.dhdX[(a * 3 + 2) * m.ntet + e]};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) F(i, j) += ua[i] * g[j];
-  }
-  return F;
-}
 
 // f_a = V0 P dh_a/dX for one corner (g = dh_a/dX). Every stage that produces corner forces
 // (T4, T4ANP, the fused CUDA step) uses this one expression, so they round identically.
 template <class T>
-SIM_HD inline void corner_force_from_stress(const Mat3<T>& P, T V0, const T g[3], T f[3]) {
+SIM_HD inline void corner_force(const Mat3<T>& P, T V0, const T g[3], T f[3]) {
   for (int i = 0; i < 3; ++i) f[i] = V0 * (P(i, 0) * g[0] + P(i, 1) * g[1] + P(i, 2) * g[2]);
 }
 
-// The four corners of element e into fcorner.
+// The four corner forces f[a] of one element from a stress P.
 template <class T>
-SIM_HD inline void write_corner_forces(const TetMeshView<T>& m, const Mat3<T>& P, T* fcorner, int e) {
-  const int stride = 4 * m.ntet;
+SIM_HD inline void corner_forces(const Mat3<T>& P, T V0, const T dhdX[12], T f[4][3]) {
+  for (int a = 0; a < 4; ++a) corner_force(P, V0, dhdX + 3 * a, f[a]);
+}
+
+// T4 element: Neo-Hookean stress of F(dhdX, u), then the corner forces.
+template <class T>
+SIM_HD inline void tet_corner_forces(const NeoHookean<T>& mat, const T dhdX[12], T V0, const T u[4][3], T f[4][3]) {
+  corner_forces(neo_hookean_pk1(mat, deformation_gradient(dhdX, u)), V0, dhdX, f);
+}
+
+template <class T>
+SIM_HD inline T tet_strain_energy(const NeoHookean<T>& mat, const T dhdX[12], T V0, const T u[4][3]) {
+  return V0 * neo_hookean_energy_density(mat, deformation_gradient(dhdX, u));
+}
+
+// ---- one element of the struct-of-arrays views (the backends' element loops) ----
+
+template <class T>
+SIM_HD inline void load_dhdX(const TetMeshView<T>& m, int e, T dhdX[12]) {
+  for (int c = 0; c < 12; ++c) dhdX[c] = m.dhdX[c * m.ntet + e];
+}
+
+// u of the element's four corners (u: 3 x nnode SoA).
+template <class T>
+SIM_HD inline void load_corner_u(const TetMeshView<T>& m, const T* u, int e, T ue[4][3]) {
+  const int n = m.nnode;
   for (int a = 0; a < 4; ++a) {
-    const T g[3] = {m.dhdX[(a * 3 + 0) * m.ntet + e], m.dhdX[(a * 3 + 1) * m.ntet + e],
-                    m.dhdX[(a * 3 + 2) * m.ntet + e]};
-    const int s = a * m.ntet + e;
-    T f[3];
-    corner_force_from_stress(P, m.vol[e], g, f);
-    for (int i = 0; i < 3; ++i) fcorner[i * stride + s] = f[i];
+    const int node = m.tet[a * m.ntet + e];
+    for (int k = 0; k < 3; ++k) ue[a][k] = u[k * n + node];
   }
 }
 
+// The four corners of element e into fcorner (3 x 4 x ntet, slot a * ntet + e).
 template <class T>
-SIM_HD inline void tet_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat,
-                                     const T* u, T* fcorner, int e) {
-  write_corner_forces(m, neo_hookean_pk1(mat, deformation_gradient(m, u, e)), fcorner, e);
+SIM_HD inline void store_corner_forces(const TetMeshView<T>& m, const T f[4][3], T* fcorner, int e) {
+  const int stride = 4 * m.ntet;
+  for (int a = 0; a < 4; ++a)
+    for (int i = 0; i < 3; ++i) fcorner[i * stride + a * m.ntet + e] = f[a][i];
+}
+
+// The T4 element loop's body: element e's corner forces into fcorner.
+template <class T>
+SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* fcorner,
+                                         int e) {
+  T g[12], ue[4][3], f[4][3];
+  load_dhdX(m, e, g);
+  load_corner_u(m, u, e, ue);
+  tet_corner_forces(mat, g, m.vol[e], ue, f);
+  store_corner_forces(m, f, fcorner, e);
 }
 
 template <class T>
-SIM_HD inline T tet_strain_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
-                                  int e) {
-  return m.vol[e] * neo_hookean_energy_density(mat, deformation_gradient(m, u, e));
+SIM_HD inline T element_strain_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, int e) {
+  T g[12], ue[4][3];
+  load_dhdX(m, e, g);
+  load_corner_u(m, u, e, ue);
+  return tet_strain_energy(mat, g, m.vol[e], ue);
 }
 
 }  // namespace softtled

@@ -5,31 +5,23 @@
 #include <filesystem>
 #include <fstream>
 
+#include "sim/fem/tet_kinematics.h"
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
 namespace {
 
-// F = Dx Dm^-1 from rest and current edge matrices.
+// F of element e from the mesh's rest positions and the displacements u (null: rest).
 Mat3<double> element_F(const TetMesh& m, const std::vector<double>* u, int e) {
   const int n = m.nnode();
   const int* t = &m.tet[4 * e];
-  double D[3][3], d[3][3];
-  for (int k = 0; k < 3; ++k)
-    for (int c = 0; c < 3; ++c) {
-      D[k][c] = m.X[3 * t[c + 1] + k] - m.X[3 * t[0] + k];
-      d[k][c] = D[k][c] + (u ? (*u)[k * n + t[c + 1]] - (*u)[k * n + t[0]] : 0.0);
+  double X[4][3], ue[4][3];
+  for (int a = 0; a < 4; ++a)
+    for (int k = 0; k < 3; ++k) {
+      X[a][k] = m.X[3 * t[a] + k];
+      ue[a][k] = u ? (*u)[k * n + t[a]] : 0.0;
     }
-  Mat3<double> Dm, Dx;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) Dm(i, j) = D[i][j], Dx(i, j) = d[i][j];
-  const double det = det3(Dm);
-  // inverse3 is written for symmetric input; build the general inverse by cofactors.
-  const Mat3<double> cof = cofactor3(Dm);
-  Mat3<double> inv;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) inv(i, j) = cof(j, i) / det;
-  return mul(Dx, inv);
+  return deformation_gradient_from_rest(X, ue);
 }
 
 }  // namespace
@@ -67,7 +59,7 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
   std::vector<double> vm(ne);
   for (int e = 0; e < ne; ++e) {
     const Mat3<double> F = element_F(m, s ? &s->u : nullptr, e);
-    const double J = det3(F);
+    const double J = volume_ratio(F);
     o << J << '\n';
     // Cauchy stress sigma = P F^T / J, von Mises = sqrt(3/2 s:s) of its deviator.
     const Mat3<double> P = neo_hookean_pk1(mat, F);

@@ -1,6 +1,7 @@
-// CPU backend: OpenMP loops over the same SIM_HD functions the CUDA backend launches.
-// Each loop iteration writes only its own element's corners or its own node, and the
-// gather sums in a fixed order, so results are bitwise identical for any thread count.
+// CPU backend: OpenMP loops (cpu_step.h) over the same SIM_HD functions the CUDA backend
+// launches. Each loop iteration writes only its own element's corners or its own node,
+// and the gather sums in a fixed order, so results are bitwise identical for any thread
+// count.
 #include <omp.h>
 
 #include <algorithm>
@@ -8,15 +9,14 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "sim/fem/anp.h"
-#include "sim/fem/central_difference.h"
 #include "sim/fem/neo_hookean.h"
+#include "sim/fem/surface_render.h"
+#include "sim/fem/tet_forces.h"
+#include "sim/mesh/surface_topology.h"
+#include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/solver.h"
 #include "sim/solver/step_params.h"
-#include "sim/fem/surface_render.h"
-#include "sim/mesh/surface_topology.h"
-#include "sim/fem/tet_forces.h"
 
 namespace softtled {
 namespace {
@@ -47,40 +47,17 @@ class CpuSolver final : public Solver {
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
-  void set_params(const PhysicsParams& p) override {
-    step_ = step_params_from<T>(p);
-    mat_ = material_from<T>(p);
-    element_ = p.element;
-  }
+  void set_params(const PhysicsParams& p) override { cfg_ = step_config_from<T>(p); }
 
   void step(long nsteps) override {
     const TetMeshView<T> m = mesh_;
     const BodyStateView<T> b = view();
-    const NeoHookean<T> mat = mat_;
-    const StepParams<T> sp = step_;
-    const int ne = m.ntet, n = m.nnode;
-    T* vol_now = vol_now_.data();
-    T* p_node = p_node_.data();
-    if (element_ == kT4ANP) {
-#pragma omp parallel num_threads(threads_)
-      for (long s = 0; s < nsteps; ++s) {
-#pragma omp for schedule(static)
-        for (int e = 0; e < ne; ++e) anp_element_volume(m, b.u, vol_now, e);
-#pragma omp for schedule(static)
-        for (int i = 0; i < n; ++i) anp_node_pressure(m, mat, vol_now, p_node, i);
-#pragma omp for schedule(static)
-        for (int e = 0; e < ne; ++e) anp_corner_forces(m, mat, b.u, p_node, b.fcorner, e);
-#pragma omp for schedule(static)
-        for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
-      }
-      return;
-    }
+    const StepConfig<T> c = cfg_;
+    const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
-#pragma omp for schedule(static)
-      for (int e = 0; e < ne; ++e) tet_corner_forces(m, mat, b.u, b.fcorner, e);
-#pragma omp for schedule(static)
-      for (int i = 0; i < n; ++i) node_update(m, b, sp, i);
+      cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
+      cpu_node_stage(m, b, c.step);
     }
   }
 
@@ -100,7 +77,7 @@ class CpuSolver final : public Solver {
   double strain_energy() const override {
     double se = 0;
 #pragma omp parallel for reduction(+ : se) num_threads(threads_)
-    for (int e = 0; e < rest_.ntet; ++e) se += double(tet_strain_energy(mesh_, mat_, u_.data(), e));
+    for (int e = 0; e < rest_.ntet; ++e) se += double(element_strain_energy(mesh_, cfg_.mat, u_.data(), e));
     return se;
   }
 
@@ -114,6 +91,7 @@ class CpuSolver final : public Solver {
   }
 
   const std::vector<double>& lumped_mass() const override { return rest_.mass; }
+  const std::vector<std::uint8_t>& node_flags() const override { return rest_.flags; }
 
   bool render_buffer_on_device() const override { return false; }
   void write_render_vertices(float* dst) override {
@@ -139,10 +117,8 @@ class CpuSolver final : public Solver {
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
-  int element_ = kT4;
   std::vector<std::uint8_t> contact_;
-  NeoHookean<T> mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
-  StepParams<T> step_{};
+  StepConfig<T> cfg_;
 };
 
 }  // namespace

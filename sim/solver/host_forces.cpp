@@ -1,9 +1,7 @@
 #include "sim/solver/host_forces.h"
 
-#include "sim/fem/anp.h"
 #include "sim/fem/central_difference.h"
-#include "sim/solver/solver.h"
-#include "sim/fem/tet_forces.h"
+#include "sim/solver/cpu_step.h"
 
 namespace softtled {
 
@@ -11,19 +9,13 @@ void host_internal_forces(const RestArrays<double>& r, const NeoHookean<double>&
                           const std::vector<double>& u, std::vector<double>& f) {
   const TetMeshView<double> v = r.view();
   const int ne = r.ntet, n = r.nnode;
-  std::vector<double> fc(12 * ne);
-  if (element == kT4ANP) {
-    std::vector<double> vol(ne), p(n);
-    for (int e = 0; e < ne; ++e) anp_element_volume(v, u.data(), vol.data(), e);
-    for (int i = 0; i < n; ++i) anp_node_pressure(v, mat, vol.data(), p.data(), i);
-    for (int e = 0; e < ne; ++e) anp_corner_forces(v, mat, u.data(), p.data(), fc.data(), e);
-  } else {
-    for (int e = 0; e < ne; ++e) tet_corner_forces(v, mat, u.data(), fc.data(), e);
-  }
+  std::vector<double> fc(12 * ne), vol(element == kT4ANP ? ne : 0), p(element == kT4ANP ? n : 0);
+  // Serial: called outside any parallel region, the stage's orphaned loops run on this thread.
+  cpu_element_stage(v, mat, element, u.data(), AnpScratch<double>{vol.data(), p.data()}, fc.data());
   f.resize(3 * n);
   for (int i = 0; i < n; ++i) {
     double fi[3];
-    gather_node_force(v, fc.data(), i, fi);
+    gather_node_force(v.gather_start, v.gather_slot, fc.data(), 4 * ne, i, fi);
     for (int k = 0; k < 3; ++k) f[k * n + i] = fi[k];
   }
 }

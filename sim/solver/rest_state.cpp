@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "sim/fem/tet_kinematics.h"
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
@@ -23,35 +24,12 @@ RestArrays<T> build_rest_state(const TetMesh& m, double rho, const std::vector<s
   for (int e = 0; e < ne; ++e) {
     const int* t = &m.tet[4 * e];
     for (int a = 0; a < 4; ++a) r.tet[a * ne + e] = t[a];
-    const double* X[4];
-    for (int a = 0; a < 4; ++a) X[a] = &m.X[3 * t[a]];
-    // Dm = [X1-X0, X2-X0, X3-X0]; rows of Dm^-1 are dh_a/dX for a = 1..3.
-    double D[3][3];
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) D[k][c] = X[c + 1][k] - X[0][k];
-    const double det = D[0][0] * (D[1][1] * D[2][2] - D[1][2] * D[2][1]) -
-                       D[0][1] * (D[1][0] * D[2][2] - D[1][2] * D[2][0]) +
-                       D[0][2] * (D[1][0] * D[2][1] - D[1][1] * D[2][0]);
-    if (!(det > 0)) throw InputError("element " + std::to_string(e) + " has non-positive rest volume");
-    double Di[3][3];
-    Di[0][0] = (D[1][1] * D[2][2] - D[1][2] * D[2][1]) / det;
-    Di[0][1] = (D[0][2] * D[2][1] - D[0][1] * D[2][2]) / det;
-    Di[0][2] = (D[0][1] * D[1][2] - D[0][2] * D[1][1]) / det;
-    Di[1][0] = (D[1][2] * D[2][0] - D[1][0] * D[2][2]) / det;
-    Di[1][1] = (D[0][0] * D[2][2] - D[0][2] * D[2][0]) / det;
-    Di[1][2] = (D[0][2] * D[1][0] - D[0][0] * D[1][2]) / det;
-    Di[2][0] = (D[1][0] * D[2][1] - D[1][1] * D[2][0]) / det;
-    Di[2][1] = (D[0][1] * D[2][0] - D[0][0] * D[2][1]) / det;
-    Di[2][2] = (D[0][0] * D[1][1] - D[0][1] * D[1][0]) / det;
-    double g[4][3];
-    for (int k = 0; k < 3; ++k) {
-      g[1][k] = Di[0][k];
-      g[2][k] = Di[1][k];
-      g[3][k] = Di[2][k];
-      g[0][k] = -(g[1][k] + g[2][k] + g[3][k]);
-    }
+    double X[4][3], g[12];
     for (int a = 0; a < 4; ++a)
-      for (int k = 0; k < 3; ++k) r.dhdX[(a * 3 + k) * ne + e] = T(g[a][k]);
+      for (int k = 0; k < 3; ++k) X[a][k] = m.X[3 * t[a] + k];
+    const double det = shape_gradients(X, g);
+    if (!(det > 0)) throw InputError("element " + std::to_string(e) + " has non-positive rest volume");
+    for (int c = 0; c < 12; ++c) r.dhdX[c * ne + e] = T(g[c]);
     const double V0 = det / 6.0;
     r.vol[e] = T(V0);
     for (int a = 0; a < 4; ++a) r.mass[t[a]] += rho * V0 / 4.0;

@@ -1,8 +1,9 @@
 #pragma once
 // The per-body solver interface both backends implement. step() is the hot path:
 //   element stage (tet_forces.h) -> node stage (central_difference.h, plane_contact.h)
-// The CPU backend (tled_cpu.cpp) loops over those functions with OpenMP; the CUDA
-// backend launches them.
+// The CPU backend (cpu_solver.cpp, its loops in cpu_step.h) runs those functions with
+// OpenMP; the CUDA backend (cuda/cuda_solver.cpp, the GPU step in cuda/tled_step.cu)
+// launches them.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -59,6 +60,9 @@ class Solver {
   // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
   virtual void set_external_forces(const std::vector<double>& f) = 0;
   virtual const std::vector<double>& lumped_mass() const = 0;  // nnode [kg]
+  // nnode NodeFlag bytes the solver was built with (contact-tested, fixed), in the mesh's
+  // node order: the rest state a run uses, for tools that rebuild it (the bench).
+  virtual const std::vector<std::uint8_t>& node_flags() const = 0;
 
   // Render hand-off (surface_render.h): kRenderFloatsPerVertex floats per boundary node
   // into dst, which is host memory for the CPU backend and device memory (a mapped GL

@@ -29,4 +29,22 @@ inline NeoHookean<T> material_from(const PhysicsParams& p) {
   return neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
 }
 
+// What a backend's step reads from the live parameters: Solver::set_params of every
+// backend is `config_ = step_config_from<T>(p)` (plus its own cache invalidation).
+template <class T>
+struct StepConfig {
+  StepParams<T> step{};
+  NeoHookean<T> mat = neo_hookean_from_E_nu<T>(3000, 0.49);
+  int element = kT4;  // ElementType
+};
+
+template <class T>
+inline StepConfig<T> step_config_from(const PhysicsParams& p) {
+  StepConfig<T> c;
+  c.step = step_params_from<T>(p);
+  c.mat = material_from<T>(p);
+  c.element = p.element;
+  return c;
+}
+
 }  // namespace softtled

@@ -33,7 +33,7 @@ std::vector<double> nodal_forces(const TetMesh& m, const NeoHookean<T>& mat, Map
     for (int k = 0; k < 3; ++k) u[k * n + i] = T(x[k] - m.X[3 * i + k]);
   }
   const TetMeshView<T> v = r.view();
-  for (int e = 0; e < m.ntet(); ++e) tet_corner_forces(v, mat, u.data(), fc.data(), e);
+  for (int e = 0; e < m.ntet(); ++e) element_corner_forces(v, mat, u.data(), fc.data(), e);
   std::vector<double> f(3 * n, 0.0);
   for (int e = 0; e < m.ntet(); ++e)
     for (int a = 0; a < 4; ++a)

@@ -28,20 +28,17 @@ namespace cuda {
 const char* exec_mode_name(ExecMode m) {
   switch (m) {
     case ExecMode::kAuto: return "auto";
-    case ExecMode::kPlain: return "plain";
-    case ExecMode::kGraph: return "graph";
-    case ExecMode::kGraphPdl: return "graph-pdl";
-    case ExecMode::kPersistent: return "persistent";
     case ExecMode::kFused: return "fused";
+    case ExecMode::kGraphPdl: return "graph-pdl";
+    case ExecMode::kGraph: return "graph";
   }
   return "?";
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kPlain, ExecMode::kGraph, ExecMode::kGraphPdl, ExecMode::kPersistent,
-                     ExecMode::kFused})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, plain, graph, graph-pdl, persistent or fused)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, fused, graph-pdl or graph)");
 }
 
 Options options_from_env() {
@@ -63,12 +60,9 @@ struct DeviceRest {
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
-  DeviceBuffer<int> ident;  // nnode + 1: ident[i] = i  } the node stage's one-slot gather
-  DeviceBuffer<int> zeros;  // nnode: 0                } table (tled_kernels.h, StepArgs)
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
   TetMeshView<T> view;
-  TetMeshView<T> node_view;  // view with the one-slot gather table (StepArgs::mn)
   SurfaceView surface;
 };
 
@@ -102,7 +96,8 @@ double elapsed_us(const Event& a, const Event& b) {
 template <class T>
 class CudaSolver final : public CudaSolverApi {
  public:
-  CudaSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, const Options& opt) : opt_(opt) {
+  CudaSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, const Options& opt)
+      : opt_(opt), flags_(flags) {
     int dev = 0;
     SOFTTLED_CUDA_CHECK(cudaGetDevice(&dev));
     const DeviceInfo info = device_info(dev);
@@ -139,14 +134,6 @@ class CudaSolver final : public CudaSolverApi {
     v.gather_start = rest_.gather_start.data();
     v.gather_slot = rest_.gather_slot.data();
     v.flags = rest_.flags.data();
-    std::vector<int> ident(std::size_t(n_) + 1);
-    for (int i = 0; i <= n_; ++i) ident[i] = i;
-    rest_.ident.upload(ident);
-    rest_.zeros.upload(std::vector<int>(std::size_t(std::max(n_, 1)), 0));
-    rest_.node_view = v;
-    rest_.node_view.ntet = 1;  // gather_node_force's component stride 4 * ntet = 4
-    rest_.node_view.gather_start = rest_.ident.data();
-    rest_.node_view.gather_slot = rest_.zeros.data();
     build_fused_blocks(r.gather_start);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
@@ -185,9 +172,6 @@ class CudaSolver final : public CudaSolverApi {
     partials_.resize(kSumBlocks);
     energy_sum_.resize(1);
 
-    mat_ = neo_hookean_from_E_nu<T>(3000, 0.49);
-    const double g[3] = {0, -9.81, 0};
-    step_ = make_step_params<T>(1e-5, 10, g);
     set_exec_mode(opt.mode);
     set_node_lanes(opt.node_lanes);
     SOFTTLED_CUDA_CHECK(cudaDeviceSynchronize());
@@ -204,9 +188,7 @@ class CudaSolver final : public CudaSolverApi {
   int render_vertex_count() const override { return rest_.surface.nvert; }
 
   void set_params(const PhysicsParams& p) override {
-    step_ = step_params_from<T>(p);
-    mat_ = material_from<T>(p);
-    element_ = p.element;
+    cfg_ = step_config_from<T>(p);
     clear_graphs();  // the parameters are baked into the captured kernel nodes
   }
 
@@ -228,31 +210,12 @@ class CudaSolver final : public CudaSolverApi {
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
-    const StepArgs<T> a = args(step_);
-    switch (run_mode()) {
-      case ExecMode::kPlain:
-        for (long s = 0; s < nsteps; ++s) enqueue_step(a, false);
-        break;
-      case ExecMode::kPersistent: {
-        const int block = 64;
-        const int need = (std::max(ne_, lanes_ * n_) + block - 1) / block;
-        const int grid = std::max(1, std::min(need, persistent_max_grid<T>(block, nsm_, lanes_)));
-        for (long done = 0; done < nsteps;) {
-          const int k = int(std::min<long>(nsteps - done, 1L << 20));
-          SOFTTLED_CUDA_CHECK(launch_persistent_steps<T>(stream_, grid, block, a, k));
-          done += k;
-        }
-        break;
-      }
-      default: {
-        // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
-        const int K = std::max(1, opt_.steps_per_graph);
-        long left = nsteps;
-        for (; left >= K; left -= K) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(K), stream_));
-        for (int j = 30; j >= 0; --j)
-          if (left & (1L << j)) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(1 << j), stream_));
-      }
-    }
+    // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
+    const int K = std::max(1, opt_.steps_per_graph);
+    long left = nsteps;
+    for (; left >= K; left -= K) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(K), stream_));
+    for (int j = 30; j >= 0; --j)
+      if (left & (1L << j)) SOFTTLED_CUDA_CHECK(cudaGraphLaunch(graph(1 << j), stream_));
     SOFTTLED_CUDA_CHECK(cudaGetLastError());
   }
 
@@ -279,15 +242,15 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
 
     const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
-    const StepArgs<T> a = args(step_);
-    StepParams<T> free_p = step_;
+    const StepArgs<T> a = args(cfg_.step);
+    StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
     const StepArgs<T> a_free = args(free_p);
     const LaunchShape sn = node_shape(pdl);
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
     StageTimes t;
     t.reps = reps;
-    // Element stage: tet_corner_forces, or the three T4ANP kernels together.
+    // Element stage: element_corner_forces, or the three T4ANP kernels together.
     t.forces_us = time_graph(reps, [&] { return launch_element_stage(a, pdl); }) / reps;
     t.update_contact_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a); }) / reps;
     t.update_only_us = time_graph(reps, [&] { return launch_node_update<T>(stream_, sn, a_free); }) / reps;
@@ -349,7 +312,7 @@ class CudaSolver final : public CudaSolverApi {
   double strain_energy() const override {
     if (ne_ == 0) return 0;
     const LaunchShape ls = shape_for(ne_, nsm_, false);
-    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, mat_, live_.u.data(), energy_.data()));
+    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, cfg_.mat, live_.u.data(), energy_.data()));
     SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), ne_, partials_.data(), energy_sum_.data()));
     double e = 0;
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&e, energy_sum_.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
@@ -380,6 +343,7 @@ class CudaSolver final : public CudaSolverApi {
   }
 
   const std::vector<double>& lumped_mass() const override { return mass_; }
+  const std::vector<std::uint8_t>& node_flags() const override { return flags_; }
 
   bool render_buffer_on_device() const override { return true; }
   void write_render_vertices(float* dst) override {
@@ -392,14 +356,14 @@ class CudaSolver final : public CudaSolverApi {
   }
 
  private:
-  // Chosen from the bench (bench/NOTES.md, H100): the fused one-kernel step up to ~28k
-  // tets (torus 4.84 -> 2.95 us/step, 28k 6.32 -> 5.09), PDL graphs above (100k: fused
-  // 14.3 us against 11.2: the 4x element arithmetic is no longer free); 8 lanes per node on
-  // small meshes (max node degree ~60 on the torus), 4 on large ones (fewer idle lanes,
-  // better coalescing per warp). With T4ANP fused runs as graph-pdl (run_mode).
+  // Chosen from the bench (bench/NOTES.md, "The auto rule"): the fused one-kernel step
+  // while its 4x element arithmetic is free (up to 256 tets per SM), PDL graphs above; 8
+  // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
+  // (fewer idle lanes, better coalescing per warp). With T4ANP fused runs as graph-pdl
+  // (run_mode).
   ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
   ExecMode run_mode() const {
-    return mode_ == ExecMode::kFused && element_ == kT4ANP ? ExecMode::kGraphPdl : mode_;
+    return mode_ == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : mode_;
   }
 
   // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
@@ -442,11 +406,10 @@ class CudaSolver final : public CudaSolverApi {
     a.b.fcorner = const_cast<T*>(live_.fcorner.data());
     a.b.contact = const_cast<std::uint8_t*>(live_.contact.data());
     a.b.fext = fext_active_ ? live_.fext.data() : nullptr;
-    a.mat = mat_;
+    a.mat = cfg_.mat;
     a.p = p;
     a.lanes = lanes_;
-    a.mn = rest_.node_view;
-    a.anp = element_ == kT4ANP;
+    a.anp = cfg_.element == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
     a.fblock = rest_.fblock.data();
@@ -500,7 +463,7 @@ class CudaSolver final : public CudaSolverApi {
   cudaGraphExec_t graph(int k) {
     auto it = graphs_.find(k);
     if (it != graphs_.end()) return it->second;
-    const StepArgs<T> a = args(step_);
+    const StepArgs<T> a = args(cfg_.step);
     const bool fused = run_mode() == ExecMode::kFused;
     const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
     cudaGraphExec_t exec = nullptr;
@@ -524,8 +487,8 @@ class CudaSolver final : public CudaSolverApi {
         fused_pdl_ = false;
         return graph(k);
       }
-      // A driver that cannot capture programmatic launches: plain graphs instead.
-      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using plain graphs\n", e.what());
+      // A driver that cannot capture programmatic launches: graphs without PDL (kGraph).
+      std::fprintf(stderr, "cuda: graphs with programmatic dependent launch failed (%s); using graphs without it\n", e.what());
       clear_graphs();
       mode_ = ExecMode::kGraph;
       return graph(k);
@@ -583,13 +546,12 @@ class CudaSolver final : public CudaSolverApi {
   MeshPermutation perm_;
   int n_ = 0, ne_ = 0;
   std::vector<double> mass_;  // original node order
+  std::vector<std::uint8_t> flags_;  // original node order
   DeviceRest<T> rest_;
   DeviceLive<T> live_;
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   bool fext_active_ = false;
-  NeoHookean<T> mat_{};
-  StepParams<T> step_{};
-  int element_ = kT4;  // ElementType (solver.h)
+  StepConfig<T> cfg_;
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   bool fused_pdl_ = true;

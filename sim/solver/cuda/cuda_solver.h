@@ -1,24 +1,23 @@
 #pragma once
-// CUDA backend of Solver (issue 3). Plain C++ header: no CUDA types, so the factory, the
-// bench and the tests include it with the ordinary compiler.
+// CUDA backend of Solver. Plain C++ header: no CUDA types, so the factory, the bench and
+// the tests include it with the ordinary compiler.
 //
-// One step = element kernel (tet_corner_forces) then node kernel (node_update: gather,
-// central difference, plane contact). With PhysicsParams::element == kT4ANP the element
-// kernel is three (anp.h: element volumes, nodal pressures, corner forces), in every
-// mode below. How the steps reach the GPU is the ExecMode:
-//   plain       two stream launches per step
-//   graph       K steps captured once in a CUDA graph and replayed (2K kernel nodes, 4K
-//               with T4ANP)
-//   graph-pdl   the same graph with programmatic dependent launch between the kernels:
-//               each kernel is scheduled while its predecessor runs and prefetches its
-//               rest-state data before waiting for it
-//   persistent  one cooperative launch for all n steps, a grid barrier after each stage
-//   fused       one kernel per step (T4 only; with T4ANP it runs as graph-pdl): node
-//               blocks, each computing the corner forces of its nodes' elements itself
-//               (every element 4 times) into shared memory, then the node stage; two
-//               displacement buffers alternate; graphs of K steps with PDL
-// All modes launch the same per-element / per-node functions and give bitwise identical
-// results. No host round trip inside step(n): it only enqueues work.
+// How the steps reach the GPU is the ExecMode; `auto` picks one of the first two:
+//   fused       the GPU step (tled_step.cu): one kernel per step, node blocks each
+//               computing the corner forces of their nodes' elements (every element 4
+//               times) into shared memory, then the node stage; two displacement buffers
+//               alternate; graphs of K steps with programmatic dependent launch (PDL).
+//               auto on meshes up to 256 tets per SM; T4 only (with T4ANP it runs as
+//               graph-pdl)
+//   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
+//               anp.h) then node kernel, K steps captured once in a CUDA graph and
+//               replayed, with PDL between the kernels (each is scheduled while its
+//               predecessor runs and prefetches its rest data before waiting). auto on
+//               larger meshes
+//   graph       graph-pdl without PDL: what graph-pdl falls back to on a driver that
+//               cannot capture programmatic launches
+// All modes call the same value functions and give bitwise identical results. No host
+// round trip inside step(n): it only enqueues work. Measurements: bench/NOTES.md.
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,18 +27,18 @@
 namespace softtled {
 namespace cuda {
 
-enum class ExecMode { kAuto, kPlain, kGraph, kGraphPdl, kPersistent, kFused };
+enum class ExecMode { kAuto, kFused, kGraphPdl, kGraph };
 const char* exec_mode_name(ExecMode m);
-ExecMode parse_exec_mode(const std::string& s);  // "auto", "plain", "graph", "graph-pdl", "persistent", "fused"
+ExecMode parse_exec_mode(const std::string& s);  // "auto", "fused", "graph-pdl", "graph"
 
 struct Options {
   ExecMode mode = ExecMode::kAuto;
   bool reorder = true;       // Morton renumbering of nodes and elements (mesh_reorder.h)
-  int steps_per_graph = 8;   // K: steps captured in one graph (8 beat 32 and 128 on the torus);
-                             // any K works in fused mode (an odd graph copies the state back)
+  int steps_per_graph = 8;   // K: steps captured in one graph (bench/NOTES.md); any K works
+                             // in fused mode (an odd graph copies the state back)
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
   int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
-                             // (torus, H100: 64 3.40, 128 3.36, 256 2.95 us/step)
+                             // (256 measured fastest: bench/NOTES.md)
 };
 // Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK applied.
 Options options_from_env();

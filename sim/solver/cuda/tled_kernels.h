@@ -1,19 +1,18 @@
 #pragma once
-// Host-callable launchers for the CUDA kernels in tled_step.cu (plain C++: no CUDA
-// syntax here, so the solver's host code compiles with the ordinary C++ compiler).
-// Each kernel is one thread per element, node or render vertex and calls the same SIM_HD
-// function the CPU backend loops over:
-//   element stage  tet_corner_forces   (tet_forces.h), or for T4ANP (anp.h) three kernels:
-//                  anp_element_volume (elements), anp_node_pressure (nodes, through the
-//                  gather table), anp_corner_forces (elements)
-//   node stage     node_update         (central_difference.h; plane contact fused in)
-//   render         write_render_vertex (surface_render.h)
-//   fused step     both stages in one kernel per step (ExecMode::kFused, T4 only):
-//                  the corner expression of tet_corner_forces per gather entry, then
-//                  node_update per node (launch_fused_step below)
+// Host-callable launchers of the CUDA kernels (plain C++: no CUDA syntax here, so the
+// solver's host code compiles with the ordinary C++ compiler). Where each lives:
+//   tled_step.cu    THE GPU STEP: fused_step_kernel, one kernel per step (launch_fused_step;
+//                   `auto` on meshes up to 256 tets per SM, T4)
+//   tled_stages.cu  the two-kernel step (graphs, with or without PDL; larger meshes and
+//                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
+//                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
+//                   update_node (central_difference.h; plane contact fused in)
+//   tled_output.cu  render vertices (surface_render.h), element energy, deterministic sum
+// Every kernel calls the SIM_HD value functions the CPU backend (cpu_step.h) loops over.
 // Launchers return the launch's cudaError_t; the caller checks it.
 #include <cuda_runtime_api.h>
 
+#include <cstddef>
 #include <cstdint>
 
 #include "sim/core/body_view.h"
@@ -25,15 +24,13 @@ namespace softtled::cuda {
 
 // Everything one explicit step reads, by value (kernel parameters).
 //
-// The node stage comes in two forms. lanes == 1: one thread per node calls node_update
-// on (m, b), gathering its corner forces itself. lanes == 4 or 8: that many consecutive
-// lanes of a warp share a node; each sums every lanes-th corner of the node's gather list
-// (all loads issued at once), a fixed shuffle tree adds the partial sums (deterministic:
-// same order every run), and the first lane calls node_update on mn, the same rest arrays
-// with a one-slot gather table (gather_start[i] = i, gather_slot[i] = 0, ntet = 1), with
-// the total as the single corner in a per-thread array. A thread-per-node gather waits
-// one memory latency per few corners and the torus has nodes with 60 corners; this form
-// waits about one.
+// The node stage comes in two forms. lanes == 1: one thread per node gathers its corner
+// forces (gather_node_force) and calls update_node. lanes == 4 or 8: that many
+// consecutive lanes of a warp share a node; each sums every lanes-th corner of the node's
+// gather list (all loads issued at once), a fixed shuffle tree adds the partial sums
+// (deterministic: same order every run), and the first lane calls update_node with the
+// total. A thread-per-node gather waits one memory latency per few corners and the torus
+// has nodes with 60 corners; this form waits about one.
 template <class T>
 struct StepArgs {
   TetMeshView<T> m;
@@ -41,13 +38,12 @@ struct StepArgs {
   NeoHookean<T> mat;
   StepParams<T> p;
   int lanes = 1;          // 1, 4 or 8 lanes per node in the node stage
-  TetMeshView<T> mn;      // m with the one-slot gather table (see above)
   // Average nodal pressure tets (PhysicsParams::element == kT4ANP): the element stage is
-  // the three anp.h stages instead of tet_corner_forces.
+  // the three anp.h stages instead of element_corner_forces.
   bool anp = false;
   T* vol_now = nullptr;   // ntet, V0_e J_e of the current step (anp_element_volume)
   T* p_node = nullptr;    // nnode, nodal pressure kappa (J_i - 1) (anp_node_pressure)
-  // Fused step (ExecMode::kFused, launch_fused_step): node blocks. Block b owns nodes
+  // Fused step (launch_fused_step): node blocks. Block b owns nodes
   // [fblock[b], fblock[b + 1]) and so the gather entries gather_start[fblock[b]] ..
   // gather_start[fblock[b + 1]] (at most fsmem_entries of them: its shared-memory size).
   const int* fblock = nullptr;
@@ -64,6 +60,7 @@ struct LaunchShape {
   // With pdl: pull this kernel's rest-state data into L1 before the wait (pays off when
   // the whole grid is one small wave; costs instructions on large meshes).
   bool prefetch = false;
+  std::size_t smem_bytes = 0;  // dynamic shared memory per block
 };
 
 // Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
@@ -78,7 +75,22 @@ inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
   return s;
 }
 
-// T4: tet_corner_forces (ls: one thread per element).
+// ---- the GPU step (tled_step.cu) ----
+// Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
+// entry of its nodes, the force of that corner (the element recomputed by each of its 4
+// nodes, same value functions as element_corner_forces) into shared memory, then a.lanes
+// lanes per node sum them in the node stage's order (same lane split, same lane_sum) and
+// the first lane runs update_node on the node. Reads the displacement from (u_prev, du_prev),
+// writes (u_next, du_next): other blocks still read u_prev while a node is updated, so
+// the caller alternates two buffers. a.b.u / a.b.du are ignored; a.b.contact and
+// a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
+constexpr int kFusedMaxThreads = 256;
+template <class T>
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+                              const T* du_prev, T* u_next, T* du_next);
+
+// ---- the two-kernel step (tled_stages.cu) ----
+// T4: element_corner_forces (ls: one thread per element).
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
 // T4ANP, in this order: element volumes (le: one thread per element), nodal pressures (ln:
@@ -91,26 +103,7 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
 
-// Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
-// entry of its nodes, the force of that corner (the element recomputed by each of its 4
-// nodes, same arithmetic as tet_corner_forces) into shared memory, then a.lanes lanes per
-// node sum them in the node stage's order (same lane split, same shuffle tree) and the
-// first lane runs node_update on the node. Reads the displacement from (u_prev, du_prev),
-// writes (u_next, du_next): other blocks still read u_prev while a node is updated, so
-// the caller alternates two buffers. a.b.u / a.b.du are ignored; a.b.contact and
-// a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
-constexpr int kFusedMaxThreads = 256;
-template <class T>
-cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
-                              const T* du_prev, T* u_next, T* du_next);
-
-// One cooperative launch running nsteps whole steps, grid-wide barriers between stages.
-template <class T>
-cudaError_t launch_persistent_steps(cudaStream_t s, int grid, int block, const StepArgs<T>& a, int nsteps);
-// Largest cooperative grid for that block size (blocks per SM x SMs).
-template <class T>
-int persistent_max_grid(int block, int nsm, int lanes);
-
+// ---- outside the step (tled_output.cu) ----
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
                                    const T* u, const std::uint8_t* contact, float* dst);

@@ -6,6 +6,7 @@
 #include "sim/mesh/surface_mesh.h"
 #include "sim/mesh/tet_mesh.h"
 #if defined(SOFTTLED_HAVE_CUDA)
+#include "sim/solver/cuda/cuda_solver.h"
 #include "sim/solver/cuda/device_info.h"
 #endif
 
@@ -53,3 +54,14 @@ TEST(BackendSelection, UnknownBackendIsAnInputError) {
   const TetMesh m = one_tet();
   EXPECT_THROW(make_solver("opencl", m, 1000, std::vector<std::uint8_t>(4, 0), Precision::kFloat), InputError);
 }
+
+#if defined(SOFTTLED_HAVE_CUDA)
+TEST(BackendSelection, CudaModesAreTheProductStepsAndTheGraphFallback) {
+  // fused and graph-pdl (what auto picks) and graph (graph-pdl without PDL); the removed
+  // bench-only modes are input errors, not silently something else.
+  for (cuda::ExecMode m : {cuda::ExecMode::kAuto, cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph})
+    EXPECT_EQ(cuda::parse_exec_mode(cuda::exec_mode_name(m)), m);
+  EXPECT_THROW(cuda::parse_exec_mode("plain"), InputError);
+  EXPECT_THROW(cuda::parse_exec_mode("persistent"), InputError);
+}
+#endif

@@ -1,4 +1,4 @@
-// T4ANP (average nodal pressure tets, sim/anp.h) on the CUDA backend: the paper's torus
+// T4ANP (average nodal pressure tets, sim/fem/anp.h) on the CUDA backend: the paper's torus
 // drop with material.element = T4ANP follows the CPU backend's trajectory (float within
 // float tolerance, double to rounding), is bitwise repeatable in every execution mode, and
 // really is T4ANP (not the T4 step). Skipped with a message where no CUDA device is usable.
@@ -58,7 +58,7 @@ TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
     bool have_ref = false;
     // kFused is T4 only: with T4ANP it runs as graph-pdl.
     for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kPlain, cuda::ExecMode::kPersistent, cuda::ExecMode::kFused}) {
+                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
       auto sim = make_sim(s, "cuda");
       auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
       ASSERT_NE(api, nullptr);

@@ -79,12 +79,15 @@ TEST(CudaSolver, RepeatedRunsAndAllExecutionModesAreBitwiseIdentical) {
     HostState ref;
     bool have_ref = false;
     for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kPlain, cuda::ExecMode::kPersistent, cuda::ExecMode::kFused}) {
+                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
       auto sim = make_sim(s, "cuda");
       auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
       ASSERT_NE(api, nullptr);
       api->set_exec_mode(m);
       api->set_node_lanes(lanes);
+      if (m == cuda::ExecMode::kAuto)
+        EXPECT_TRUE(api->exec_mode() == cuda::ExecMode::kFused || api->exec_mode() == cuda::ExecMode::kGraphPdl)
+            << "auto picks one of the product's two steps, not " << cuda::exec_mode_name(api->exec_mode());
       // Uneven chunks exercise the graph decomposition (K-step graphs plus powers of two).
       for (long done = 0; done < steps;) {
         const long n = std::min(steps - done, 37 + done % 300);

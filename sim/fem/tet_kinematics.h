@@ -1,0 +1,62 @@
+#pragma once
+// Kinematics of the linear tetrahedron in the Total Lagrangian form TLED uses (Miller et
+// al. 2007; Taylor et al. 2008): shape-function derivatives from the rest corners, the
+// deformation gradient F from them and the corner displacements, and the volume ratio
+// J = det F. The one definition of F and J: the solvers' element stages (CPU, CUDA
+// two-kernel and fused), the rest state, the VTU export and the watchdog call these.
+// Plain values in, plain values out.
+#include "sim/core/mat3.h"
+#include "sim/core/sim_hd.h"
+
+namespace softtled {
+
+// dh_a/dX of the four corners of the tet with rest corners X, into dhdX[a * 3 + k];
+// returns det Dm = 6 V0 (not positive: a degenerate or inverted rest element, for which
+// dhdX is meaningless). Dm = [X1 - X0, X2 - X0, X3 - X0] (columns); the rows of
+// Dm^-1 = cof(Dm)^T / det are dh_a/dX for a = 1..3, and dh_0/dX = -(their sum).
+template <class T>
+SIM_HD inline T shape_gradients(const T X[4][3], T dhdX[12]) {
+  Mat3<T> D;
+  for (int k = 0; k < 3; ++k)
+    for (int c = 0; c < 3; ++c) D(k, c) = X[c + 1][k] - X[0][k];
+  const T det = det3(D);
+  const Mat3<T> cof = cofactor3(D);
+  for (int a = 1; a < 4; ++a)
+    for (int k = 0; k < 3; ++k) dhdX[a * 3 + k] = cof(k, a - 1) / det;
+  for (int k = 0; k < 3; ++k) dhdX[k] = -(dhdX[3 + k] + dhdX[6 + k] + dhdX[9 + k]);
+  return det;
+}
+
+// F = I + sum_a u_a (x) dh_a/dX, built from displacements so float keeps F - I accurate.
+// dhdX[a * 3 + k] = dh_a/dX_k, u[a][i] = displacement of corner a.
+template <class T>
+SIM_HD inline Mat3<T> deformation_gradient(const T dhdX[12], const T u[4][3]) {
+  Mat3<T> F = identity3<T>();
+  for (int a = 0; a < 4; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F(i, j) += u[a][i] * dhdX[a * 3 + j];
+  return F;
+}
+
+// Volume ratio J = det F = current volume / rest volume (negative: inverted).
+template <class T>
+SIM_HD inline T volume_ratio(const Mat3<T>& F) {
+  return det3(F);
+}
+
+// F of the tet with rest corners X and corner displacements u, for code that holds
+// positions rather than the rest state (export, diagnostics): the same two functions.
+template <class T>
+SIM_HD inline Mat3<T> deformation_gradient_from_rest(const T X[4][3], const T u[4][3]) {
+  T dhdX[12];
+  shape_gradients(X, dhdX);
+  return deformation_gradient(dhdX, u);
+}
+
+// J of one element from its rest corners and corner displacements (the watchdog's test).
+template <class T>
+SIM_HD inline T tet_volume_ratio(const T X[4][3], const T u[4][3]) {
+  return volume_ratio(deformation_gradient_from_rest(X, u));
+}
+
+}  // namespace softtled

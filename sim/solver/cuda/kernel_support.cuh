@@ -1,0 +1,64 @@
+#pragma once
+// Device-side helpers shared by the CUDA kernel files (tled_step.cu, tled_stages.cu,
+// tled_output.cu) and their one launch helper. Included by .cu files only.
+#include <cuda_runtime.h>
+
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled::cuda {
+
+// Programmatic dependent launch (PTX ISA 7.8, sm_90). launch_dependents lets the next
+// kernel in the stream be scheduled now; wait blocks until the previous kernel has
+// finished and its writes are visible. Both are no-ops when launched without the
+// attribute, so the same kernels serve graphs with and without PDL.
+__device__ __forceinline__ void pdl_launch_dependents() {
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
+  asm volatile("griddepcontrol.launch_dependents;" ::: "memory");
+#endif
+}
+__device__ __forceinline__ void pdl_wait() {
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
+  asm volatile("griddepcontrol.wait;" ::: "memory");
+#endif
+}
+
+// Rest-state arrays never change, so under PDL they can be pulled towards the SM before
+// the wait, while the previous kernel still runs. Only read-only rest data is prefetched:
+// live data (u, du, fcorner) is read after the wait.
+__device__ __forceinline__ void prefetch_l1(const void* p) {
+  asm volatile("prefetch.L1 [%0];" ::"l"(p));  // generic address
+}
+
+// Sum over the G consecutive lanes that share a node (lane 0 of the group gets the total)
+// by a fixed shuffle tree: the same additions in the same order every run. Every lane of
+// the warp must call it (full mask).
+template <int G, class T>
+__device__ __forceinline__ T lane_sum(T v) {
+#pragma unroll
+  for (int off = G / 2; off > 0; off /= 2) v += __shfl_down_sync(0xffffffffu, v, off, G);
+  return v;
+}
+
+// Every launch goes through here: the shape, the dynamic shared memory (raising the
+// kernel's limit when it needs more than the default 48 KiB) and, with ls.pdl, the
+// programmatic-stream-serialization attribute.
+template <class Kernel, class... Args>
+cudaError_t launch(cudaStream_t s, const LaunchShape& ls, Kernel k, Args... args) {
+  if (ls.smem_bytes > 48 * 1024) {
+    const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(ls.smem_bytes));
+    if (e != cudaSuccess) return e;
+  }
+  cudaLaunchConfig_t cfg = {};
+  cfg.gridDim = dim3(unsigned(ls.grid));
+  cfg.blockDim = dim3(unsigned(ls.block));
+  cfg.dynamicSmemBytes = ls.smem_bytes;
+  cfg.stream = s;
+  cudaLaunchAttribute attr[1];
+  attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+  attr[0].val.programmaticStreamSerializationAllowed = 1;
+  cfg.attrs = ls.pdl ? attr : nullptr;
+  cfg.numAttrs = ls.pdl ? 1 : 0;
+  return cudaLaunchKernelEx(&cfg, k, args...);
+}
+
+}  // namespace softtled::cuda

@@ -1,0 +1,81 @@
+// Kernels outside the step: the render hand-off (surface_render.h), per-element strain
+// energy, and the deterministic sum that totals it (fixed blocks, fixed tree: the same
+// number every run).
+#include "sim/fem/surface_render.h"
+#include "sim/fem/tet_forces.h"
+#include "sim/solver/cuda/kernel_support.cuh"
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled::cuda {
+namespace {
+
+template <class T>
+__global__ void render_vertices_kernel(const TetMeshView<T> m, const SurfaceView sv, const T* __restrict__ u,
+                                       const std::uint8_t* __restrict__ contact, float* __restrict__ dst) {
+  const int v = blockIdx.x * blockDim.x + threadIdx.x;
+  if (v >= sv.nvert) return;
+  write_render_vertex(m, sv, u, contact, dst, v);
+}
+
+template <class T>
+__global__ void element_energy_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
+                                      double* __restrict__ out) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (e >= m.ntet) return;
+  out[e] = double(element_strain_energy(m, mat, u, e));
+}
+
+constexpr int kSumThreads = 256;
+
+// Block b sums in[b * chunk, (b + 1) * chunk): each thread a strided partial in a fixed
+// order, then a fixed shared-memory tree. Same numbers, same order, every run.
+__global__ void block_sum_kernel(const double* __restrict__ in, int n, int chunk, double* __restrict__ out) {
+  __shared__ double sh[kSumThreads];
+  const int begin = blockIdx.x * chunk;
+  const int end = min(n, begin + chunk);
+  double acc = 0.0;
+  for (int j = begin + int(threadIdx.x); j < end; j += kSumThreads) acc += in[j];
+  sh[threadIdx.x] = acc;
+  __syncthreads();
+  for (int w = kSumThreads / 2; w > 0; w /= 2) {
+    if (int(threadIdx.x) < w) sh[threadIdx.x] += sh[threadIdx.x + w];
+    __syncthreads();
+  }
+  if (threadIdx.x == 0) out[blockIdx.x] = sh[0];
+}
+
+}  // namespace
+
+template <class T>
+cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
+                                   const T* u, const std::uint8_t* contact, float* dst) {
+  return launch(s, ls, render_vertices_kernel<T>, m, sv, u, contact, dst);
+}
+
+template <class T>
+cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                                  const T* u, double* out) {
+  return launch(s, ls, element_energy_kernel<T>, m, mat, u, out);
+}
+
+cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out) {
+  const int chunk = (n + kSumBlocks - 1) / kSumBlocks;
+  LaunchShape ls;
+  ls.grid = kSumBlocks;
+  ls.block = kSumThreads;
+  const cudaError_t e = launch(s, ls, block_sum_kernel, in, n, chunk > 0 ? chunk : 1, partials);
+  if (e != cudaSuccess) return e;
+  ls.grid = 1;
+  return launch(s, ls, block_sum_kernel, static_cast<const double*>(partials), int(kSumBlocks), int(kSumBlocks), out);
+}
+
+#define SOFTTLED_INSTANTIATE(T)                                                                            \
+  template cudaError_t launch_render_vertices<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,   \
+                                                 const SurfaceView&, const T*, const std::uint8_t*, float*); \
+  template cudaError_t launch_element_energy<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,    \
+                                                const NeoHookean<T>&, const T*, double*);
+SOFTTLED_INSTANTIATE(float)
+SOFTTLED_INSTANTIATE(double)
+#undef SOFTTLED_INSTANTIATE
+
+}  // namespace softtled::cuda

@@ -1,0 +1,286 @@
+// The two-kernel step (ExecMode graph-pdl and graph): what runs on meshes above 256 tets
+// per SM, and for T4ANP. Per step an element kernel (one thread per element:
+// element_corner_forces, tet_forces.h; for T4ANP three kernels, anp.h: element volumes,
+// nodal pressures through the gather table, corner forces) writes every element's corner
+// forces, then a node kernel gathers them per node in table order (one thread per node,
+// or G lanes per node summed by lane_sum) and calls update_node. Each thread writes only
+// its own element or node: no atomics, runs repeat bit for bit. Every kernel body is a
+// call of the SIM_HD functions the CPU backend (cpu_step.h) loops over.
+#include "sim/fem/anp.h"
+#include "sim/fem/central_difference.h"
+#include "sim/fem/tet_forces.h"
+#include "sim/solver/cuda/kernel_support.cuh"
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled::cuda {
+namespace {
+
+template <class T>
+__device__ __forceinline__ void prefetch_element_rest(const TetMeshView<T>& m, int e) {
+  for (int a = 0; a < 4; ++a) prefetch_l1(m.tet + a * m.ntet + e);
+  for (int c = 0; c < 12; ++c) prefetch_l1(m.dhdX + c * m.ntet + e);
+  prefetch_l1(m.vol + e);
+}
+
+template <class T>
+__device__ __forceinline__ void prefetch_node_rest(const TetMeshView<T>& m, int i) {
+  const int j0 = m.gather_start[i], j1 = m.gather_start[i + 1];
+  for (int j = j0; j < j1; j += 128 / int(sizeof(int))) prefetch_l1(m.gather_slot + j);
+  prefetch_l1(m.gather_slot + (j1 - 1));
+  prefetch_l1(m.flags + i);
+  prefetch_l1(m.inv_mass + i);
+  for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
+}
+
+template <class T, bool kPrefetch>
+__global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
+                                      T* __restrict__ fcorner) {
+  pdl_launch_dependents();
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  pdl_wait();  // u is written by the previous step's node stage
+  if (e >= m.ntet) return;
+  element_corner_forces(m, mat, u, fcorner, e);
+}
+
+template <class T, bool kPrefetch>
+__global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T> b, const StepParams<T> p) {
+  pdl_launch_dependents();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && i < m.nnode) prefetch_node_rest(m, i);
+  pdl_wait();  // fcorner is written by the element stage
+  if (i >= m.nnode) return;
+  T f[3];
+  gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
+  update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i);
+}
+
+// ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
+// element or node, so runs repeat bit for bit ----
+template <class T, bool kPrefetch>
+__global__ void anp_volume_kernel(const TetMeshView<T> m, const T* __restrict__ u, T* __restrict__ vol_now) {
+  pdl_launch_dependents();
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  pdl_wait();  // u is written by the previous step's node stage
+  if (e >= m.ntet) return;
+  anp_element_volume(m, u, vol_now, e);
+}
+
+template <class T, bool kPrefetch>
+__global__ void anp_pressure_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ vol_now,
+                                    T* __restrict__ p_node) {
+  pdl_launch_dependents();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && i < m.nnode) {
+    const int j0 = m.gather_start[i], j1 = m.gather_start[i + 1];
+    for (int j = j0; j < j1; j += 128 / int(sizeof(int))) prefetch_l1(m.gather_slot + j);
+    if (j1 > j0) prefetch_l1(m.gather_slot + (j1 - 1));
+  }
+  pdl_wait();  // vol_now is written by anp_volume_kernel
+  if (i >= m.nnode) return;
+  anp_node_pressure(m, mat, vol_now, p_node, i);
+}
+
+template <class T, bool kPrefetch>
+__global__ void anp_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
+                                  const T* __restrict__ p_node, T* __restrict__ fcorner) {
+  pdl_launch_dependents();
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  pdl_wait();  // p_node is written by anp_pressure_kernel
+  if (e >= m.ntet) return;
+  anp_corner_forces(m, mat, u, p_node, fcorner, e);
+}
+
+// ---- node stage with G lanes per node (see StepArgs in tled_kernels.h) ----
+template <int G>
+struct LaneSlots {
+  static constexpr int kBatch = 64 / G;  // corners per lane issued at once: 64 per node
+  int i, lane, j0, j1;
+  int s[kBatch];  // corner slots, -1 past the node's list
+};
+
+// Thread t serves node t / G as lane t % G. Reads only rest data (the gather table), so
+// under PDL it runs before the wait.
+template <class T, int G>
+__device__ __forceinline__ LaneSlots<G> lane_slots(const TetMeshView<T>& m, int t) {
+  LaneSlots<G> g;
+  g.i = t / G;
+  g.lane = t % G;
+  g.j0 = g.j1 = 0;
+  if (g.i < m.nnode) {
+    g.j0 = m.gather_start[g.i];
+    g.j1 = m.gather_start[g.i + 1];
+  }
+#pragma unroll
+  for (int q = 0; q < LaneSlots<G>::kBatch; ++q) {
+    const int j = g.j0 + g.lane + q * G;
+    g.s[q] = j < g.j1 ? m.gather_slot[j] : -1;
+  }
+  return g;
+}
+
+// Every lane of the warp must call this (the shuffles use the full mask).
+template <class T, int G>
+__device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlots<G>& g) {
+  constexpr int B = LaneSlots<G>::kBatch;
+  const int stride = 4 * a.m.ntet;
+  const T* fc = a.b.fcorner;
+  if (g.lane == 1 && g.i < a.m.nnode) {
+    // update_node's live reads, in flight together with the corner loads below (only
+    // after the grid dependency: the previous node stage writes them).
+    const int n = a.m.nnode;
+    for (int k = 0; k < 3; ++k) {
+      prefetch_l1(a.b.u + k * n + g.i);
+      prefetch_l1(a.b.du + k * n + g.i);
+    }
+  }
+  T v[B][3];
+#pragma unroll
+  for (int q = 0; q < B; ++q) {
+    const int s = g.s[q];
+    v[q][0] = s >= 0 ? fc[s] : T(0);
+    v[q][1] = s >= 0 ? fc[stride + s] : T(0);
+    v[q][2] = s >= 0 ? fc[2 * stride + s] : T(0);
+  }
+  T f[3] = {T(0), T(0), T(0)};
+#pragma unroll
+  for (int q = 0; q < B; ++q)
+    if (g.s[q] >= 0)
+      for (int k = 0; k < 3; ++k) f[k] += v[q][k];
+  for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
+    const int s = a.m.gather_slot[j];
+    for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
+  }
+  for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
+  if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i);
+}
+
+template <class T, int G, bool kPrefetch>
+__global__ void node_lanes_kernel(const StepArgs<T> a) {
+  pdl_launch_dependents();
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
+  if (kPrefetch && g.lane == 0 && g.i < a.m.nnode) {  // update_node's rest reads
+    const TetMeshView<T>& m = a.m;
+    prefetch_l1(m.flags + g.i);
+    prefetch_l1(m.inv_mass + g.i);
+    for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + g.i);
+  }
+  pdl_wait();  // fcorner is written by the element stage
+  lane_finish<T, G>(a, g);
+}
+
+// T4ANP nodal pressure with G lanes per node (same lane layout as the node stage): each
+// lane sums V0_e J_e and V0_e over every G-th corner of the node's gather list, all loads
+// in flight at once, a fixed shuffle tree adds the partial sums, and the first lane turns
+// them into the pressure (anp_pressure, the value function the one-lane stage calls). A
+// thread-per-node gather waits a memory latency per few corners (60 on the torus).
+// Every lane of the warp must call this (the shuffles use the full mask).
+template <class T, int G>
+__device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const LaneSlots<G>& g) {
+  constexpr int B = LaneSlots<G>::kBatch;
+  const int ne = a.m.ntet;
+  T v[B], v0[B];
+#pragma unroll
+  for (int q = 0; q < B; ++q) {
+    const int s = g.s[q];
+    const int e = s >= 0 ? s % ne : 0;
+    v[q] = s >= 0 ? a.vol_now[e] : T(0);
+    v0[q] = s >= 0 ? a.m.vol[e] : T(0);
+  }
+  T sv = T(0), sv0 = T(0);
+#pragma unroll
+  for (int q = 0; q < B; ++q)
+    if (g.s[q] >= 0) {
+      sv += v[q];
+      sv0 += v0[q];
+    }
+  for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
+    const int e = a.m.gather_slot[j] % ne;
+    sv += a.vol_now[e];
+    sv0 += a.m.vol[e];
+  }
+  sv = lane_sum<G>(sv);
+  sv0 = lane_sum<G>(sv0);
+  if (g.lane == 0 && g.i < a.m.nnode) a.p_node[g.i] = anp_pressure(a.mat, sv, sv0);
+}
+
+template <class T, int G, bool kPrefetch>
+__global__ void anp_pressure_lanes_kernel(const StepArgs<T> a) {
+  pdl_launch_dependents();
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
+  if (kPrefetch) {
+#pragma unroll
+    for (int q = 0; q < LaneSlots<G>::kBatch; ++q)
+      if (g.s[q] >= 0) prefetch_l1(a.m.vol + g.s[q] % a.m.ntet);
+  }
+  pdl_wait();  // vol_now is written by anp_volume_kernel
+  anp_pressure_lanes<T, G>(a, g);
+}
+
+}  // namespace
+
+template <class T>
+cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
+  const T* u = a.b.u;
+  if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.b.fcorner);
+  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.b.fcorner);
+}
+
+template <class T>
+cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a) {
+  if (!a.vol_now || !a.p_node) return cudaErrorInvalidValue;
+  const T* u = a.b.u;
+  const T* vol_now = a.vol_now;
+  const T* p_node = a.p_node;
+  cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
+                              : launch(s, le, anp_volume_kernel<T, false>, a.m, u, a.vol_now);
+  if (e != cudaSuccess) return e;
+  switch (a.lanes) {
+    case 1:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
+                      : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
+      break;
+    case 4:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 4, true>, a)
+                      : launch(s, ln, anp_pressure_lanes_kernel<T, 4, false>, a);
+      break;
+    case 8:
+      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 8, true>, a)
+                      : launch(s, ln, anp_pressure_lanes_kernel<T, 8, false>, a);
+      break;
+    default: return cudaErrorInvalidValue;
+  }
+  if (e != cudaSuccess) return e;
+  return le.prefetch ? launch(s, le, anp_forces_kernel<T, true>, a.m, a.mat, u, p_node, a.b.fcorner)
+                     : launch(s, le, anp_forces_kernel<T, false>, a.m, a.mat, u, p_node, a.b.fcorner);
+}
+
+template <class T>
+cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
+  switch (a.lanes) {
+    case 1:
+      if (ls.prefetch) return launch(s, ls, node_update_kernel<T, true>, a.m, a.b, a.p);
+      return launch(s, ls, node_update_kernel<T, false>, a.m, a.b, a.p);
+    case 4:
+      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 4, true>, a);
+      return launch(s, ls, node_lanes_kernel<T, 4, false>, a);
+    case 8:
+      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 8, true>, a);
+      return launch(s, ls, node_lanes_kernel<T, 8, false>, a);
+  }
+  return cudaErrorInvalidValue;
+}
+
+#define SOFTTLED_INSTANTIATE(T)                                                                                        \
+  template cudaError_t launch_element_forces<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                \
+  template cudaError_t launch_anp_stages<T>(cudaStream_t, const LaunchShape&, const LaunchShape&, const StepArgs<T>&); \
+  template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);
+SOFTTLED_INSTANTIATE(float)
+SOFTTLED_INSTANTIATE(double)
+#undef SOFTTLED_INSTANTIATE
+
+}  // namespace softtled::cuda
