@@ -83,7 +83,7 @@ class Viewer {
     st_.renderer = gl_renderer_string();
     log("window %dx%d, GL renderer: %s", o.width, o.height, st_.renderer.c_str());
     log("scene %s: %d nodes, %d tets, backend %s, dt %.3f us (dt_cr %.3f us)", o.scene.c_str(), sim_->mesh().nnode(),
-        sim_->mesh().ntet(), sim_->solver().backend().c_str(), sim_->time_step().dt * 1e6, sim_->time_step().dt_cr * 1e6);
+        sim_->mesh().ntet(), sim_->backend().c_str(), sim_->time_step().dt * 1e6, sim_->time_step().dt_cr * 1e6);
   }
 
   ~Viewer() {
@@ -142,8 +142,7 @@ class Viewer {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         std::vector<OverlayLine> lines;
         if (drag_.active) {
-          sim_->solver().get_state(state_);
-          lines.push_back({drag_.grab_point(sim_->mesh(), state_), drag_.target, {1.f, 0.85f, 0.1f}});
+          lines.push_back({drag_.grab_point(sim_->mesh(), sim_->state()), drag_.target, {1.f, 0.85f, 0.1f}});
         }
         const Vec3 focus{float(st_.diag.centroid[0]), float(st_.diag.centroid[1]), float(st_.diag.centroid[2])};
         // Not while pulling: the drag target comes from the mouse ray, so a camera chasing
@@ -224,7 +223,7 @@ class Viewer {
     body_.reset();
     body_ = std::make_unique<BodyVertexBuffer>(topo_);
     plane_half_ = default_plane_half(*sim_);
-    st_.backend = sim_->solver().backend();
+    st_.backend = sim_->backend();
     st_.precision = sim_->scene().precision;
     st_.nnode = sim_->mesh().nnode();
     st_.ntet = sim_->mesh().ntet();
@@ -261,13 +260,13 @@ class Viewer {
 
   // True when no contact node lies behind any of the planes.
   bool planes_clear_of_body(const std::vector<PlaneSpec>& planes) {
-    sim_->solver().get_state(state_);
+    const HostState& s = sim_->state();
     const TetMesh& m = sim_->mesh();
     const int n = m.nnode();
     for (int i : m.surface_nodes)
       for (const PlaneSpec& pl : planes) {
         double d = 0;
-        for (int k = 0; k < 3; ++k) d += pl.normal[k] * (m.X[3 * i + k] + state_.u[k * n + i] - pl.point[k]);
+        for (int k = 0; k < 3; ++k) d += pl.normal[k] * (m.X[3 * i + k] + s.u[k * n + i] - pl.point[k]);
         if (d < -1e-7) return false;
       }
     return true;
@@ -337,7 +336,7 @@ class Viewer {
     if (a.reset) {
       sim_->reset();
       drag_.release();
-      sim_->solver().set_external_forces({});
+      sim_->set_external_forces({});
       on_reset();
       log("drop again");
     }
@@ -411,7 +410,7 @@ class Viewer {
     if ((mouse_ == Mouse::kOrbit || mouse_ == Mouse::kPull) && !left) {
       if (mouse_ == Mouse::kPull) {
         drag_.release();
-        sim_->solver().set_external_forces({});
+        sim_->set_external_forces({});
         log("released");
       }
       mouse_ = Mouse::kNone;
@@ -422,15 +421,15 @@ class Viewer {
   bool try_grab(float mx, float my, int w, int h) {
     Vec3 o, d;
     cam_.ray(mx, my, w, h, o, d);
-    sim_->solver().get_state(state_);
-    node_positions(sim_->mesh(), state_, topo_.node, pos_);
+    const HostState& s = sim_->state();
+    node_positions(sim_->mesh(), s, topo_.node, pos_);
     const PickHit hit = pick_surface(o, d, pos_, topo_.tri);
     if (!hit.hit) return false;
     const int tri_nodes[3] = {topo_.node[topo_.tri[3 * hit.tri]], topo_.node[topo_.tri[3 * hit.tri + 1]],
                               topo_.node[topo_.tri[3 * hit.tri + 2]]};
     drag_.stiffness = set_.drag_stiffness;
     drag_.max_force = 0.1f;
-    drag_.grab(sim_->mesh(), state_, sim_->solver().lumped_mass(), topo_.node, tri_nodes, hit.point,
+    drag_.grab(sim_->mesh(), s, sim_->lumped_mass(), topo_.node, tri_nodes, hit.point,
                set_.drag_radius_mm * 1e-3f, cam_.target - cam_.eye());
     drag_plane_point_ = hit.point;
     // The plot follows the picked node (the heaviest-weighted grabbed node).
@@ -465,9 +464,8 @@ class Viewer {
       long chunk = std::min(steps - done, turn_slope(dt));
       if (drag_.active) {
         chunk = std::min(chunk, std::max(1L, long(drag_.max_hold_time() / dt)));
-        sim_->solver().get_state(state_);
-        drag_.forces(sim_->mesh(), state_, dt, force_);
-        sim_->solver().set_external_forces(force_);
+        drag_.forces(sim_->mesh(), sim_->state(), dt, force_);
+        sim_->set_external_forces(force_);
       }
       try {
         sim_->advance(chunk, chunk);  // the watchdog checks once per chunk
@@ -475,7 +473,7 @@ class Viewer {
         // The state is rolled back to the last good check: pause and say why.
         set_.paused = true;
         drag_.release();
-        sim_->solver().set_external_forces({});
+        sim_->set_external_forces({});
         mouse_ = Mouse::kNone;
         st_.warning = std::string(e.what()) + " Paused: lower lambda or E, or Drop again.";
         log("stopped by the watchdog: %s", e.what());
@@ -495,9 +493,9 @@ class Viewer {
     umax_seen_ = std::max(umax_seen_, float(st_.diag.max_u));
     set_.style.umax = set_.auto_umax ? std::max(umax_seen_, 1e-4f) : set_.umax_mm * 1e-3f;
     if (advanced || st_.plot.t.empty()) {
-      sim_->solver().get_state(state_);
+      const HostState& s = sim_->state();
       const int n = sim_->mesh().nnode(), i = st_.plot.node;
-      st_.plot.push(float(st_.sim_time), float(state_.u[i] * 1e3), float(state_.u[n + i] * 1e3), float(state_.u[2 * n + i] * 1e3));
+      st_.plot.push(float(st_.sim_time), float(s.u[i] * 1e3), float(s.u[n + i] * 1e3), float(s.u[2 * n + i] * 1e3));
     }
   }
 
@@ -583,7 +581,6 @@ class Viewer {
   DragSpring drag_;
   Vec3 drag_plane_point_;
   Mouse mouse_ = Mouse::kNone;
-  HostState state_;
   std::vector<float> pos_;
   std::vector<double> force_;
   std::future<std::unique_ptr<Simulation>> rebuild_;

@@ -209,13 +209,14 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (params_.dt > 0 && q.dt != params_.dt) {
     // The increment state du is a displacement per step: rescale it so the velocity
     // du / dt carries over to the new step.
-    solver_->get_state(scratch_);
-    for (double& v : scratch_.du) v *= q.dt / params_.dt;
-    solver_->set_state(scratch_);
+    HostState s = state();
+    for (double& v : s.du) v *= q.dt / params_.dt;
+    solver_->set_state(s);
   }
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
+  state_changed();
   return warning;
 }
 
@@ -229,6 +230,7 @@ void Simulation::apply_initial_state() {
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < n; ++i) s.du[k * n + i] = scene_.velocity[k] * params_.dt;
   solver_->set_state(s);
+  state_changed();
   nsteps_ = 0;
   t_offset_ = 0;
   last_good_ = s;
@@ -250,8 +252,19 @@ void Simulation::apply_initial_state() {
 
 void Simulation::reset() { apply_initial_state(); }
 
+const HostState& Simulation::state() {
+  if (!state_valid_) {
+    solver_->get_state(state_);
+    state_valid_ = true;
+  }
+  return state_;
+}
+
+void Simulation::set_external_forces(const std::vector<double>& f) { solver_->set_external_forces(f); }
+
 void Simulation::set_state(const HostState& s) {
   solver_->set_state(s);
+  state_changed();
   last_good_ = s;
   last_good_steps_ = nsteps_;
   last_good_offset_ = t_offset_;
@@ -264,19 +277,19 @@ void Simulation::advance(long n, long check_every) {
   if (check_every <= 0) check_every = n;
   for (long done = 0; done < n;) {
     const long k = std::min(check_every, n - done);
-    solver_->step(k);
-    nsteps_ += k;
+    step(k);
     done += k;
     check_health();
   }
 }
 
 void Simulation::check_health() {
-  solver_->get_state(scratch_);
+  const HostState& s = state();
   const int n = mesh_.nnode();
   auto diverged = [&](const std::string& problem, int element, const std::string& cause) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
     solver_->set_state(last_good_);
+    state_changed();
     const double t_bad = time();
     nsteps_ = last_good_steps_;
     t_offset_ = last_good_offset_;
@@ -290,8 +303,8 @@ void Simulation::check_health() {
   };
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
   const std::string dt_cause = "the time step is above the stability limit; use time.dt = \"auto\" or a smaller lambda";
-  for (std::size_t j = 0; j < scratch_.u.size(); ++j)
-    if (!std::isfinite(scratch_.u[j]) || !std::isfinite(scratch_.du[j])) {
+  for (std::size_t j = 0; j < s.u.size(); ++j)
+    if (!std::isfinite(s.u[j]) || !std::isfinite(s.du[j])) {
       const int node = int(j % n);
       int element = -1;
       for (int e = 0; e < mesh_.ntet() && element < 0; ++e)
@@ -308,7 +321,7 @@ void Simulation::check_health() {
       // J = current volume / rest volume, in double on the host.
       double x[4][3];
       for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) x[a][k] = mesh_.X[3 * t[a] + k] + scratch_.u[k * n + t[a]];
+        for (int k = 0; k < 3; ++k) x[a][k] = mesh_.X[3 * t[a] + k] + s.u[k * n + t[a]];
       const double J = tet_signed_volume(x[0], x[1], x[2], x[3]) /
                        tet_signed_volume(&mesh_.X[3 * t[0]], &mesh_.X[3 * t[1]], &mesh_.X[3 * t[2]], &mesh_.X[3 * t[3]]);
       if (!(J > 0)) {
@@ -323,13 +336,13 @@ void Simulation::check_health() {
   // Energy gained from nowhere: with damping and passive contact the total energy can
   // only fall; user drag forces add a little per check, a blow-up adds more than the
   // whole energy scale of the scene between two checks.
-  const Diagnostics d = diagnostics_of(scratch_);  // the state just downloaded
+  const Diagnostics& d = diagnostics();
   const double e_total = d.ke + d.se + d.pe;
   if (!std::isfinite(e_total) || e_total - energy0_ > energy_scale_)
     diverged("total energy grew by " + std::to_string(e_total - energy0_) + " J since the last check (scale " + std::to_string(energy_scale_) + " J)",
              -1, unstable_dt ? dt_cause : "numerical blow-up; try a smaller lambda");
   energy0_ = e_total;
-  last_good_ = scratch_;
+  last_good_ = s;
   last_good_steps_ = nsteps_;
   last_good_offset_ = t_offset_;
 }
@@ -337,11 +350,15 @@ void Simulation::check_health() {
 void Simulation::step(long n) {
   solver_->step(n);
   nsteps_ += n;
+  state_changed();
 }
 
 Diagnostics Simulation::diagnostics() {
-  solver_->get_state(scratch_);
-  return diagnostics_of(scratch_);
+  if (!diag_valid_) {
+    diag_ = diagnostics_of(state());
+    diag_valid_ = true;
+  }
+  return diag_;
 }
 
 Diagnostics Simulation::diagnostics_of(const HostState& s) {

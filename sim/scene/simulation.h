@@ -1,6 +1,8 @@
 #pragma once
 // One scene, assembled: scene -> surface -> tet mesh -> rest state -> live state.
-// The app owns a Simulation and calls step()/advance(); the viewer edits params() live.
+// The one facade of the simulation: the app owns a Simulation, calls step()/advance(),
+// reads the state and diagnostics, edits params() live and asks for render vertices; it
+// never reaches the solver itself.
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -52,11 +54,12 @@ class Simulation {
 
   const Scene& scene() const { return scene_; }
   const TetMesh& mesh() const { return mesh_; }
-  Solver& solver() { return *solver_; }
   const PhysicsParams& params() const { return params_; }
   const TimeStepInfo& time_step() const { return ts_; }
   const std::vector<int>& tracked_nodes() const { return tracked_; }
   int fixed_node_count() const { return n_fixed_; }
+  std::string backend() const { return solver_->backend(); }  // e.g. "cpu (2 threads)", "cuda"
+  const std::vector<double>& lumped_mass() const { return solver_->lumped_mass(); }  // nnode [kg]
 
   // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
   // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
@@ -69,18 +72,35 @@ class Simulation {
   // back to the last good check and SimulationDiverged is thrown.
   void advance(long n, long check_every);
   void reset();  // back to the initial state (the viewer's "drop again")
+  // The live state on the host, downloaded at most once per step count: every reader of
+  // one frame (watchdog, diagnostics, picking, drag spring, plot) shares this copy.
+  const HostState& state();
   // Replaces the live state (tests, rollback, a user's custom start) and re-anchors the
   // watchdog's energy reference to it.
   void set_state(const HostState& s);
+  // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
+  void set_external_forces(const std::vector<double>& f);
   double time() const { return double(nsteps_) * params_.dt + t_offset_; }
   long steps() const { return nsteps_; }
-  Diagnostics diagnostics();
+  Diagnostics diagnostics();  // of state(), computed once per step count
+
+  // Render hand-off (sim/fem/surface_render.h): kRenderFloatsPerVertex floats per boundary
+  // node into dst, which must be device memory (a mapped GL buffer) when
+  // render_buffer_on_device() and host memory otherwise.
+  bool render_buffer_on_device() const { return solver_->render_buffer_on_device(); }
+  void write_render_vertices(float* dst) { solver_->write_render_vertices(dst); }
+
+  // Backend hatch for benchmarks and backend-level tests only (bench, tests/solver,
+  // analysis): execution modes, thread counts, the raw solver state. app/ and render/ never
+  // use it. Writes through it bypass the cached state() and the watchdog.
+  Solver& solver() { return *solver_; }
 
  private:
   void apply_initial_state();
   void check_health();
   // Diagnostics of a state already on the host (the solver supplies only strain energy).
   Diagnostics diagnostics_of(const HostState& s);
+  void state_changed() { state_valid_ = diag_valid_ = false; }
 
   Scene scene_;
   TetMesh mesh_;
@@ -91,7 +111,10 @@ class Simulation {
   int n_fixed_ = 0;
   long nsteps_ = 0;
   double t_offset_ = 0;  // time accumulated before the last dt change
-  HostState scratch_;
+  HostState state_;           // cache of the solver's state, valid while state_valid_
+  bool state_valid_ = false;
+  Diagnostics diag_;          // diagnostics of state_, valid while diag_valid_
+  bool diag_valid_ = false;
   HostState last_good_;
   long last_good_steps_ = 0;
   double last_good_offset_ = 0;

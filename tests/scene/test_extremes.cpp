@@ -37,17 +37,14 @@ int advance_counting_contacts(Simulation& sim, double t_end, long check_every) {
 }
 
 void expect_sane(Simulation& sim, const std::string& what) {
-  HostState st;
-  sim.solver().get_state(st);
-  for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << what;
+  for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << what;
   const Diagnostics d = sim.diagnostics();
   EXPECT_GT(d.min_gap, -1e-9) << what << ": a node is below a plane";
   EXPECT_TRUE(std::isfinite(d.ke) && std::isfinite(d.se)) << what;
 }
 
 double min_J(Simulation& sim) {
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const TetMesh& m = sim.mesh();
   const int n = m.nnode();
   double jmin = 1e300;
@@ -101,9 +98,7 @@ TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("x dt_cr"), std::string::npos) << msg;
     EXPECT_NE(msg.find("above the stability limit"), std::string::npos) << msg;
-    HostState st;
-    sim.solver().get_state(st);
-    for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
+    for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
   }
   // The same dt set live (viewer) is clamped, with a warning.
   Simulation live(box_on_floor(""));
@@ -187,9 +182,7 @@ TEST(Extremes, OneElementMesh) {
 TEST(Extremes, ZeroGravityStaysExactlyAtRest) {
   Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"));
   sim.advance(2000, 500);
-  HostState st;
-  sim.solver().get_state(st);
-  for (double v : st.u) ASSERT_EQ(v, 0.0);
+  for (double v : sim.state().u) ASSERT_EQ(v, 0.0);
 }
 
 TEST(Extremes, NoDampingConservesFreeFallEnergy) {
@@ -201,7 +194,7 @@ TEST(Extremes, NoDampingConservesFreeFallEnergy) {
   // Diagnostics' KE uses the half-step velocity du/dt, which lags v(t) by g dt / 2:
   // correct for it, then energy must be conserved to rounding.
   double mass = 0;
-  for (double m : sim.solver().lumped_mass()) mass += m;
+  for (double m : sim.lumped_mass()) mass += m;
   const double v_half = std::sqrt(2 * d.ke / mass), v = v_half + 9.81 * sim.time_step().dt / 2;
   EXPECT_NEAR(0.5 * mass * v * v + d.pe, d0.ke + d0.pe, 1e-5 * std::fabs(d.pe - d0.pe));
 }
@@ -209,8 +202,7 @@ TEST(Extremes, NoDampingConservesFreeFallEnergy) {
 TEST(Extremes, HeavyDampingReachesTerminalVelocity) {
   Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"));
   sim.advance(std::lround(0.02 / sim.time_step().dt), 200);  // 20 time constants
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
   const double v = st.du[n] / sim.time_step().dt;  // y velocity of node 0
   EXPECT_NEAR(v, -9.81 / 1000.0, 1e-3 * 9.81 / 1000.0) << "terminal velocity g / alpha";
@@ -220,8 +212,7 @@ TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
   // Start with the whole box mirrored through its centre plane x = 0 (every J = -1).
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
     Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"));
-    HostState st;
-    sim.solver().get_state(st);
+    HostState st = sim.state();
     const int n = sim.mesh().nnode();
     for (int i = 0; i < n; ++i) st.u[i] = -2 * sim.mesh().X[3 * i];
     sim.set_state(st);

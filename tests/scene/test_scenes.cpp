@@ -24,9 +24,8 @@ struct Motion {
   double v[3], omega_z;
 };
 Motion motion(Simulation& sim) {
-  HostState st;
-  sim.solver().get_state(st);
-  const auto& m = sim.solver().lumped_mass();
+  const HostState& st = sim.state();
+  const auto& m = sim.lumped_mass();
   const int n = sim.mesh().nnode();
   const double dt = sim.time_step().dt;
   double M = 0, c[3] = {0, 0, 0}, p[3] = {0, 0, 0};

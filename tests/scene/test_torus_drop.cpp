@@ -17,8 +17,7 @@ namespace {
 double damped_fall(double g, double alpha, double t) { return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha); }
 
 double node_extent(Simulation& sim, int axis) {
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
   double lo = 1e300, hi = -1e300;
   for (int i = 0; i < n; ++i) {
