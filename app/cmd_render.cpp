@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "commands.h"
-#include "render/headless.h"
+#include "app/headless_render.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 

@@ -17,9 +17,9 @@
 #include <limits>
 #include <memory>
 
+#include "app/render_handoff.h"
 #include "render/body_buffer.h"
 #include "render/gl_context.h"
-#include "render/headless.h"
 #include "render/image.h"
 #include "render/offscreen_target.h"
 #include "render/scene_renderer.h"
@@ -128,7 +128,7 @@ class Viewer {
       const double t_before = sim_->time();
       const auto t_step = Clock::now();
       const long steps = advance(wall_dt, act.step);
-      body_->update(sim_->solver());  // waits for the steps on a GPU backend
+      write_body_vertices(*sim_, *body_);  // waits for the steps on a GPU backend
       if (steps > 0) {  // cost per step, for the wall-time budget
         const double c = since(t_step) / double(steps);
         cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
@@ -150,7 +150,7 @@ class Viewer {
         if (set_.follow && have_centroid_ && mouse_ != Mouse::kPull) cam_.target = cam_.target + (focus - last_centroid_);
         last_centroid_ = focus;
         have_centroid_ = true;
-        renderer_->draw(cam_, fb_w, fb_h, *body_, sim_->params().planes, focus, plane_half_, set_.style, lines);
+        renderer_->draw(cam_, fb_w, fb_h, *body_, render_planes(sim_->params().planes), focus, plane_half_, set_.style, lines);
       }
       ImGui::Render();
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -221,7 +221,7 @@ class Viewer {
   void attach_simulation() {
     topo_ = build_surface_topology(sim_->mesh());
     body_.reset();
-    body_ = std::make_unique<BodyVertexBuffer>(topo_);
+    body_ = make_body_buffer(topo_);
     plane_half_ = default_plane_half(*sim_);
     st_.backend = sim_->backend();
     st_.precision = sim_->scene().precision;
