@@ -57,7 +57,7 @@ Command add_run_command(CLI::App& app) {
                  "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
                  ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6, ts.dt * 1e6, ts.dt / ts.dt_cr,
-                 sim.backend().c_str(), s.precision.c_str());
+                 sim.backend().c_str(), precision_name(s.precision));
     std::ofstream csv;
     if (!o->csv.empty()) {
       csv.open(o->csv);

@@ -37,8 +37,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-int contact_mode_of(const std::string& s) { return s == "static" ? kStatic : s == "coulomb" ? kCoulomb : kSliding; }
-
 class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : opt_(o) {
@@ -201,7 +199,7 @@ class Viewer {
     set_.segments[0] = s.segments[0];
     set_.segments[1] = s.segments[1];
     for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
-    set_.contact_mode = contact_mode_of(s.contact_mode);
+    set_.contact_mode = s.contact_mode;
     set_.mu = float(s.mu);
     set_.floor = s.floor;
     set_.slope = s.slope;
@@ -224,7 +222,7 @@ class Viewer {
     body_ = make_body_buffer(topo_);
     plane_half_ = default_plane_half(*sim_);
     st_.backend = sim_->backend();
-    st_.precision = sim_->scene().precision;
+    st_.precision = precision_name(sim_->scene().precision);
     st_.nnode = sim_->mesh().nnode();
     st_.ntet = sim_->mesh().ntet();
     st_.nsurf = int(topo_.node.size());
@@ -306,7 +304,7 @@ class Viewer {
     p.E = set_.E;
     p.nu = std::min(set_.nu, 0.4999f);
     p.alpha = set_.alpha;
-    p.contact_mode = set_.contact_mode;
+    p.contact_mode = ContactMode(set_.contact_mode);
     p.mu = set_.mu;
     p.planes = planes_from_settings();
     p.dt_auto = set_.lock_lambda;
@@ -328,7 +326,7 @@ class Viewer {
     if (a.params || a.planes) {
       apply_params();
       if (set_.contact_mode != logged_mode_) {
-        log("contact mode %s", contact_mode_name(set_.contact_mode));
+        log("contact mode %s", contact_mode_name(ContactMode(set_.contact_mode)));
         logged_mode_ = set_.contact_mode;
       }
       if (a.planes) log("planes: floor %s, slope %s at %.1f deg", set_.floor ? "on" : "off", set_.slope ? "on" : "off", set_.slope_deg);
@@ -510,7 +508,7 @@ class Viewer {
     s.E = set_.E;
     s.nu = set_.nu;
     s.alpha = set_.alpha;
-    s.contact_mode = contact_mode_name(set_.contact_mode);
+    s.contact_mode = ContactMode(set_.contact_mode);
     s.mu = set_.mu;
     s.floor = set_.floor;
     s.slope = set_.slope;

@@ -9,10 +9,6 @@
 
 namespace softtled {
 
-const char* contact_mode_name(int mode) {
-  return mode == kStatic ? "static" : mode == kCoulomb ? "coulomb" : "sliding";
-}
-
 const char* color_mode_name(ColorMode c) {
   return c == ColorMode::kDisplacement ? "displacement" : c == ColorMode::kContact ? "contact" : "shaded";
 }
@@ -86,7 +82,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (int m = 0; m < 3; ++m) {
       if (m) ImGui::SameLine();
-      if (ImGui::RadioButton(contact_mode_name(m), &s.contact_mode, m)) a.params = true;
+      if (ImGui::RadioButton(contact_mode_name(ContactMode(m)), &s.contact_mode, m)) a.params = true;
     }
     ImGui::TextDisabled("F cycles the mode");
     if (s.contact_mode == kCoulomb && ImGui::SliderFloat("mu", &s.mu, 0.0f, 2.0f, "%.2f")) a.params = true;

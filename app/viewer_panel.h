@@ -88,7 +88,6 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
 // The picked node's x, y, z displacement over time (the paper's Fig. 4), bottom right.
 void draw_plot_window(const ViewerStats& st, int window_w, int window_h);
 
-const char* contact_mode_name(int mode);
 const char* color_mode_name(ColorMode c);
 
 }  // namespace softtled

@@ -112,12 +112,12 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   }
   std::string note;
   solver_ = make_solver(backend, mesh_, scene_.rho, flags,
-                        scene_.precision == "float" ? Precision::kFloat : Precision::kDouble, &note);
+                        scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
-  params_.element = scene_.element == "T4ANP" ? kT4ANP : kT4;
-  params_.material_model = scene_.material_model == "stable_neo_hookean" ? kStableNeoHookean : kTaylorNeoHookean;
+  params_.element = scene_.element;
+  params_.material_model = scene_.material_model;
   params_.nu = scene_.nu;
   params_.alpha = scene_.alpha;
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
@@ -134,7 +134,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
       throw InputError(scene_.source + buf);
     }
   }
-  params_.contact_mode = scene_.contact_mode == "sliding" ? kSliding : scene_.contact_mode == "static" ? kStatic : kCoulomb;
+  params_.contact_mode = scene_.contact_mode;
   params_.mu = scene_.mu;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
   params_.dt_auto = scene_.dt_auto;
