@@ -8,21 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene/scene.h"
-#include "sim/solver/solver.h"
 #include "sim/mesh/tet_mesh.h"
+#include "sim/scene/diagnostics.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/scene_geometry.h"
+#include "sim/scene/watchdog.h"
+#include "sim/solver/solver.h"
 
 namespace softtled {
-
-struct Diagnostics {
-  double t = 0;
-  double centroid[3] = {0, 0, 0};  // mass-weighted [m]
-  double min_gap = 0;              // smallest signed node-plane distance [m] (inf: no planes)
-  double ke = 0, se = 0, pe = 0;   // kinetic, strain, gravitational energy [J]
-  int n_contact = 0, n_stick = 0;  // nodes projected this step, of which sticking
-  double max_u = 0;                // largest displacement magnitude [m]
-  std::vector<double> tracked;     // 3 per tracked node: displacement [m]
-};
 
 struct TimeStepInfo {
   double c = 0;         // dilatational wave speed (eq. 10) [m/s]
@@ -41,11 +34,6 @@ struct SimulationDiverged : std::runtime_error {
 };
 
 double dilatational_wave_speed(double E, double nu, double rho);
-
-// The surface the scene describes, in metres, rotated and placed.
-SurfaceMesh scene_surface(const Scene& s);
-TetgenOptions scene_tetgen_options(const Scene& s);
-std::vector<PlaneSpec> scene_planes(const Scene& s);
 
 class Simulation {
  public:
@@ -115,10 +103,10 @@ class Simulation {
   bool state_valid_ = false;
   Diagnostics diag_;          // diagnostics of state_, valid while diag_valid_
   bool diag_valid_ = false;
-  HostState last_good_;
+  Watchdog watchdog_;
+  HostState last_good_;  // the state at the last healthy check, what a rollback restores
   long last_good_steps_ = 0;
   double last_good_offset_ = 0;
-  double energy0_ = 0, energy_scale_ = 0;
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
   int eigen_model_ = -1;
 };
