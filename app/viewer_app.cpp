@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
-#include <limits>
 #include <memory>
 
 #include "app/render_handoff.h"
@@ -126,6 +125,7 @@ class Viewer {
       const double t_before = sim_->time();
       const auto t_step = Clock::now();
       const long steps = advance(wall_dt, act.step);
+      read_slope();
       write_body_vertices(*sim_, *body_);  // waits for the steps on a GPU backend
       if (steps > 0) {  // cost per step, for the wall-time budget
         const double c = since(t_step) / double(steps);
@@ -204,9 +204,8 @@ class Viewer {
     set_.floor = s.floor;
     set_.slope = s.slope;
     set_.slope_deg = float(s.slope_angle_deg);
-    slope_now_ = set_.slope_deg;
     slope_was_on_ = set_.slope;
-    st_.slope_now = slope_now_;
+    st_.slope_now = set_.slope_deg;
     set_.lambda = float(s.dt_auto ? s.lambda : sim_->time_step().dt / sim_->time_step().dt_cr);
     set_.lock_lambda = s.dt_auto;
     set_.dt_us = float(sim_->time_step().dt * 1e6);
@@ -245,68 +244,62 @@ class Viewer {
     dirty_ = true;
   }
 
-  // Planes as the simulation sees them now: the slope at slope_now_, which follows the
-  // panel's angle (see turn_slope).
-  std::vector<PlaneSpec> planes_for(float slope_deg) const {
+  // The planes the panel asks for, with the slope at slope_deg.
+  std::vector<PlaneSpec> planes_for(double slope_deg) const {
     Scene s = sim_->scene();
     s.floor = set_.floor;
     s.slope = set_.slope;
     s.slope_angle_deg = slope_deg;
     return scene_planes(s);
   }
-  std::vector<PlaneSpec> planes_from_settings() const { return planes_for(slope_now_); }
+  int slope_index() const { return set_.floor ? 1 : 0; }
 
-  // True when no contact node lies behind any of the planes.
-  bool planes_clear_of_body(const std::vector<PlaneSpec>& planes) {
-    const HostState& s = sim_->state();
-    const TetMesh& m = sim_->mesh();
-    const int n = m.nnode();
-    for (int i : m.surface_nodes)
-      for (const PlaneSpec& pl : planes) {
-        double d = 0;
-        for (int k = 0; k < 3; ++k) d += pl.normal[k] * (m.X[3 * i + k] + s.u[k * n + i] - pl.point[k]);
-        if (d < -1e-7) return false;
-      }
-    return true;
+  // The slope's angle now, and whether it is still turning (a kinematic plane in the
+  // simulation, see request_planes).
+  void read_slope() {
+    const auto& planes = sim_->params().planes;
+    const std::size_t i = std::size_t(slope_index());
+    st_.slope_turning = set_.slope && i < planes.size() && sim_->plane_motion()[i].moving();
+    if (set_.slope && i < planes.size()) st_.slope_now = float(slope_angle_deg(sim_->scene(), planes[i]));
   }
 
   // A new slope angle takes effect at once when the turned plane does not cut into the
-  // body. Otherwise the plane turns towards it at kSlopeRate of simulated time in small
-  // increments (advance), pushing the body like a moving wall: a plane jumping through
-  // the body would project its nodes across millimetres in one step and blow it up.
+  // body. Otherwise the slope turns towards it at kSlopeRate of simulated time as a
+  // kinematic plane, pushing the body like a moving wall: a plane jumping through the body
+  // would project its nodes across millimetres in one step and blow it up. A slope just
+  // switched on starts flat.
   void request_planes() {
-    if (set_.slope && !slope_was_on_) slope_now_ = planes_clear_of_body(planes_for(set_.slope_deg)) ? set_.slope_deg : 0.f;
-    if (!set_.slope || planes_clear_of_body(planes_for(set_.slope_deg))) slope_now_ = set_.slope_deg;
+    constexpr double kSlopeRate = 300;  // [deg per simulated second]
+    const std::vector<PlaneSpec> target = planes_for(set_.slope_deg);
+    if (!set_.slope || sim_->gap_to(target) >= -1e-7) {
+      apply_params(&target);
+    } else {
+      const double from = slope_was_on_ ? st_.slope_now : 0.0;  // read_slope, last frame
+      const std::vector<PlaneSpec> now = planes_for(from);
+      if (apply_params(&now)) {
+        PlaneMotion turn;
+        turn.omega[2] = (set_.slope_deg > from ? 1 : -1) * kSlopeRate * 3.14159265358979323846 / 180;
+        turn.duration = std::fabs(set_.slope_deg - from) / kSlopeRate;
+        sim_->set_plane_motion(std::size_t(slope_index()), turn);
+      }
+    }
     slope_was_on_ = set_.slope;
-    st_.slope_now = slope_now_;
-    apply_params();
-  }
-
-  // Turns the slope one increment; returns the largest number of steps before the next.
-  long turn_slope(double dt) {
-    if (!set_.slope || slope_now_ == set_.slope_deg) return std::numeric_limits<long>::max();
-    constexpr double kSlopeRate = 300;      // [deg per simulated second]
-    constexpr double kMaxIncrement = 0.05;  // [deg] per plane update
-    const long chunk = std::max(1L, long(kMaxIncrement / (kSlopeRate * dt)));
-    const float delta = float(kSlopeRate * dt * double(chunk));
-    const float diff = set_.slope_deg - slope_now_;
-    slope_now_ = std::fabs(diff) <= delta ? set_.slope_deg : slope_now_ + (diff > 0 ? delta : -delta);
-    st_.slope_now = slope_now_;
-    apply_params();
-    return chunk;
+    read_slope();
   }
 
   // Live parameters through Simulation::set_params, which recomputes dt_cr (Le/c and the
   // eigenvalue bound), sets dt = lambda x dt_cr when locked, clamps a manual dt above
   // dt_cr (returning a warning) and rescales the increment state so velocities carry over.
-  void apply_params() {
+  // planes: new planes, else the simulation keeps its own (a turning slope keeps turning).
+  // Returns false (and shows why) when the simulation refused them.
+  bool apply_params(const std::vector<PlaneSpec>* planes = nullptr) {
     PhysicsParams p = sim_->params();
     p.E = set_.E;
     p.nu = std::min(set_.nu, 0.4999f);
     p.alpha = set_.alpha;
     p.contact_mode = ContactMode(set_.contact_mode);
     p.mu = set_.mu;
-    p.planes = planes_from_settings();
+    if (planes) p.planes = *planes;
     p.dt_auto = set_.lock_lambda;
     p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);
     p.dt = std::max(1e-3f, set_.dt_us) * 1e-6;
@@ -314,17 +307,18 @@ class Viewer {
       st_.warning = sim_->set_params(p);
     } catch (const InputError& e) {
       st_.warning = e.what();
-      return;
+      return false;
     }
     set_.dt_us = float(sim_->params().dt * 1e6);
     st_.ts = sim_->time_step();
     dirty_ = true;
+    return true;
   }
 
   void apply(PanelActions& a) {
     if (a.planes) request_planes();
+    else if (a.params) apply_params();
     if (a.params || a.planes) {
-      apply_params();
       if (set_.contact_mode != logged_mode_) {
         log("contact mode %s", contact_mode_name(ContactMode(set_.contact_mode)));
         logged_mode_ = set_.contact_mode;
@@ -459,7 +453,7 @@ class Viewer {
     }
     long done = 0;
     while (done < steps) {
-      long chunk = std::min(steps - done, turn_slope(dt));
+      long chunk = steps - done;
       if (drag_.active) {
         chunk = std::min(chunk, std::max(1L, long(drag_.max_hold_time() / dt)));
         drag_.forces(sim_->mesh(), sim_->state(), dt, force_);
@@ -588,7 +582,6 @@ class Viewer {
   bool dirty_ = true;
   Vec3 last_centroid_;        // for the camera following the body
   bool have_centroid_ = false;
-  float slope_now_ = 0;       // slope angle the simulation uses [deg]
   bool slope_was_on_ = false;
   int logged_mode_ = -1;
   int screenshot_count_ = 0;

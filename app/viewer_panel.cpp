@@ -90,7 +90,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::SameLine();
     if (ImGui::Checkbox("slope", &s.slope)) a.planes = true;
     if (ImGui::SliderFloat("slope [deg]", &s.slope_deg, -60.f, 60.f, "%.1f")) a.planes = true;
-    if (s.slope && st.slope_now != s.slope_deg)
+    if (s.slope && st.slope_turning)
       ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "slope turning: %.1f deg", st.slope_now);
     else
       ImGui::TextDisabled("[ and ] turn the slope by 5 deg");

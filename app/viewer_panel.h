@@ -66,6 +66,7 @@ struct ViewerStats {
   std::string backend, precision, renderer, vertex_path, warning;
   int nnode = 0, ntet = 0, nsurf = 0, ntri = 0;
   float slope_now = 0;              // slope angle in use (turns towards the panel's) [deg]
+  bool slope_turning = false;       // the slope is turning towards the panel's angle
   bool rebuilding = false;
   double rebuild_elapsed = 0;
   std::string rebuild_error;

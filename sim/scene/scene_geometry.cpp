@@ -72,6 +72,12 @@ std::vector<PlaneSpec> scene_planes(const Scene& s) {
   return planes;
 }
 
+double slope_angle_deg(const Scene& s, const PlaneSpec& slope) {
+  const double* f = s.floor_normal.data();
+  const double* n = slope.normal;
+  return std::atan2(f[0] * n[1] - f[1] * n[0], f[0] * n[0] + f[1] * n[1]) * 180 / 3.14159265358979323846;
+}
+
 std::vector<std::uint8_t> scene_node_flags(const Scene& s, const TetMesh& m, int* n_fixed) {
   std::vector<std::uint8_t> flags(m.nnode(), 0);
   if (s.contact_nodes == "all") {

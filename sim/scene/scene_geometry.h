@@ -18,6 +18,9 @@ SurfaceMesh scene_surface(const Scene& s);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);
+// The inverse for the slope: the angle [deg] by which `slope` is turned from the floor
+// normal about z (a slope that turns as a kinematic plane).
+double slope_angle_deg(const Scene& s, const PlaneSpec& slope);
 
 // NodeFlag per node: kNodeContact on the boundary (or every node, contact.nodes = "all"),
 // kNodeFixed inside a [[fixed]] selector. InputError when a selector selects no node;

@@ -3,12 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "sim/mesh/mesh_cache.h"
 #include "sim/solver/solver_factory.h"
 #include "sim/solver/stable_step.h"
 
 namespace softtled {
+
+namespace {
+bool same_pose(const PlaneSpec& a, const PlaneSpec& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.point[k] != b.point[k] || a.normal[k] != b.normal[k]) return false;
+  return true;
+}
+}  // namespace
 
 double dilatational_wave_speed(double E, double nu, double rho) {
   return std::sqrt(E * (1 - nu) / (rho * (1 + nu) * (1 - 2 * nu)));
@@ -97,6 +106,10 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     for (double& v : s.du) v *= q.dt / params_.dt;
     solver_->set_state(s);
   }
+  std::vector<PlaneMotion> motion(q.planes.size());
+  for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
+    if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
+  plane_motion_ = motion;
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
@@ -178,9 +191,50 @@ void Simulation::check_health() {
 }
 
 void Simulation::step(long n) {
-  solver_->step(n);
-  nsteps_ += n;
+  for (long done = 0; done < n;) {
+    const long k = move_planes(n - done);
+    solver_->step(k);
+    nsteps_ += k;
+    done += k;
+    state_changed();
+  }
   state_changed();
+}
+
+void Simulation::set_plane_motion(std::size_t plane, const PlaneMotion& m) {
+  if (plane >= plane_motion_.size())
+    throw InputError("plane " + std::to_string(plane) + ": the scene has " + std::to_string(plane_motion_.size()) + " planes");
+  plane_motion_[plane] = m;
+}
+
+double Simulation::gap_to(const std::vector<PlaneSpec>& planes) {
+  const HostState& s = state();
+  const int n = mesh_.nnode();
+  double gap = std::numeric_limits<double>::infinity();
+  for (int i : mesh_.surface_nodes) {
+    const double x[3] = {mesh_.X[3 * i] + s.u[i], mesh_.X[3 * i + 1] + s.u[n + i], mesh_.X[3 * i + 2] + s.u[2 * n + i]};
+    for (const PlaneSpec& pl : planes) gap = std::min(gap, signed_distance(pl, x));
+  }
+  return gap;
+}
+
+long Simulation::move_planes(long max_steps) {
+  bool moving = false;
+  for (const PlaneMotion& m : plane_motion_) moving = moving || m.moving();
+  if (!moving) return max_steps;
+  // One step at a time: each moving plane jumps to its pose at the end of the step, which
+  // the body then meets. (The kernels take plane poses only, so this is a set_params per
+  // step; on CUDA that recaptures the step graph while a plane moves.)
+  for (std::size_t p = 0; p < plane_motion_.size(); ++p) {
+    PlaneMotion& m = plane_motion_[p];
+    if (!m.moving()) continue;
+    const double tau = std::min(params_.dt, m.duration);
+    params_.planes[p] = moved(params_.planes[p], m, tau);
+    m.duration -= tau;
+  }
+  solver_->set_params(params_);
+  diag_valid_ = false;
+  return 1;
 }
 
 Diagnostics Simulation::diagnostics() {

@@ -10,6 +10,7 @@
 
 #include "sim/mesh/tet_mesh.h"
 #include "sim/scene/diagnostics.h"
+#include "sim/scene/plane_motion.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_geometry.h"
 #include "sim/scene/watchdog.h"
@@ -51,10 +52,19 @@ class Simulation {
 
   // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
   // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
-  // edits must not blow up the viewer); empty when nothing was changed.
+  // edits must not blow up the viewer); empty when nothing was changed. A plane whose pose
+  // p leaves unchanged keeps its motion; a new or moved plane is at rest.
   std::string set_params(const PhysicsParams& p);
 
-  void step(long n);  // n steps, no checks (benchmarks)
+  // Kinematic planes (plane_motion.h): params().planes[plane] moves with m from now on,
+  // every step; its pose is in params().planes, what is left of its motion here.
+  void set_plane_motion(std::size_t plane, const PlaneMotion& m);
+  const std::vector<PlaneMotion>& plane_motion() const { return plane_motion_; }
+  // Smallest signed distance of a boundary node from any of `planes` now [m] (inf: none),
+  // e.g. whether planes can be placed without cutting into the body.
+  double gap_to(const std::vector<PlaneSpec>& planes);
+
+  void step(long n);  // n steps, no checks (benchmarks); moves kinematic planes
   // n steps with the watchdog checking every check_every steps: NaN/Inf, energy gained
   // from nowhere, inverted elements (Taylor model only). On failure the state is rolled
   // back to the last good check and SimulationDiverged is thrown.
@@ -89,11 +99,15 @@ class Simulation {
   // Diagnostics of a state already on the host (the solver supplies only strain energy).
   Diagnostics diagnostics_of(const HostState& s);
   void state_changed() { state_valid_ = diag_valid_ = false; }
+  // Moves the kinematic planes for the next steps; returns how many (at most max_steps)
+  // may run before the next move.
+  long move_planes(long max_steps);
 
   Scene scene_;
   TetMesh mesh_;
   std::unique_ptr<Solver> solver_;
   PhysicsParams params_;
+  std::vector<PlaneMotion> plane_motion_;  // one per params_.planes
   TimeStepInfo ts_;
   std::vector<int> tracked_;
   int n_fixed_ = 0;
