@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/solver/stable_step.h"

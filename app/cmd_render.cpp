@@ -6,7 +6,7 @@
 #include <memory>
 #include <sstream>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "app/headless_render.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"

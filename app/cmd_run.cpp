@@ -8,7 +8,7 @@
 #include <fstream>
 #include <memory>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/io/vtu_writer.h"

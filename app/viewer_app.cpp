@@ -1,4 +1,4 @@
-#include "viewer_app.h"
+#include "app/viewer_app.h"
 
 // clang-format off
 #include "render/gl.h"  // GLEW before GLFW and the ImGui backends
@@ -25,9 +25,9 @@
 #include "sim/contact/plane_contact.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_topology.h"
-#include "viewer_camera.h"
-#include "viewer_panel.h"
-#include "viewer_picking.h"
+#include "app/viewer_camera.h"
+#include "app/viewer_panel.h"
+#include "app/viewer_picking.h"
 
 namespace softtled {
 

@@ -1,4 +1,4 @@
-#include "viewer_panel.h"
+#include "app/viewer_panel.h"
 
 #include <imgui.h>
 
