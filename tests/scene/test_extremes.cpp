@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_mesh.h"
@@ -60,8 +61,11 @@ double min_J(Simulation& sim) {
 
 }  // namespace
 
-TEST(Extremes, NearlyIncompressibleNu04999) {
-  Simulation sim(box_on_floor("[material]\nnu = 0.4999\n"));
+class Extremes : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(Extremes);
+
+TEST_P(Extremes, NearlyIncompressibleNu04999) {
+  Simulation sim(box_on_floor("[material]\nnu = 0.4999\n"), backend());
   EXPECT_GT(sim.time_step().c, 50.0);  // c grows as 1/sqrt(1 - 2 nu): the step shrinks, auto follows
   sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
   expect_sane(sim, "nu = 0.4999");
@@ -69,28 +73,28 @@ TEST(Extremes, NearlyIncompressibleNu04999) {
   EXPECT_GT(min_J(sim), 0.98) << "nearly incompressible: volume kept within 2 %";
 }
 
-TEST(Extremes, YoungsModulusFrom100PaTo1MPa) {
+TEST_P(Extremes, YoungsModulusFrom100PaTo1MPa) {
   for (double E : {100.0, 3e3, 1e5, 1e6}) {
-    Simulation sim(box_on_floor("[material]\nE = " + std::to_string(E) + "\n"));
+    Simulation sim(box_on_floor("[material]\nE = " + std::to_string(E) + "\n"), backend());
     sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
     expect_sane(sim, "E = " + std::to_string(E));
     EXPECT_NEAR(sim.time_step().dt, 0.5 * sim.time_step().dt_cr, 1e-15);
   }
 }
 
-TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
-  Simulation probe(box_on_floor(""));
+TEST_P(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
+  Simulation probe(box_on_floor(""), backend());
   const double dt_cr = probe.time_step().dt_cr, dt_eigen = probe.time_step().dt_eigen;
   // 1.5 x dt_cr in a scene file: refused with a message naming the bound.
   try {
-    Simulation sim(box_on_floor("[time]\ndt = " + std::to_string(1.5 * dt_cr) + "\n"));
+    Simulation sim(box_on_floor("[time]\ndt = " + std::to_string(1.5 * dt_cr) + "\n"), backend());
     ADD_FAILURE() << "dt above dt_cr accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("exceeds the stable step"), std::string::npos) << e.what();
   }
   // Forced through with allow_unstable at 1.5 x the eigenvalue bound: the watchdog stops
   // it, names dt / dt_cr and the cause, and rolls back to a finite state.
-  Simulation sim(box_on_floor("[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"));
+  Simulation sim(box_on_floor("[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"), backend());
   try {
     sim.advance(20000, 20);
     ADD_FAILURE() << "ran 20000 steps at 1.5 x 2/omega_max without diverging";
@@ -101,7 +105,7 @@ TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
     for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
   }
   // The same dt set live (viewer) is clamped, with a warning.
-  Simulation live(box_on_floor(""));
+  Simulation live(box_on_floor(""), backend());
   PhysicsParams p = live.params();
   p.dt = 1.5 * dt_cr;
   p.dt_auto = false;
@@ -110,11 +114,11 @@ TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
   EXPECT_LE(live.time_step().dt, dt_cr);
 }
 
-TEST(Extremes, FastImpactFromOneMetre) {
+TEST_P(Extremes, FastImpactFromOneMetre) {
   // 1 m fall: 4.4 m/s at impact on a 10 mm box of soft tissue.
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
     // No damping, so it arrives at the full sqrt(2 g h) = 4.4 m/s.
-    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\nE = 30000.0\n[damping]\nalpha = 0.0\n", 1000.0));
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\nE = 30000.0\n[damping]\nalpha = 0.0\n", 1000.0), backend());
     try {
       const int contacts = advance_counting_contacts(sim, 0.5, 2);
       expect_sane(sim, model);
@@ -129,7 +133,7 @@ TEST(Extremes, FastImpactFromOneMetre) {
   }
 }
 
-TEST(Extremes, SlopesOf0_45_89Degrees) {
+TEST_P(Extremes, SlopesOf0_45_89Degrees) {
   for (double angle : {0.0, 45.0, 89.0}) {
     for (const char* mode : {"sliding", "static"}) {
       // Box centred 7 mm above the slope's pivot along its normal: 2 mm gap.
@@ -140,7 +144,7 @@ TEST(Extremes, SlopesOf0_45_89Degrees) {
                     "position = [%.9g, %.9g, 0]\nrotation_deg = [0, 0, %.9g]\n[floor]\nenabled = false\n"
                     "[slope]\nenabled = true\nangle_deg = %.9g\npoint = [0, 0, 0]\n[contact]\nmode = \"%s\"\n",
                     -std::sin(th) * 7, std::cos(th) * 7, angle, angle, mode);
-      Simulation sim(parse_scene(buf, "slope"));
+      Simulation sim(parse_scene(buf, "slope"), backend());
       const int contacts = advance_counting_contacts(sim, 0.08, 20);
       expect_sane(sim, std::to_string(angle) + " deg " + mode);
       const Diagnostics d = sim.diagnostics();
@@ -150,21 +154,21 @@ TEST(Extremes, SlopesOf0_45_89Degrees) {
   }
 }
 
-TEST(Extremes, SliverHeavyMeshRunsAtItsSmallStep) {
+TEST_P(Extremes, SliverHeavyMeshRunsAtItsSmallStep) {
   // No quality bound: TetGen's plain constrained Delaunay mesh of the torus has slivers.
   Scene s = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"mesh.radius_edge=0", "body.segments=[45, 9]"});
-  Simulation sim(s);
+  Simulation sim(s, backend());
   const MeshQuality q = measure_quality(sim.mesh());
   EXPECT_LT(q.min_dihedral_deg, 5.0) << "expected slivers without -q";
   Scene good = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"body.segments=[45, 9]"});
-  Simulation ref(good);
+  Simulation ref(good, backend());
   EXPECT_LT(sim.time_step().dt_cr, ref.time_step().dt_cr) << "slivers must shrink the stable step";
   sim.advance(std::lround(0.03 / sim.time_step().dt), 500);
   expect_sane(sim, "sliver mesh");
   EXPECT_GT(sim.diagnostics().n_contact, 0);
 }
 
-TEST(Extremes, OneElementMesh) {
+TEST_P(Extremes, OneElementMesh) {
   const std::string path = ::testing::TempDir() + "one_tet.obj";
   {
     std::ofstream o(path);
@@ -172,22 +176,22 @@ TEST(Extremes, OneElementMesh) {
   }
   Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"file\"\nfile = \"" + path +
                                  "\"\n[mesh]\nradius_edge = 0\n[floor]\nenabled = true\npoint = [0, -2, 0]\n",
-                             "one tet"));
+                             "one tet"), backend());
   EXPECT_EQ(sim.mesh().ntet(), 1);
   const int contacts = advance_counting_contacts(sim, 0.1, 10);
   expect_sane(sim, "one element");
   EXPECT_GT(contacts, 0);
 }
 
-TEST(Extremes, ZeroGravityStaysExactlyAtRest) {
-  Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"));
+TEST_P(Extremes, ZeroGravityStaysExactlyAtRest) {
+  Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"), backend());
   sim.advance(2000, 500);
   for (double v : sim.state().u) ASSERT_EQ(v, 0.0);
 }
 
-TEST(Extremes, NoDampingConservesFreeFallEnergy) {
+TEST_P(Extremes, NoDampingConservesFreeFallEnergy) {
   Scene s = box_scene("[damping]\nalpha = 0.0\n");
-  Simulation sim(s);
+  Simulation sim(s, backend());
   const Diagnostics d0 = sim.diagnostics();
   sim.advance(std::lround(0.05 / sim.time_step().dt), 200);
   const Diagnostics d = sim.diagnostics();
@@ -199,8 +203,8 @@ TEST(Extremes, NoDampingConservesFreeFallEnergy) {
   EXPECT_NEAR(0.5 * mass * v * v + d.pe, d0.ke + d0.pe, 1e-5 * std::fabs(d.pe - d0.pe));
 }
 
-TEST(Extremes, HeavyDampingReachesTerminalVelocity) {
-  Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"));
+TEST_P(Extremes, HeavyDampingReachesTerminalVelocity) {
+  Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"), backend());
   sim.advance(std::lround(0.02 / sim.time_step().dt), 200);  // 20 time constants
   const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
@@ -208,10 +212,10 @@ TEST(Extremes, HeavyDampingReachesTerminalVelocity) {
   EXPECT_NEAR(v, -9.81 / 1000.0, 1e-3 * 9.81 / 1000.0) << "terminal velocity g / alpha";
 }
 
-TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
+TEST_P(Extremes, InvertedStartRecoversWithStableNeoHookean) {
   // Start with the whole box mirrored through its centre plane x = 0 (every J = -1).
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
-    Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"));
+    Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"), backend());
     HostState st = sim.state();
     const int n = sim.mesh().nnode();
     for (int i = 0; i < n; ++i) st.u[i] = -2 * sim.mesh().X[3 * i];
@@ -226,12 +230,12 @@ TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
   }
 }
 
-TEST(Extremes, CrushingLoadSurvivesOrIsReported) {
+TEST_P(Extremes, CrushingLoadSurvivesOrIsReported) {
   // 2000 g on a 3 kPa box against the floor flattens it completely; the stiffness of the
   // crushed state outgrows the rest-state step bound. Each model either survives or the
   // watchdog stops it with a diagnosis and a finite, rolled-back state.
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
-    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, -20000.0, 0]\n", 0.1));
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, -20000.0, 0]\n", 0.1), backend());
     try {
       sim.advance(std::lround(0.02 / sim.time_step().dt), 5);
       expect_sane(sim, model);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 
@@ -135,10 +136,13 @@ TEST(Scenes, CoarseAndFineToriBracketThePaperMesh) {
   EXPECT_NEAR(y0 - fine.diagnostics().centroid[1], (9.81 / 10) * (t - (1 - std::exp(-10 * t)) / 10), 1e-2 * 2e-5);
 }
 
-TEST(KinematicPlanes, RisingFloorCarriesTheBody) {
+class KinematicPlanes : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(KinematicPlanes);
+
+TEST_P(KinematicPlanes, RisingFloorCarriesTheBody) {
   // The floor rises at 0.1 m/s for 50 ms: the box rides on it, 5 mm up, at its speed.
   const double v = 0.1, T = 0.05;
-  Simulation still(box_on_floor()), lift(box_on_floor());
+  Simulation still(box_on_floor(), backend()), lift(box_on_floor(), backend());
   PlaneMotion up;
   up.velocity[1] = v;
   up.duration = T;
@@ -159,12 +163,12 @@ TEST(KinematicPlanes, RisingFloorCarriesTheBody) {
   EXPECT_NEAR((rise() - rise_half) / (T / 2), v, 0.1 * v) << "at its speed, once carried";
 }
 
-TEST(KinematicPlanes, TurningSlopeTiltsTheBodyAndStopsAtItsAngle) {
+TEST_P(KinematicPlanes, TurningSlopeTiltsTheBodyAndStopsAtItsAngle) {
   // A slope under the box, pivoting about its left edge, turns from 0 to 10 deg in 0.1 s
   // and lifts the box (static friction: it does not slide down) with it.
   Scene s = box_on_floor("[slope]\nenabled = true\nangle_deg = 0.0\npoint = [-5, -5, 0]\n[contact]\nmode = \"static\"\n");
   s.floor = false;
-  Simulation sim(s);
+  Simulation sim(s, backend());
   PlaneMotion turn;
   turn.omega[2] = 100 * M_PI / 180;
   turn.duration = 0.1;
