@@ -98,13 +98,17 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;
+    // The last good check's time too, which a rollback restores.
+    last_good_offset_ += double(last_good_steps_) * params_.dt;
+    last_good_steps_ = 0;
   }
   if (params_.dt > 0 && q.dt != params_.dt) {
     // The increment state du is a displacement per step: rescale it so the velocity
-    // du / dt carries over to the new step.
+    // du / dt carries over to the new step, in the live state and in the saved one.
     HostState s = state();
     for (double& v : s.du) v *= q.dt / params_.dt;
     solver_->set_state(s);
+    for (double& v : last_good_.du) v *= q.dt / params_.dt;
   }
   std::vector<PlaneMotion> motion(q.planes.size());
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)

@@ -248,3 +248,33 @@ TEST_P(Extremes, CrushingLoadSurvivesOrIsReported) {
     }
   }
 }
+
+TEST_P(Extremes, RollbackAfterALiveStepChangeRestoresTheSavedMotion) {
+  // A box in free fall passes a check; a live E x 4 halves dt; a NaN force then makes the
+  // next check fail. The rollback must restore the checked state's time and velocities,
+  // in the new step's units.
+  Simulation sim(box_scene(""), backend());
+  const double dt1 = sim.time_step().dt;
+  const long every = std::lround(5e-3 / dt1);
+  sim.advance(every, every);
+  const double t1 = sim.time();
+  const HostState saved = sim.state();
+  PhysicsParams p = sim.params();
+  p.E *= 4;
+  sim.set_params(p);
+  const double dt2 = sim.time_step().dt;
+  ASSERT_LT(dt2, 0.6 * dt1);
+  EXPECT_NEAR(sim.time(), t1, 1e-15) << "time is continuous across the dt change";
+  std::vector<double> f(3 * std::size_t(sim.mesh().nnode()), 0.0);
+  f[0] = std::nan("");
+  sim.set_external_forces(f);
+  EXPECT_THROW(sim.advance(100, 50), SimulationDiverged);
+  EXPECT_NEAR(sim.time(), t1, 1e-15) << "rolled back to the last good check";
+  const HostState& back = sim.state();
+  ASSERT_EQ(back.du.size(), saved.du.size());
+  for (std::size_t j = 0; j < saved.du.size(); ++j) {
+    ASSERT_EQ(back.u[j], saved.u[j]);
+    const double v = saved.du[j] / dt1;
+    ASSERT_NEAR(back.du[j] / dt2, v, 1e-9 * std::fabs(v)) << "velocity of dof " << j;
+  }
+}
