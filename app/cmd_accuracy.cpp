@@ -10,7 +10,7 @@
 #include <memory>
 #include <sstream>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "analysis/accuracy_study.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"

@@ -157,7 +157,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   Simulation sim(sc, o.backend);
   Solver& solver = sim.solver();
   r.backend = o.backend;
-  r.precision = sc.precision;
+  r.precision = precision_name(sc.precision);
   r.ntet = sim.mesh().ntet();
   r.nnode = sim.mesh().nnode();
   r.nsurf = int(sim.mesh().surface_nodes.size());
@@ -165,7 +165,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.device = "CPU";
   long ncontact = 0;
   for (auto f : solver.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
-  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == "float" ? 4 : 8);
+  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == Precision::kFloat ? 4 : 8);
 
 #if defined(SOFTTLED_HAVE_CUDA)
   auto* gpu = dynamic_cast<cuda::CudaSolverApi*>(&solver);
@@ -260,8 +260,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       opt.reorder = false;
       opt.mode = gpu->exec_mode();
       opt.node_lanes = gpu->node_lanes();
-      auto plain = make_cuda_solver(sim.mesh(), sc.rho, solver.node_flags(),
-                                    sc.precision == "float" ? Precision::kFloat : Precision::kDouble, opt);
+      auto plain = make_cuda_solver(sim.mesh(), sc.rho, solver.node_flags(), sc.precision, opt);
       plain->set_params(sim.params());
       sim.reset();
       HostState st;
@@ -276,7 +275,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (!full) return r;
   if (!gpu) {
     const int reps = std::max(1, int(std::min<long>(o.stage_reps, 200000 / std::max(1, r.ntet / 100 + 1))));
-    r.stages = sc.precision == "float" ? cpu_stages<float>(sim, r.threads, reps) : cpu_stages<double>(sim, r.threads, reps);
+    r.stages = sc.precision == Precision::kFloat ? cpu_stages<float>(sim, r.threads, reps) : cpu_stages<double>(sim, r.threads, reps);
   }
   return r;
 }

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/solver/stable_step.h"
@@ -43,8 +43,7 @@ Command add_mesh_command(CLI::App& app) {
     const MeshQuality q = measure_quality(m);
     const double c_wave = dilatational_wave_speed(s.E, s.nu, s.rho);
     const double dt_le = q.min_Le / c_wave;
-    const int model = s.material_model == "stable_neo_hookean" ? 1 : 0;
-    const double dt_eigen = 2.0 / std::sqrt(rest_eigen_scale(m, s.nu, model) * s.E / s.rho);
+    const double dt_eigen = 2.0 / std::sqrt(rest_eigen_scale(m, s.nu, s.material_model) * s.E / s.rho);
     const double dt_cr = std::min(dt_le, dt_eigen);
     const long segments = long(surf.ntri()) * 3 / 2;
     if (o->json) {

@@ -6,8 +6,8 @@
 #include <memory>
 #include <sstream>
 
-#include "commands.h"
-#include "render/headless.h"
+#include "app/commands.h"
+#include "app/headless_render.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 
@@ -92,7 +92,7 @@ Command add_render_command(CLI::App& app) {
     const TimeStepInfo& ts = sim.time_step();
     std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
                 sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.dt * 1e6, ts.dt_cr * 1e6,
-                sim.solver().backend().c_str());
+                sim.backend().c_str());
     HeadlessInfo info;
     bool header = false;
     double draw_total = 0, upload_total = 0;

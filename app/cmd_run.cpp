@@ -8,7 +8,7 @@
 #include <fstream>
 #include <memory>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/io/vtu_writer.h"
@@ -57,7 +57,7 @@ Command add_run_command(CLI::App& app) {
                  "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
                  ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6, ts.dt * 1e6, ts.dt / ts.dt_cr,
-                 sim.solver().backend().c_str(), s.precision.c_str());
+                 sim.backend().c_str(), precision_name(s.precision));
     std::ofstream csv;
     if (!o->csv.empty()) {
       csv.open(o->csv);
@@ -65,12 +65,10 @@ Command add_run_command(CLI::App& app) {
       write_csv_header(csv, int(sim.tracked_nodes().size()));
     }
     std::unique_ptr<VtuSeries> vtu;
-    HostState st;
     int out_index = 0;
     auto write_frame = [&] {
       if (!vtu || out_index++ % o->every) return;
-      sim.solver().get_state(st);
-      vtu->add(sim.time(), sim.mesh(), st, sim.time_step().dt,
+      vtu->add(sim.time(), sim.mesh(), sim.state(), sim.time_step().dt,
                neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);

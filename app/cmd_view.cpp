@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <memory>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/mesh/surface_mesh.h"
-#include "viewer_app.h"
+#include "app/viewer_app.h"
 
 namespace softtled {
 

@@ -11,7 +11,7 @@ namespace softtled {
 using Command = std::function<int()>;
 Command add_mesh_command(CLI::App& app);
 Command add_run_command(CLI::App& app);
-Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp (issue 5)
+Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp
 Command add_bench_command(CLI::App& app);  // cmd_bench.cpp
 Command add_render_command(CLI::App& app);  // cmd_render.cpp (needs render/)
 Command add_view_command(CLI::App& app);    // cmd_view.cpp (needs render/)

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "commands.h"
+#include "app/commands.h"
 #include "sim/mesh/surface_mesh.h"
 
 int main(int argc, char** argv) {

@@ -1,4 +1,4 @@
-#include "viewer_app.h"
+#include "app/viewer_app.h"
 
 // clang-format off
 #include "render/gl.h"  // GLEW before GLFW and the ImGui backends
@@ -14,21 +14,20 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
-#include <limits>
 #include <memory>
 
+#include "app/render_handoff.h"
 #include "render/body_buffer.h"
 #include "render/gl_context.h"
-#include "render/headless.h"
 #include "render/image.h"
 #include "render/offscreen_target.h"
 #include "render/scene_renderer.h"
 #include "sim/contact/plane_contact.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_topology.h"
-#include "viewer_camera.h"
-#include "viewer_panel.h"
-#include "viewer_picking.h"
+#include "app/viewer_camera.h"
+#include "app/viewer_panel.h"
+#include "app/viewer_picking.h"
 
 namespace softtled {
 
@@ -36,8 +35,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-int contact_mode_of(const std::string& s) { return s == "static" ? kStatic : s == "coulomb" ? kCoulomb : kSliding; }
 
 class Viewer {
  public:
@@ -83,7 +80,7 @@ class Viewer {
     st_.renderer = gl_renderer_string();
     log("window %dx%d, GL renderer: %s", o.width, o.height, st_.renderer.c_str());
     log("scene %s: %d nodes, %d tets, backend %s, dt %.3f us (dt_cr %.3f us)", o.scene.c_str(), sim_->mesh().nnode(),
-        sim_->mesh().ntet(), sim_->solver().backend().c_str(), sim_->time_step().dt * 1e6, sim_->time_step().dt_cr * 1e6);
+        sim_->mesh().ntet(), sim_->backend().c_str(), sim_->time_step().dt * 1e6, sim_->time_step().dt_cr * 1e6);
   }
 
   ~Viewer() {
@@ -128,7 +125,8 @@ class Viewer {
       const double t_before = sim_->time();
       const auto t_step = Clock::now();
       const long steps = advance(wall_dt, act.step);
-      body_->update(sim_->solver());  // waits for the steps on a GPU backend
+      read_slope();
+      write_body_vertices(*sim_, *body_);  // waits for the steps on a GPU backend
       if (steps > 0) {  // cost per step, for the wall-time budget
         const double c = since(t_step) / double(steps);
         cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
@@ -142,8 +140,7 @@ class Viewer {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         std::vector<OverlayLine> lines;
         if (drag_.active) {
-          sim_->solver().get_state(state_);
-          lines.push_back({drag_.grab_point(sim_->mesh(), state_), drag_.target, {1.f, 0.85f, 0.1f}});
+          lines.push_back({drag_.grab_point(sim_->mesh(), sim_->state()), drag_.target, {1.f, 0.85f, 0.1f}});
         }
         const Vec3 focus{float(st_.diag.centroid[0]), float(st_.diag.centroid[1]), float(st_.diag.centroid[2])};
         // Not while pulling: the drag target comes from the mouse ray, so a camera chasing
@@ -151,7 +148,7 @@ class Viewer {
         if (set_.follow && have_centroid_ && mouse_ != Mouse::kPull) cam_.target = cam_.target + (focus - last_centroid_);
         last_centroid_ = focus;
         have_centroid_ = true;
-        renderer_->draw(cam_, fb_w, fb_h, *body_, sim_->params().planes, focus, plane_half_, set_.style, lines);
+        renderer_->draw(cam_, fb_w, fb_h, *body_, render_planes(sim_->params().planes), focus, plane_half_, set_.style, lines);
       }
       ImGui::Render();
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -202,14 +199,13 @@ class Viewer {
     set_.segments[0] = s.segments[0];
     set_.segments[1] = s.segments[1];
     for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
-    set_.contact_mode = contact_mode_of(s.contact_mode);
+    set_.contact_mode = s.contact_mode;
     set_.mu = float(s.mu);
     set_.floor = s.floor;
     set_.slope = s.slope;
     set_.slope_deg = float(s.slope_angle_deg);
-    slope_now_ = set_.slope_deg;
     slope_was_on_ = set_.slope;
-    st_.slope_now = slope_now_;
+    st_.slope_now = set_.slope_deg;
     set_.lambda = float(s.dt_auto ? s.lambda : sim_->time_step().dt / sim_->time_step().dt_cr);
     set_.lock_lambda = s.dt_auto;
     set_.dt_us = float(sim_->time_step().dt * 1e6);
@@ -222,10 +218,10 @@ class Viewer {
   void attach_simulation() {
     topo_ = build_surface_topology(sim_->mesh());
     body_.reset();
-    body_ = std::make_unique<BodyVertexBuffer>(topo_);
+    body_ = make_body_buffer(topo_);
     plane_half_ = default_plane_half(*sim_);
-    st_.backend = sim_->solver().backend();
-    st_.precision = sim_->scene().precision;
+    st_.backend = sim_->backend();
+    st_.precision = precision_name(sim_->scene().precision);
     st_.nnode = sim_->mesh().nnode();
     st_.ntet = sim_->mesh().ntet();
     st_.nsurf = int(topo_.node.size());
@@ -248,68 +244,62 @@ class Viewer {
     dirty_ = true;
   }
 
-  // Planes as the simulation sees them now: the slope at slope_now_, which follows the
-  // panel's angle (see turn_slope).
-  std::vector<PlaneSpec> planes_for(float slope_deg) const {
+  // The planes the panel asks for, with the slope at slope_deg.
+  std::vector<PlaneSpec> planes_for(double slope_deg) const {
     Scene s = sim_->scene();
     s.floor = set_.floor;
     s.slope = set_.slope;
     s.slope_angle_deg = slope_deg;
     return scene_planes(s);
   }
-  std::vector<PlaneSpec> planes_from_settings() const { return planes_for(slope_now_); }
+  int slope_index() const { return set_.floor ? 1 : 0; }
 
-  // True when no contact node lies behind any of the planes.
-  bool planes_clear_of_body(const std::vector<PlaneSpec>& planes) {
-    sim_->solver().get_state(state_);
-    const TetMesh& m = sim_->mesh();
-    const int n = m.nnode();
-    for (int i : m.surface_nodes)
-      for (const PlaneSpec& pl : planes) {
-        double d = 0;
-        for (int k = 0; k < 3; ++k) d += pl.normal[k] * (m.X[3 * i + k] + state_.u[k * n + i] - pl.point[k]);
-        if (d < -1e-7) return false;
-      }
-    return true;
+  // The slope's angle now, and whether it is still turning (a kinematic plane in the
+  // simulation, see request_planes).
+  void read_slope() {
+    const auto& planes = sim_->params().planes;
+    const std::size_t i = std::size_t(slope_index());
+    st_.slope_turning = set_.slope && i < planes.size() && sim_->plane_motion()[i].moving();
+    if (set_.slope && i < planes.size()) st_.slope_now = float(slope_angle_deg(sim_->scene(), planes[i]));
   }
 
   // A new slope angle takes effect at once when the turned plane does not cut into the
-  // body. Otherwise the plane turns towards it at kSlopeRate of simulated time in small
-  // increments (advance), pushing the body like a moving wall: a plane jumping through
-  // the body would project its nodes across millimetres in one step and blow it up.
+  // body. Otherwise the slope turns towards it at kSlopeRate of simulated time as a
+  // kinematic plane, pushing the body like a moving wall: a plane jumping through the body
+  // would project its nodes across millimetres in one step and blow it up. A slope just
+  // switched on starts flat.
   void request_planes() {
-    if (set_.slope && !slope_was_on_) slope_now_ = planes_clear_of_body(planes_for(set_.slope_deg)) ? set_.slope_deg : 0.f;
-    if (!set_.slope || planes_clear_of_body(planes_for(set_.slope_deg))) slope_now_ = set_.slope_deg;
+    constexpr double kSlopeRate = 300;  // [deg per simulated second]
+    const std::vector<PlaneSpec> target = planes_for(set_.slope_deg);
+    if (!set_.slope || sim_->gap_to(target) >= -1e-7) {
+      apply_params(&target);
+    } else {
+      const double from = slope_was_on_ ? st_.slope_now : 0.0;  // read_slope, last frame
+      const std::vector<PlaneSpec> now = planes_for(from);
+      if (apply_params(&now)) {
+        PlaneMotion turn;
+        turn.omega[2] = (set_.slope_deg > from ? 1 : -1) * kSlopeRate * 3.14159265358979323846 / 180;
+        turn.duration = std::fabs(set_.slope_deg - from) / kSlopeRate;
+        sim_->set_plane_motion(std::size_t(slope_index()), turn);
+      }
+    }
     slope_was_on_ = set_.slope;
-    st_.slope_now = slope_now_;
-    apply_params();
-  }
-
-  // Turns the slope one increment; returns the largest number of steps before the next.
-  long turn_slope(double dt) {
-    if (!set_.slope || slope_now_ == set_.slope_deg) return std::numeric_limits<long>::max();
-    constexpr double kSlopeRate = 300;      // [deg per simulated second]
-    constexpr double kMaxIncrement = 0.05;  // [deg] per plane update
-    const long chunk = std::max(1L, long(kMaxIncrement / (kSlopeRate * dt)));
-    const float delta = float(kSlopeRate * dt * double(chunk));
-    const float diff = set_.slope_deg - slope_now_;
-    slope_now_ = std::fabs(diff) <= delta ? set_.slope_deg : slope_now_ + (diff > 0 ? delta : -delta);
-    st_.slope_now = slope_now_;
-    apply_params();
-    return chunk;
+    read_slope();
   }
 
   // Live parameters through Simulation::set_params, which recomputes dt_cr (Le/c and the
   // eigenvalue bound), sets dt = lambda x dt_cr when locked, clamps a manual dt above
   // dt_cr (returning a warning) and rescales the increment state so velocities carry over.
-  void apply_params() {
+  // planes: new planes, else the simulation keeps its own (a turning slope keeps turning).
+  // Returns false (and shows why) when the simulation refused them.
+  bool apply_params(const std::vector<PlaneSpec>* planes = nullptr) {
     PhysicsParams p = sim_->params();
     p.E = set_.E;
     p.nu = std::min(set_.nu, 0.4999f);
     p.alpha = set_.alpha;
-    p.contact_mode = set_.contact_mode;
+    p.contact_mode = ContactMode(set_.contact_mode);
     p.mu = set_.mu;
-    p.planes = planes_from_settings();
+    if (planes) p.planes = *planes;
     p.dt_auto = set_.lock_lambda;
     p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);
     p.dt = std::max(1e-3f, set_.dt_us) * 1e-6;
@@ -317,19 +307,20 @@ class Viewer {
       st_.warning = sim_->set_params(p);
     } catch (const InputError& e) {
       st_.warning = e.what();
-      return;
+      return false;
     }
     set_.dt_us = float(sim_->params().dt * 1e6);
     st_.ts = sim_->time_step();
     dirty_ = true;
+    return true;
   }
 
   void apply(PanelActions& a) {
     if (a.planes) request_planes();
+    else if (a.params) apply_params();
     if (a.params || a.planes) {
-      apply_params();
       if (set_.contact_mode != logged_mode_) {
-        log("contact mode %s", contact_mode_name(set_.contact_mode));
+        log("contact mode %s", contact_mode_name(ContactMode(set_.contact_mode)));
         logged_mode_ = set_.contact_mode;
       }
       if (a.planes) log("planes: floor %s, slope %s at %.1f deg", set_.floor ? "on" : "off", set_.slope ? "on" : "off", set_.slope_deg);
@@ -337,7 +328,7 @@ class Viewer {
     if (a.reset) {
       sim_->reset();
       drag_.release();
-      sim_->solver().set_external_forces({});
+      sim_->set_external_forces({});
       on_reset();
       log("drop again");
     }
@@ -411,7 +402,7 @@ class Viewer {
     if ((mouse_ == Mouse::kOrbit || mouse_ == Mouse::kPull) && !left) {
       if (mouse_ == Mouse::kPull) {
         drag_.release();
-        sim_->solver().set_external_forces({});
+        sim_->set_external_forces({});
         log("released");
       }
       mouse_ = Mouse::kNone;
@@ -422,15 +413,15 @@ class Viewer {
   bool try_grab(float mx, float my, int w, int h) {
     Vec3 o, d;
     cam_.ray(mx, my, w, h, o, d);
-    sim_->solver().get_state(state_);
-    node_positions(sim_->mesh(), state_, topo_.node, pos_);
+    const HostState& s = sim_->state();
+    node_positions(sim_->mesh(), s, topo_.node, pos_);
     const PickHit hit = pick_surface(o, d, pos_, topo_.tri);
     if (!hit.hit) return false;
     const int tri_nodes[3] = {topo_.node[topo_.tri[3 * hit.tri]], topo_.node[topo_.tri[3 * hit.tri + 1]],
                               topo_.node[topo_.tri[3 * hit.tri + 2]]};
     drag_.stiffness = set_.drag_stiffness;
     drag_.max_force = 0.1f;
-    drag_.grab(sim_->mesh(), state_, sim_->solver().lumped_mass(), topo_.node, tri_nodes, hit.point,
+    drag_.grab(sim_->mesh(), s, sim_->lumped_mass(), topo_.node, tri_nodes, hit.point,
                set_.drag_radius_mm * 1e-3f, cam_.target - cam_.eye());
     drag_plane_point_ = hit.point;
     // The plot follows the picked node (the heaviest-weighted grabbed node).
@@ -462,12 +453,11 @@ class Viewer {
     }
     long done = 0;
     while (done < steps) {
-      long chunk = std::min(steps - done, turn_slope(dt));
+      long chunk = steps - done;
       if (drag_.active) {
         chunk = std::min(chunk, std::max(1L, long(drag_.max_hold_time() / dt)));
-        sim_->solver().get_state(state_);
-        drag_.forces(sim_->mesh(), state_, dt, force_);
-        sim_->solver().set_external_forces(force_);
+        drag_.forces(sim_->mesh(), sim_->state(), dt, force_);
+        sim_->set_external_forces(force_);
       }
       try {
         sim_->advance(chunk, chunk);  // the watchdog checks once per chunk
@@ -475,7 +465,7 @@ class Viewer {
         // The state is rolled back to the last good check: pause and say why.
         set_.paused = true;
         drag_.release();
-        sim_->solver().set_external_forces({});
+        sim_->set_external_forces({});
         mouse_ = Mouse::kNone;
         st_.warning = std::string(e.what()) + " Paused: lower lambda or E, or Drop again.";
         log("stopped by the watchdog: %s", e.what());
@@ -495,9 +485,9 @@ class Viewer {
     umax_seen_ = std::max(umax_seen_, float(st_.diag.max_u));
     set_.style.umax = set_.auto_umax ? std::max(umax_seen_, 1e-4f) : set_.umax_mm * 1e-3f;
     if (advanced || st_.plot.t.empty()) {
-      sim_->solver().get_state(state_);
+      const HostState& s = sim_->state();
       const int n = sim_->mesh().nnode(), i = st_.plot.node;
-      st_.plot.push(float(st_.sim_time), float(state_.u[i] * 1e3), float(state_.u[n + i] * 1e3), float(state_.u[2 * n + i] * 1e3));
+      st_.plot.push(float(st_.sim_time), float(s.u[i] * 1e3), float(s.u[n + i] * 1e3), float(s.u[2 * n + i] * 1e3));
     }
   }
 
@@ -512,7 +502,7 @@ class Viewer {
     s.E = set_.E;
     s.nu = set_.nu;
     s.alpha = set_.alpha;
-    s.contact_mode = contact_mode_name(set_.contact_mode);
+    s.contact_mode = ContactMode(set_.contact_mode);
     s.mu = set_.mu;
     s.floor = set_.floor;
     s.slope = set_.slope;
@@ -583,7 +573,6 @@ class Viewer {
   DragSpring drag_;
   Vec3 drag_plane_point_;
   Mouse mouse_ = Mouse::kNone;
-  HostState state_;
   std::vector<float> pos_;
   std::vector<double> force_;
   std::future<std::unique_ptr<Simulation>> rebuild_;
@@ -593,7 +582,6 @@ class Viewer {
   bool dirty_ = true;
   Vec3 last_centroid_;        // for the camera following the body
   bool have_centroid_ = false;
-  float slope_now_ = 0;       // slope angle the simulation uses [deg]
   bool slope_was_on_ = false;
   int logged_mode_ = -1;
   int screenshot_count_ = 0;

@@ -1,4 +1,4 @@
-#include "viewer_camera.h"
+#include "app/viewer_camera.h"
 
 #include <algorithm>
 #include <cmath>

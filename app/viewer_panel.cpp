@@ -1,4 +1,4 @@
-#include "viewer_panel.h"
+#include "app/viewer_panel.h"
 
 #include <imgui.h>
 
@@ -8,10 +8,6 @@
 #include "sim/contact/plane_contact.h"
 
 namespace softtled {
-
-const char* contact_mode_name(int mode) {
-  return mode == kStatic ? "static" : mode == kCoulomb ? "coulomb" : "sliding";
-}
 
 const char* color_mode_name(ColorMode c) {
   return c == ColorMode::kDisplacement ? "displacement" : c == ColorMode::kContact ? "contact" : "shaded";
@@ -86,7 +82,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (int m = 0; m < 3; ++m) {
       if (m) ImGui::SameLine();
-      if (ImGui::RadioButton(contact_mode_name(m), &s.contact_mode, m)) a.params = true;
+      if (ImGui::RadioButton(contact_mode_name(ContactMode(m)), &s.contact_mode, m)) a.params = true;
     }
     ImGui::TextDisabled("F cycles the mode");
     if (s.contact_mode == kCoulomb && ImGui::SliderFloat("mu", &s.mu, 0.0f, 2.0f, "%.2f")) a.params = true;
@@ -94,7 +90,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::SameLine();
     if (ImGui::Checkbox("slope", &s.slope)) a.planes = true;
     if (ImGui::SliderFloat("slope [deg]", &s.slope_deg, -60.f, 60.f, "%.1f")) a.planes = true;
-    if (s.slope && st.slope_now != s.slope_deg)
+    if (s.slope && st.slope_turning)
       ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "slope turning: %.1f deg", st.slope_now);
     else
       ImGui::TextDisabled("[ and ] turn the slope by 5 deg");

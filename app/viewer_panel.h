@@ -66,6 +66,7 @@ struct ViewerStats {
   std::string backend, precision, renderer, vertex_path, warning;
   int nnode = 0, ntet = 0, nsurf = 0, ntri = 0;
   float slope_now = 0;              // slope angle in use (turns towards the panel's) [deg]
+  bool slope_turning = false;       // the slope is turning towards the panel's angle
   bool rebuilding = false;
   double rebuild_elapsed = 0;
   std::string rebuild_error;
@@ -88,7 +89,6 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
 // The picked node's x, y, z displacement over time (the paper's Fig. 4), bottom right.
 void draw_plot_window(const ViewerStats& st, int window_w, int window_h);
 
-const char* contact_mode_name(int mode);
 const char* color_mode_name(ColorMode c);
 
 }  // namespace softtled

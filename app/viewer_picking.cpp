@@ -1,4 +1,4 @@
-#include "viewer_picking.h"
+#include "app/viewer_picking.h"
 
 #include <algorithm>
 #include <cmath>

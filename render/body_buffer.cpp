@@ -3,7 +3,6 @@
 #include <stdexcept>
 
 #include "render/cuda_gl_buffer.h"
-#include "sim/fem/surface_render.h"
 
 namespace softtled {
 
@@ -12,14 +11,13 @@ namespace softtled {
 CudaGlBuffer::~CudaGlBuffer() = default;
 #endif
 
-BodyVertexBuffer::BodyVertexBuffer(const SurfaceTopology& topo)
-    : nvert_(int(topo.node.size())), nindex_(int(topo.tri.size())) {
+BodyVertexBuffer::BodyVertexBuffer(int nvert, const std::vector<int>& tri) : nvert_(nvert), nindex_(int(tri.size())) {
   glGenVertexArrays(1, &vao_);
   glBindVertexArray(vao_);
   glGenBuffers(1, &vbo_);
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sizeof(float)) * kRenderFloatsPerVertex * nvert_, nullptr, GL_DYNAMIC_DRAW);
-  const GLsizei stride = sizeof(float) * kRenderFloatsPerVertex;
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sizeof(float)) * kBodyFloatsPerVertex * nvert_, nullptr, GL_DYNAMIC_DRAW);
+  const GLsizei stride = sizeof(float) * kBodyFloatsPerVertex;
   glEnableVertexAttribArray(0);  // position [m]
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
   glEnableVertexAttribArray(1);  // normal
@@ -30,7 +28,7 @@ BodyVertexBuffer::BodyVertexBuffer(const SurfaceTopology& topo)
   glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(7 * sizeof(float)));
   glGenBuffers(1, &ibo_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(sizeof(int)) * nindex_, topo.tri.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(sizeof(int)) * nindex_, tri.data(), GL_STATIC_DRAW);
   glBindVertexArray(0);
   check_gl("creating the body vertex buffer");
 }
@@ -42,13 +40,25 @@ BodyVertexBuffer::~BodyVertexBuffer() {
   glDeleteVertexArrays(1, &vao_);
 }
 
-void BodyVertexBuffer::update(Solver& solver) {
-  const std::size_t nfloat = std::size_t(kRenderFloatsPerVertex) * nvert_;
-  if (solver.render_buffer_on_device()) {
+float* BodyVertexBuffer::map(bool on_device) {
+  const std::size_t nfloat = std::size_t(kBodyFloatsPerVertex) * nvert_;
+  mapped_on_device_ = on_device;
+  if (on_device) {
 #ifdef SOFTTLED_RENDER_CUDA_INTEROP
     if (!cuda_) cuda_ = std::make_unique<CudaGlBuffer>(vbo_, nfloat * sizeof(float));
-    float* dst = cuda_->map();
-    solver.write_render_vertices(dst);
+    return cuda_->map();
+#else
+    throw std::runtime_error("the vertices are written on the device, but this build has no CUDA-GL interop");
+#endif
+  }
+  host_.resize(nfloat);
+  return host_.data();
+}
+
+void BodyVertexBuffer::unmap() {
+  const std::size_t nfloat = std::size_t(kBodyFloatsPerVertex) * nvert_;
+  if (mapped_on_device_) {
+#ifdef SOFTTLED_RENDER_CUDA_INTEROP
     cuda_->unmap();
     if (cuda_->interop()) {
       path_ = "interop";
@@ -57,12 +67,8 @@ void BodyVertexBuffer::update(Solver& solver) {
     host_.resize(nfloat);
     cuda_->download(host_.data());
     path_ = "staging";
-#else
-    throw std::runtime_error("the solver writes render vertices on the device, but this build has no CUDA-GL interop");
 #endif
   } else {
-    host_.resize(nfloat);
-    solver.write_render_vertices(host_.data());
     path_ = "host";
   }
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);

@@ -49,7 +49,7 @@ SceneRenderer::~SceneRenderer() {
 }
 
 void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body,
-                         const std::vector<PlaneSpec>& planes, Vec3 focus, float plane_half, const RenderStyle& st,
+                         const std::vector<RenderPlane>& planes, Vec3 focus, float plane_half, const RenderStyle& st,
                          const std::vector<OverlayLine>& lines) {
   glViewport(0, 0, w, h);
   glClearColor(0.1f, 0.1f, 0.1f, 1.f);
@@ -94,8 +94,8 @@ void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer
   plane_.set("u_grid", st.grid ? 1 : 0);
   glBindVertexArray(quad_vao_);
   for (std::size_t i = 0; i < planes.size(); ++i) {
-    const Vec3 n = normalize({float(planes[i].normal[0]), float(planes[i].normal[1]), float(planes[i].normal[2])});
-    const Vec3 p0{float(planes[i].point[0]), float(planes[i].point[1]), float(planes[i].point[2])};
+    const Vec3 n = normalize(planes[i].normal);
+    const Vec3& p0 = planes[i].point;
     Vec3 t1, t2;
     plane_basis(n, t1, t2);
     const Vec3 c = focus - n * dot(focus - p0, n);
@@ -121,8 +121,8 @@ void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer
     glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
     glDepthMask(GL_FALSE);
     for (std::size_t i = 0; i < planes.size(); ++i) {
-      const Vec3 n = normalize({float(planes[i].normal[0]), float(planes[i].normal[1]), float(planes[i].normal[2])});
-      const Vec3 p0{float(planes[i].point[0]), float(planes[i].point[1]), float(planes[i].point[2])};
+      const Vec3 n = normalize(planes[i].normal);
+      const Vec3& p0 = planes[i].point;
       if (dot(n, st.key_dir) < 0.05f) continue;  // light grazing or behind the plane
       // Lifted a hair above the plane so the shadow wins the depth test.
       const Mat4 m = planar_shadow(n, dot(n, p0) + 2e-5f, st.key_dir);

@@ -7,7 +7,6 @@
 #include "render/body_buffer.h"
 #include "render/camera.h"
 #include "render/shader.h"
-#include "sim/solver/solver.h"
 
 namespace softtled {
 
@@ -24,6 +23,12 @@ struct RenderStyle {
   float grid_minor = 0.002f, grid_major = 0.01f;        // [m]
 };
 
+// A contact plane as plain geometry (the app converts its simulation's planes).
+struct RenderPlane {
+  Vec3 point;   // a point on the plane [m]
+  Vec3 normal;  // towards the free side (normalized when drawn)
+};
+
 struct OverlayLine {
   Vec3 a, b;
   Vec3 color{1, 1, 1};
@@ -38,7 +43,7 @@ class SceneRenderer {
 
   // Draws into the currently bound framebuffer (viewport w x h). Planes are drawn as
   // squares of half side `plane_half` [m] centred where `focus` projects onto them.
-  void draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body, const std::vector<PlaneSpec>& planes,
+  void draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body, const std::vector<RenderPlane>& planes,
             Vec3 focus, float plane_half, const RenderStyle& style, const std::vector<OverlayLine>& lines = {});
 
  private:

@@ -13,6 +13,21 @@
 namespace softtled {
 namespace {
 
+// One table per named mode: the names parse_scene accepts and *_name() returns.
+template <class E>
+using Names = std::vector<std::pair<const char*, E>>;
+const Names<MaterialModel> kMaterialModels = {{"neo_hookean", kTaylorNeoHookean}, {"stable_neo_hookean", kStableNeoHookean}};
+const Names<ElementType> kElements = {{"T4", kT4}, {"T4ANP", kT4ANP}};
+const Names<ContactMode> kContactModes = {{"sliding", kSliding}, {"static", kStatic}, {"coulomb", kCoulomb}};
+const Names<Precision> kPrecisions = {{"float", Precision::kFloat}, {"double", Precision::kDouble}};
+
+template <class E>
+const char* name_of(const Names<E>& names, E value) {
+  for (const auto& [name, v] : names)
+    if (v == value) return name;
+  return "?";
+}
+
 // Reads keys of a table and remembers which were read, so leftovers can be reported.
 class Reader {
  public:
@@ -72,6 +87,17 @@ class Reader {
       fail(key, "'" + s->get() + "' is not one of: " + list);
     }
     return s->get();
+  }
+
+  // A string key that must be one of the names; returns its value.
+  template <class E>
+  E choice(const std::string& key, E def, const Names<E>& names) {
+    std::set<std::string> allowed;
+    for (const auto& nv : names) allowed.insert(nv.first);
+    const std::string s = str(key, name_of(names, def), allowed);
+    for (const auto& [name, v] : names)
+      if (s == name) return v;
+    return def;
   }
 
   template <std::size_t N>
@@ -246,9 +272,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     }
   }
 
-  s.material_model = r.str("material.model", s.material_model, {"neo_hookean", "stable_neo_hookean"});
-  s.element = r.str("material.element", s.element, {"T4", "T4ANP"});
-  if (s.element == "T4ANP" && s.material_model != "neo_hookean")
+  s.material_model = r.choice("material.model", s.material_model, kMaterialModels);
+  s.element = r.choice("material.element", s.element, kElements);
+  if (s.element == kT4ANP && s.material_model != kTaylorNeoHookean)
     r.fail("material.element", "T4ANP is implemented for the neo_hookean model only");
   s.E = r.num("material.E", s.E, 0, INFINITY, true);
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
@@ -265,7 +291,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
   s.slope_point = r.vec<3>("slope.point", s.floor_point);
 
-  s.contact_mode = r.str("contact.mode", s.contact_mode, {"sliding", "static", "coulomb"});
+  s.contact_mode = r.choice("contact.mode", s.contact_mode, kContactModes);
   s.mu = r.num("contact.mu", s.mu, 0, INFINITY);
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
 
@@ -283,7 +309,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.duration = r.num("time.duration", s.duration, 0, INFINITY);
   s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);
 
-  s.precision = r.str("solver.precision", s.precision, {"float", "double"});
+  s.precision = r.choice("solver.precision", s.precision, kPrecisions);
   s.threads = r.integer("solver.threads", 0, 0, 1024);
 
   if (const toml::node* tp = r.get("output.track_points")) {
@@ -304,6 +330,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   r.reject_unknown();
   return s;
 }
+
+const char* material_model_name(MaterialModel m) { return name_of(kMaterialModels, m); }
+const char* element_name(ElementType e) { return name_of(kElements, e); }
+const char* contact_mode_name(ContactMode m) { return name_of(kContactModes, m); }
+const char* precision_name(Precision p) { return name_of(kPrecisions, p); }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream f(path);

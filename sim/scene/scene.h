@@ -1,11 +1,13 @@
 #pragma once
 // Scene description (TOML). Every key is documented in README.md ("Scene format");
 // unknown keys, wrong types and out-of-range values are InputErrors naming the key.
+// Named modes are parsed into their enums here, once; *_name() gives the name back.
 #include <array>
 #include <string>
 #include <vector>
 
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/solver/solver.h"
 
 namespace softtled {
 
@@ -31,8 +33,8 @@ struct Scene {
   TetgenOptions tetgen;        // max_volume here in [units^3]
 
   // [material]
-  std::string material_model = "neo_hookean";  // neo_hookean | stable_neo_hookean
-  std::string element = "T4";                  // T4 | T4ANP
+  MaterialModel material_model = kTaylorNeoHookean;  // neo_hookean | stable_neo_hookean
+  ElementType element = kT4;                         // T4 | T4ANP
   double E = 3000, nu = 0.49, rho = 1000;  // [Pa, -, kg/m^3]
 
   // [damping]
@@ -52,7 +54,7 @@ struct Scene {
   std::array<double, 3> slope_point = {0, -12, 0};
 
   // [contact]
-  std::string contact_mode = "sliding";  // sliding | static | coulomb
+  ContactMode contact_mode = kSliding;  // sliding | static | coulomb
   double mu = 0.5;
   std::string contact_nodes = "boundary";  // boundary | all
 
@@ -65,7 +67,7 @@ struct Scene {
   double output_every = 1e-3;
 
   // [solver]
-  std::string precision = "double";  // float | double
+  Precision precision = Precision::kDouble;  // float | double
   int threads = 0;                   // 0: OpenMP default
 
   // [[fixed]]: nodes held at their rest position, selected by boxes or planes.
@@ -86,5 +88,11 @@ struct Scene {
 Scene parse_scene(const std::string& toml_text, const std::string& source,
                   const std::vector<std::string>& overrides = {});
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// The scene file's names of the modes.
+const char* material_model_name(MaterialModel m);
+const char* element_name(ElementType e);
+const char* contact_mode_name(ContactMode m);
+const char* precision_name(Precision p);
 
 }  // namespace softtled

@@ -1,26 +1,22 @@
 #pragma once
 // One scene, assembled: scene -> surface -> tet mesh -> rest state -> live state.
-// The app owns a Simulation and calls step()/advance(); the viewer edits params() live.
+// The one facade of the simulation: the app owns a Simulation, calls step()/advance(),
+// reads the state and diagnostics, edits params() live and asks for render vertices; it
+// never reaches the solver itself.
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "sim/scene/scene.h"
-#include "sim/solver/solver.h"
 #include "sim/mesh/tet_mesh.h"
+#include "sim/scene/diagnostics.h"
+#include "sim/scene/plane_motion.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/scene_geometry.h"
+#include "sim/scene/watchdog.h"
+#include "sim/solver/solver.h"
 
 namespace softtled {
-
-struct Diagnostics {
-  double t = 0;
-  double centroid[3] = {0, 0, 0};  // mass-weighted [m]
-  double min_gap = 0;              // smallest signed node-plane distance [m] (inf: no planes)
-  double ke = 0, se = 0, pe = 0;   // kinetic, strain, gravitational energy [J]
-  int n_contact = 0, n_stick = 0;  // nodes projected this step, of which sticking
-  double max_u = 0;                // largest displacement magnitude [m]
-  std::vector<double> tracked;     // 3 per tracked node: displacement [m]
-};
 
 struct TimeStepInfo {
   double c = 0;         // dilatational wave speed (eq. 10) [m/s]
@@ -40,11 +36,6 @@ struct SimulationDiverged : std::runtime_error {
 
 double dilatational_wave_speed(double E, double nu, double rho);
 
-// The surface the scene describes, in metres, rotated and placed.
-SurfaceMesh scene_surface(const Scene& s);
-TetgenOptions scene_tetgen_options(const Scene& s);
-std::vector<PlaneSpec> scene_planes(const Scene& s);
-
 class Simulation {
  public:
   // backend: "cpu", "cuda" or "auto" (solver_factory.h).
@@ -52,50 +43,84 @@ class Simulation {
 
   const Scene& scene() const { return scene_; }
   const TetMesh& mesh() const { return mesh_; }
-  Solver& solver() { return *solver_; }
   const PhysicsParams& params() const { return params_; }
   const TimeStepInfo& time_step() const { return ts_; }
   const std::vector<int>& tracked_nodes() const { return tracked_; }
   int fixed_node_count() const { return n_fixed_; }
+  std::string backend() const { return solver_->backend(); }  // e.g. "cpu (2 threads)", "cuda"
+  const std::vector<double>& lumped_mass() const { return solver_->lumped_mass(); }  // nnode [kg]
 
   // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
   // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
-  // edits must not blow up the viewer); empty when nothing was changed.
+  // edits must not blow up the viewer); empty when nothing was changed. A plane whose pose
+  // p leaves unchanged keeps its motion; a new or moved plane is at rest.
   std::string set_params(const PhysicsParams& p);
 
-  void step(long n);  // n steps, no checks (benchmarks)
+  // Kinematic planes (plane_motion.h): params().planes[plane] moves with m from now on,
+  // every step; its pose is in params().planes, what is left of its motion here.
+  void set_plane_motion(std::size_t plane, const PlaneMotion& m);
+  const std::vector<PlaneMotion>& plane_motion() const { return plane_motion_; }
+  // Smallest signed distance of a boundary node from any of `planes` now [m] (inf: none),
+  // e.g. whether planes can be placed without cutting into the body.
+  double gap_to(const std::vector<PlaneSpec>& planes);
+
+  void step(long n);  // n steps, no checks (benchmarks); moves kinematic planes
   // n steps with the watchdog checking every check_every steps: NaN/Inf, energy gained
   // from nowhere, inverted elements (Taylor model only). On failure the state is rolled
   // back to the last good check and SimulationDiverged is thrown.
   void advance(long n, long check_every);
   void reset();  // back to the initial state (the viewer's "drop again")
+  // The live state on the host, downloaded at most once per step count: every reader of
+  // one frame (watchdog, diagnostics, picking, drag spring, plot) shares this copy.
+  const HostState& state();
   // Replaces the live state (tests, rollback, a user's custom start) and re-anchors the
   // watchdog's energy reference to it.
   void set_state(const HostState& s);
+  // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
+  void set_external_forces(const std::vector<double>& f);
   double time() const { return double(nsteps_) * params_.dt + t_offset_; }
   long steps() const { return nsteps_; }
-  Diagnostics diagnostics();
+  Diagnostics diagnostics();  // of state(), computed once per step count
+
+  // Render hand-off (sim/fem/surface_render.h): kRenderFloatsPerVertex floats per boundary
+  // node into dst, which must be device memory (a mapped GL buffer) when
+  // render_buffer_on_device() and host memory otherwise.
+  bool render_buffer_on_device() const { return solver_->render_buffer_on_device(); }
+  void write_render_vertices(float* dst) { solver_->write_render_vertices(dst); }
+
+  // Backend hatch for benchmarks and backend-level tests only (bench, tests/solver,
+  // analysis): execution modes, thread counts, the raw solver state. app/ and render/ never
+  // use it. Writes through it bypass the cached state() and the watchdog.
+  Solver& solver() { return *solver_; }
 
  private:
   void apply_initial_state();
   void check_health();
   // Diagnostics of a state already on the host (the solver supplies only strain energy).
   Diagnostics diagnostics_of(const HostState& s);
+  void state_changed() { state_valid_ = diag_valid_ = false; }
+  // Moves the kinematic planes for the next steps; returns how many (at most max_steps)
+  // may run before the next move.
+  long move_planes(long max_steps);
 
   Scene scene_;
   TetMesh mesh_;
   std::unique_ptr<Solver> solver_;
   PhysicsParams params_;
+  std::vector<PlaneMotion> plane_motion_;  // one per params_.planes
   TimeStepInfo ts_;
   std::vector<int> tracked_;
   int n_fixed_ = 0;
   long nsteps_ = 0;
   double t_offset_ = 0;  // time accumulated before the last dt change
-  HostState scratch_;
-  HostState last_good_;
+  HostState state_;           // cache of the solver's state, valid while state_valid_
+  bool state_valid_ = false;
+  Diagnostics diag_;          // diagnostics of state_, valid while diag_valid_
+  bool diag_valid_ = false;
+  Watchdog watchdog_;
+  HostState last_good_;  // the state at the last healthy check, what a rollback restores
   long last_good_steps_ = 0;
   double last_good_offset_ = 0;
-  double energy0_ = 0, energy_scale_ = 0;
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
   int eigen_model_ = -1;
 };

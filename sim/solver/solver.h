@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/contact/plane_contact.h"
+#include "sim/fem/neo_hookean.h"
 #include "sim/mesh/tet_mesh.h"
 
 namespace softtled {
@@ -22,18 +24,22 @@ inline double signed_distance(const PlaneSpec& pl, const double x[3]) {
   return pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) + pl.normal[2] * (x[2] - pl.point[2]);
 }
 
+enum class Precision { kFloat, kDouble };
+// kT4: linear tet; kT4ANP: average nodal pressure tet (anp.h).
+enum ElementType : int { kT4 = 0, kT4ANP = 1 };
+
 // Everything that may change while the simulation runs (the viewer edits these live).
 struct PhysicsParams {
   double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
-  int material_model = 0;      // MaterialModel (neo_hookean.h)
-  int element = 0;             // ElementType: 0 linear tet (T4), 1 average nodal pressure (T4ANP, anp.h)
+  MaterialModel material_model = kTaylorNeoHookean;
+  ElementType element = kT4;
   double alpha = 10;           // mass-proportional damping [1/s]
   double dt = 1e-5;            // time step [s] (ignored when dt_auto)
   bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
   double lambda = 0.5;         // Courant-like factor for dt_auto
   double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
   std::vector<PlaneSpec> planes;
-  int contact_mode = 0;        // ContactMode
+  ContactMode contact_mode = kSliding;
   double mu = 0.5;             // Coulomb coefficient
 };
 
@@ -43,9 +49,6 @@ struct HostState {
   std::vector<double> du;              // 3 x nnode, u(t) - u(t - dt)
   std::vector<std::uint8_t> contact;   // nnode, ContactState
 };
-
-enum class Precision { kFloat, kDouble };
-enum ElementType : int { kT4 = 0, kT4ANP = 1 };
 
 class Solver {
  public:

@@ -46,8 +46,7 @@ TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   for (int it = 0; it < 200; ++it) ((P(l1, 0.5 * (lo + hi), 1) > 0) ? hi : lo) = 0.5 * (lo + hi);
   const double l2 = 0.5 * (lo + hi), J = l1 * l2 * l2;
   const double sigma11 = P(l1, l2, 0) * l1 / J;  // Cauchy = P F^T / J
-  HostState st;
-  sim.solver().get_state(st);
+  HostState st = sim.state();
   for (int i = 0; i < n; ++i) {
     st.u[i] = (l1 - 1) * m.X[3 * i];
     st.u[n + i] = (l2 - 1) * m.X[3 * i + 1];
@@ -110,8 +109,7 @@ TEST(FixedNodes, ClampedFaceDoesNotMove) {
                              "[floor]\nenabled = false\n[[fixed]]\nplane_point = [-10, 0, 0]\nplane_normal = [1, 0, 0]\n",
                              "clamped"));
   sim.advance(2000, 500);
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
   int moved_free = 0;
   for (int i = 0; i < n; ++i) {

@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <string>
 
+#include "app/headless_render.h"
 #include "render/gl_context.h"
-#include "render/headless.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 

@@ -9,8 +9,8 @@
 #include "render/camera.h"
 #include "render/image.h"
 #include "render/math3d.h"
+#include "app/viewer_picking.h"
 #include "sim/mesh/tet_mesh.h"
-#include "viewer_picking.h"
 
 using namespace softtled;
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_mesh.h"
@@ -37,17 +38,14 @@ int advance_counting_contacts(Simulation& sim, double t_end, long check_every) {
 }
 
 void expect_sane(Simulation& sim, const std::string& what) {
-  HostState st;
-  sim.solver().get_state(st);
-  for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << what;
+  for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << what;
   const Diagnostics d = sim.diagnostics();
   EXPECT_GT(d.min_gap, -1e-9) << what << ": a node is below a plane";
   EXPECT_TRUE(std::isfinite(d.ke) && std::isfinite(d.se)) << what;
 }
 
 double min_J(Simulation& sim) {
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const TetMesh& m = sim.mesh();
   const int n = m.nnode();
   double jmin = 1e300;
@@ -63,8 +61,11 @@ double min_J(Simulation& sim) {
 
 }  // namespace
 
-TEST(Extremes, NearlyIncompressibleNu04999) {
-  Simulation sim(box_on_floor("[material]\nnu = 0.4999\n"));
+class Extremes : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(Extremes);
+
+TEST_P(Extremes, NearlyIncompressibleNu04999) {
+  Simulation sim(box_on_floor("[material]\nnu = 0.4999\n"), backend());
   EXPECT_GT(sim.time_step().c, 50.0);  // c grows as 1/sqrt(1 - 2 nu): the step shrinks, auto follows
   sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
   expect_sane(sim, "nu = 0.4999");
@@ -72,28 +73,28 @@ TEST(Extremes, NearlyIncompressibleNu04999) {
   EXPECT_GT(min_J(sim), 0.98) << "nearly incompressible: volume kept within 2 %";
 }
 
-TEST(Extremes, YoungsModulusFrom100PaTo1MPa) {
+TEST_P(Extremes, YoungsModulusFrom100PaTo1MPa) {
   for (double E : {100.0, 3e3, 1e5, 1e6}) {
-    Simulation sim(box_on_floor("[material]\nE = " + std::to_string(E) + "\n"));
+    Simulation sim(box_on_floor("[material]\nE = " + std::to_string(E) + "\n"), backend());
     sim.advance(std::lround(0.03 / sim.time_step().dt), 200);
     expect_sane(sim, "E = " + std::to_string(E));
     EXPECT_NEAR(sim.time_step().dt, 0.5 * sim.time_step().dt_cr, 1e-15);
   }
 }
 
-TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
-  Simulation probe(box_on_floor(""));
+TEST_P(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
+  Simulation probe(box_on_floor(""), backend());
   const double dt_cr = probe.time_step().dt_cr, dt_eigen = probe.time_step().dt_eigen;
   // 1.5 x dt_cr in a scene file: refused with a message naming the bound.
   try {
-    Simulation sim(box_on_floor("[time]\ndt = " + std::to_string(1.5 * dt_cr) + "\n"));
+    Simulation sim(box_on_floor("[time]\ndt = " + std::to_string(1.5 * dt_cr) + "\n"), backend());
     ADD_FAILURE() << "dt above dt_cr accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("exceeds the stable step"), std::string::npos) << e.what();
   }
   // Forced through with allow_unstable at 1.5 x the eigenvalue bound: the watchdog stops
   // it, names dt / dt_cr and the cause, and rolls back to a finite state.
-  Simulation sim(box_on_floor("[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"));
+  Simulation sim(box_on_floor("[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"), backend());
   try {
     sim.advance(20000, 20);
     ADD_FAILURE() << "ran 20000 steps at 1.5 x 2/omega_max without diverging";
@@ -101,12 +102,10 @@ TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("x dt_cr"), std::string::npos) << msg;
     EXPECT_NE(msg.find("above the stability limit"), std::string::npos) << msg;
-    HostState st;
-    sim.solver().get_state(st);
-    for (double v : st.u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
+    for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
   }
   // The same dt set live (viewer) is clamped, with a warning.
-  Simulation live(box_on_floor(""));
+  Simulation live(box_on_floor(""), backend());
   PhysicsParams p = live.params();
   p.dt = 1.5 * dt_cr;
   p.dt_auto = false;
@@ -115,11 +114,11 @@ TEST(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
   EXPECT_LE(live.time_step().dt, dt_cr);
 }
 
-TEST(Extremes, FastImpactFromOneMetre) {
+TEST_P(Extremes, FastImpactFromOneMetre) {
   // 1 m fall: 4.4 m/s at impact on a 10 mm box of soft tissue.
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
     // No damping, so it arrives at the full sqrt(2 g h) = 4.4 m/s.
-    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\nE = 30000.0\n[damping]\nalpha = 0.0\n", 1000.0));
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\nE = 30000.0\n[damping]\nalpha = 0.0\n", 1000.0), backend());
     try {
       const int contacts = advance_counting_contacts(sim, 0.5, 2);
       expect_sane(sim, model);
@@ -134,7 +133,7 @@ TEST(Extremes, FastImpactFromOneMetre) {
   }
 }
 
-TEST(Extremes, SlopesOf0_45_89Degrees) {
+TEST_P(Extremes, SlopesOf0_45_89Degrees) {
   for (double angle : {0.0, 45.0, 89.0}) {
     for (const char* mode : {"sliding", "static"}) {
       // Box centred 7 mm above the slope's pivot along its normal: 2 mm gap.
@@ -145,7 +144,7 @@ TEST(Extremes, SlopesOf0_45_89Degrees) {
                     "position = [%.9g, %.9g, 0]\nrotation_deg = [0, 0, %.9g]\n[floor]\nenabled = false\n"
                     "[slope]\nenabled = true\nangle_deg = %.9g\npoint = [0, 0, 0]\n[contact]\nmode = \"%s\"\n",
                     -std::sin(th) * 7, std::cos(th) * 7, angle, angle, mode);
-      Simulation sim(parse_scene(buf, "slope"));
+      Simulation sim(parse_scene(buf, "slope"), backend());
       const int contacts = advance_counting_contacts(sim, 0.08, 20);
       expect_sane(sim, std::to_string(angle) + " deg " + mode);
       const Diagnostics d = sim.diagnostics();
@@ -155,21 +154,21 @@ TEST(Extremes, SlopesOf0_45_89Degrees) {
   }
 }
 
-TEST(Extremes, SliverHeavyMeshRunsAtItsSmallStep) {
+TEST_P(Extremes, SliverHeavyMeshRunsAtItsSmallStep) {
   // No quality bound: TetGen's plain constrained Delaunay mesh of the torus has slivers.
   Scene s = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"mesh.radius_edge=0", "body.segments=[45, 9]"});
-  Simulation sim(s);
+  Simulation sim(s, backend());
   const MeshQuality q = measure_quality(sim.mesh());
   EXPECT_LT(q.min_dihedral_deg, 5.0) << "expected slivers without -q";
   Scene good = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"body.segments=[45, 9]"});
-  Simulation ref(good);
+  Simulation ref(good, backend());
   EXPECT_LT(sim.time_step().dt_cr, ref.time_step().dt_cr) << "slivers must shrink the stable step";
   sim.advance(std::lround(0.03 / sim.time_step().dt), 500);
   expect_sane(sim, "sliver mesh");
   EXPECT_GT(sim.diagnostics().n_contact, 0);
 }
 
-TEST(Extremes, OneElementMesh) {
+TEST_P(Extremes, OneElementMesh) {
   const std::string path = ::testing::TempDir() + "one_tet.obj";
   {
     std::ofstream o(path);
@@ -177,51 +176,47 @@ TEST(Extremes, OneElementMesh) {
   }
   Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"file\"\nfile = \"" + path +
                                  "\"\n[mesh]\nradius_edge = 0\n[floor]\nenabled = true\npoint = [0, -2, 0]\n",
-                             "one tet"));
+                             "one tet"), backend());
   EXPECT_EQ(sim.mesh().ntet(), 1);
   const int contacts = advance_counting_contacts(sim, 0.1, 10);
   expect_sane(sim, "one element");
   EXPECT_GT(contacts, 0);
 }
 
-TEST(Extremes, ZeroGravityStaysExactlyAtRest) {
-  Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"));
+TEST_P(Extremes, ZeroGravityStaysExactlyAtRest) {
+  Simulation sim(box_on_floor("[gravity]\ng = [0, 0, 0]\n"), backend());
   sim.advance(2000, 500);
-  HostState st;
-  sim.solver().get_state(st);
-  for (double v : st.u) ASSERT_EQ(v, 0.0);
+  for (double v : sim.state().u) ASSERT_EQ(v, 0.0);
 }
 
-TEST(Extremes, NoDampingConservesFreeFallEnergy) {
+TEST_P(Extremes, NoDampingConservesFreeFallEnergy) {
   Scene s = box_scene("[damping]\nalpha = 0.0\n");
-  Simulation sim(s);
+  Simulation sim(s, backend());
   const Diagnostics d0 = sim.diagnostics();
   sim.advance(std::lround(0.05 / sim.time_step().dt), 200);
   const Diagnostics d = sim.diagnostics();
   // Diagnostics' KE uses the half-step velocity du/dt, which lags v(t) by g dt / 2:
   // correct for it, then energy must be conserved to rounding.
   double mass = 0;
-  for (double m : sim.solver().lumped_mass()) mass += m;
+  for (double m : sim.lumped_mass()) mass += m;
   const double v_half = std::sqrt(2 * d.ke / mass), v = v_half + 9.81 * sim.time_step().dt / 2;
   EXPECT_NEAR(0.5 * mass * v * v + d.pe, d0.ke + d0.pe, 1e-5 * std::fabs(d.pe - d0.pe));
 }
 
-TEST(Extremes, HeavyDampingReachesTerminalVelocity) {
-  Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"));
+TEST_P(Extremes, HeavyDampingReachesTerminalVelocity) {
+  Simulation sim(box_scene("[damping]\nalpha = 1000.0\n"), backend());
   sim.advance(std::lround(0.02 / sim.time_step().dt), 200);  // 20 time constants
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
   const double v = st.du[n] / sim.time_step().dt;  // y velocity of node 0
   EXPECT_NEAR(v, -9.81 / 1000.0, 1e-3 * 9.81 / 1000.0) << "terminal velocity g / alpha";
 }
 
-TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
+TEST_P(Extremes, InvertedStartRecoversWithStableNeoHookean) {
   // Start with the whole box mirrored through its centre plane x = 0 (every J = -1).
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
-    Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"));
-    HostState st;
-    sim.solver().get_state(st);
+    Simulation sim(box_scene(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, 0, 0]\n[time]\nlambda = 0.1\n"), backend());
+    HostState st = sim.state();
     const int n = sim.mesh().nnode();
     for (int i = 0; i < n; ++i) st.u[i] = -2 * sim.mesh().X[3 * i];
     sim.set_state(st);
@@ -235,12 +230,12 @@ TEST(Extremes, InvertedStartRecoversWithStableNeoHookean) {
   }
 }
 
-TEST(Extremes, CrushingLoadSurvivesOrIsReported) {
+TEST_P(Extremes, CrushingLoadSurvivesOrIsReported) {
   // 2000 g on a 3 kPa box against the floor flattens it completely; the stiffness of the
   // crushed state outgrows the rest-state step bound. Each model either survives or the
   // watchdog stops it with a diagnosis and a finite, rolled-back state.
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {
-    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, -20000.0, 0]\n", 0.1));
+    Simulation sim(box_on_floor(std::string("[material]\nmodel = \"") + model + "\"\n[gravity]\ng = [0, -20000.0, 0]\n", 0.1), backend());
     try {
       sim.advance(std::lround(0.02 / sim.time_step().dt), 5);
       expect_sane(sim, model);
@@ -251,5 +246,35 @@ TEST(Extremes, CrushingLoadSurvivesOrIsReported) {
       EXPECT_NE(msg.find("Likely cause"), std::string::npos) << msg;
       expect_sane(sim, std::string(model) + " after rollback");
     }
+  }
+}
+
+TEST_P(Extremes, RollbackAfterALiveStepChangeRestoresTheSavedMotion) {
+  // A box in free fall passes a check; a live E x 4 halves dt; a NaN force then makes the
+  // next check fail. The rollback must restore the checked state's time and velocities,
+  // in the new step's units.
+  Simulation sim(box_scene(""), backend());
+  const double dt1 = sim.time_step().dt;
+  const long every = std::lround(5e-3 / dt1);
+  sim.advance(every, every);
+  const double t1 = sim.time();
+  const HostState saved = sim.state();
+  PhysicsParams p = sim.params();
+  p.E *= 4;
+  sim.set_params(p);
+  const double dt2 = sim.time_step().dt;
+  ASSERT_LT(dt2, 0.6 * dt1);
+  EXPECT_NEAR(sim.time(), t1, 1e-15) << "time is continuous across the dt change";
+  std::vector<double> f(3 * std::size_t(sim.mesh().nnode()), 0.0);
+  f[0] = std::nan("");
+  sim.set_external_forces(f);
+  EXPECT_THROW(sim.advance(100, 50), SimulationDiverged);
+  EXPECT_NEAR(sim.time(), t1, 1e-15) << "rolled back to the last good check";
+  const HostState& back = sim.state();
+  ASSERT_EQ(back.du.size(), saved.du.size());
+  for (std::size_t j = 0; j < saved.du.size(); ++j) {
+    ASSERT_EQ(back.u[j], saved.u[j]);
+    const double v = saved.du[j] / dt1;
+    ASSERT_NEAR(back.du[j] / dt2, v, 1e-9 * std::fabs(v)) << "velocity of dof " << j;
   }
 }

@@ -28,19 +28,36 @@ TEST(Scene, ShippedScenesParse) {
   }
   const Scene st = load_scene(assets_dir() + "/scenes/torus_slope_static.toml");
   EXPECT_TRUE(st.slope);
-  EXPECT_EQ(st.contact_mode, "static");
+  EXPECT_EQ(st.contact_mode, kStatic);
 }
 
 TEST(Scene, OverridesByDottedKey) {
   const Scene s = parse_scene("", "s", {"material.E=5000", "contact.mode=coulomb", "slope.angle_deg=30",
                                         "slope.enabled=true", "time.dt=2e-6", "body.segments=[45, 9]"});
   EXPECT_DOUBLE_EQ(s.E, 5000);
-  EXPECT_EQ(s.contact_mode, "coulomb");
+  EXPECT_EQ(s.contact_mode, kCoulomb);
   EXPECT_DOUBLE_EQ(s.slope_angle_deg, 30);
   EXPECT_TRUE(s.slope);
   EXPECT_FALSE(s.dt_auto);
   EXPECT_DOUBLE_EQ(s.dt, 2e-6);
   EXPECT_EQ(s.segments[0], 45);
+}
+
+TEST(Scene, NamedModesParseToTheirEnumsAndBack) {
+  const Scene s = parse_scene("", "s", {"material.model=stable_neo_hookean", "contact.mode=static",
+                                        "solver.precision=float"});
+  EXPECT_EQ(s.material_model, kStableNeoHookean);
+  EXPECT_EQ(s.contact_mode, kStatic);
+  EXPECT_EQ(s.precision, Precision::kFloat);
+  EXPECT_STREQ(material_model_name(s.material_model), "stable_neo_hookean");
+  EXPECT_STREQ(contact_mode_name(s.contact_mode), "static");
+  EXPECT_STREQ(precision_name(s.precision), "float");
+  const Scene d = parse_scene("", "s", {"material.element=T4ANP"});
+  EXPECT_EQ(d.element, kT4ANP);
+  EXPECT_STREQ(element_name(d.element), "T4ANP");
+  EXPECT_EQ(d.material_model, kTaylorNeoHookean) << "defaults";
+  EXPECT_EQ(d.contact_mode, kSliding);
+  EXPECT_EQ(d.precision, Precision::kDouble);
 }
 
 TEST(Scene, BadInputNamesTheKey) {

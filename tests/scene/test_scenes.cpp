@@ -1,9 +1,11 @@
 #define _USE_MATH_DEFINES
-// Every shipped scene loads, runs a short time and shows the physics it is there for.
+// Every shipped scene loads, runs a short time and shows the physics it is there for; and
+// kinematic planes (a moving floor, a turning slope) carry the body with them.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 
@@ -24,9 +26,8 @@ struct Motion {
   double v[3], omega_z;
 };
 Motion motion(Simulation& sim) {
-  HostState st;
-  sim.solver().get_state(st);
-  const auto& m = sim.solver().lumped_mass();
+  const HostState& st = sim.state();
+  const auto& m = sim.lumped_mass();
   const int n = sim.mesh().nnode();
   const double dt = sim.time_step().dt;
   double M = 0, c[3] = {0, 0, 0}, p[3] = {0, 0, 0};
@@ -48,6 +49,13 @@ Motion motion(Simulation& sim) {
   }
   r.omega_z = L / I;
   return r;
+}
+
+// A 10 mm box resting on a floor at y = -5 mm (its bottom face).
+Scene box_on_floor(const std::string& extra = "") {
+  return parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n"
+                     "[floor]\nenabled = true\npoint = [0, -5, 0]\n" + extra,
+                     "box on floor");
 }
 
 double downhill(const Diagnostics& a, const Diagnostics& b, double theta_deg) {
@@ -126,4 +134,52 @@ TEST(Scenes, CoarseAndFineToriBracketThePaperMesh) {
   run_to(fine, 0.002);
   const double t = fine.time();
   EXPECT_NEAR(y0 - fine.diagnostics().centroid[1], (9.81 / 10) * (t - (1 - std::exp(-10 * t)) / 10), 1e-2 * 2e-5);
+}
+
+class KinematicPlanes : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(KinematicPlanes);
+
+TEST_P(KinematicPlanes, RisingFloorCarriesTheBody) {
+  // The floor rises at 0.1 m/s for 50 ms: the box rides on it, 5 mm up, at its speed.
+  const double v = 0.1, T = 0.05;
+  Simulation still(box_on_floor(), backend()), lift(box_on_floor(), backend());
+  PlaneMotion up;
+  up.velocity[1] = v;
+  up.duration = T;
+  lift.set_plane_motion(0, up);
+  const double floor0 = lift.params().planes[0].point[1];
+  const long every = std::lround(1e-3 / lift.time_step().dt);
+  double rise_half = 0;  // rise relative to the still floor's run at T / 2
+  auto rise = [&] { return lift.diagnostics().centroid[1] - still.diagnostics().centroid[1]; };
+  while (lift.time() < T + 1e-12) {
+    lift.advance(every, every);
+    still.advance(every, every);
+    ASSERT_GT(lift.diagnostics().min_gap, -1e-9) << "a node behind the moving floor at t = " << lift.time();
+    if (lift.time() <= T / 2 + 1e-12) rise_half = rise();
+  }
+  EXPECT_FALSE(lift.plane_motion()[0].moving()) << "the motion stops after its duration";
+  EXPECT_NEAR(lift.params().planes[0].point[1] - floor0, v * T, 1e-12) << "the floor moved v T exactly";
+  EXPECT_NEAR(rise(), v * T, 0.1 * v * T) << "the body rose with the floor";
+  EXPECT_NEAR((rise() - rise_half) / (T / 2), v, 0.1 * v) << "at its speed, once carried";
+}
+
+TEST_P(KinematicPlanes, TurningSlopeTiltsTheBodyAndStopsAtItsAngle) {
+  // A slope under the box, pivoting about its left edge, turns from 0 to 10 deg in 0.1 s
+  // and lifts the box (static friction: it does not slide down) with it.
+  Scene s = box_on_floor("[slope]\nenabled = true\nangle_deg = 0.0\npoint = [-5, -5, 0]\n[contact]\nmode = \"static\"\n");
+  s.floor = false;
+  Simulation sim(s, backend());
+  PlaneMotion turn;
+  turn.omega[2] = 100 * M_PI / 180;
+  turn.duration = 0.1;
+  sim.set_plane_motion(0, turn);
+  const Diagnostics d0 = sim.diagnostics();
+  const long every = std::lround(2e-3 / sim.time_step().dt);
+  while (sim.time() < 0.1 + 1e-12) {
+    sim.advance(every, every);
+    ASSERT_GT(sim.diagnostics().min_gap, -1e-9) << "a node behind the turning slope at t = " << sim.time();
+  }
+  EXPECT_FALSE(sim.plane_motion()[0].moving());
+  EXPECT_NEAR(slope_angle_deg(s, sim.params().planes[0]), 10.0, 1e-9);
+  EXPECT_GT(sim.diagnostics().centroid[1] - d0.centroid[1], 0.3e-3) << "the slope lifted the box (by ~0.9 mm at rest)";
 }

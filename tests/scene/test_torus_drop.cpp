@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 
@@ -17,8 +18,7 @@ namespace {
 double damped_fall(double g, double alpha, double t) { return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha); }
 
 double node_extent(Simulation& sim, int axis) {
-  HostState st;
-  sim.solver().get_state(st);
+  const HostState& st = sim.state();
   const int n = sim.mesh().nnode();
   double lo = 1e300, hi = -1e300;
   for (int i = 0; i < n; ++i) {
@@ -29,9 +29,12 @@ double node_extent(Simulation& sim, int axis) {
 }
 }  // namespace
 
-TEST(TorusDrop, FirstContactCompressionAndRebound) {
+class TorusDrop : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(TorusDrop);
+
+TEST_P(TorusDrop, FirstContactCompressionAndRebound) {
   Scene s = load_scene(assets_dir() + "/scenes/torus_drop.toml");
-  Simulation sim(s);
+  Simulation sim(s, backend());
   EXPECT_GT(sim.mesh().ntet(), 6000);
   const double dt = sim.time_step().dt;
   const Diagnostics d0 = sim.diagnostics();
@@ -62,10 +65,10 @@ TEST(TorusDrop, FirstContactCompressionAndRebound) {
   EXPECT_GT(node_extent(sim, 1), 15e-3) << "still standing at 0.08 s (it tips later)";
 }
 
-TEST(TorusDrop, RingTipsOverAndComesToRest) {
+TEST_P(TorusDrop, RingTipsOverAndComesToRest) {
   // The coarse torus (45 x 9 surface grid) shows the same tipping at a fifth of the cost.
   Scene s = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"body.segments=[45, 9]", "time.lambda=0.8"});
-  Simulation sim(s);
+  Simulation sim(s, backend());
   EXPECT_GT(node_extent(sim, 1), 19e-3);  // upright: 20 mm tall
   double max_ke = 0;
   const long every = std::lround(5e-3 / sim.time_step().dt);

@@ -1,51 +1,20 @@
-#include "render/headless.h"
+#include "app/headless_render.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <stdexcept>
 
+#include "app/render_handoff.h"
 #include "render/offscreen_target.h"
-#include "sim/mesh/surface_topology.h"
 
 namespace softtled {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-void rest_bounds(const Simulation& sim, Vec3& lo, Vec3& hi) {
-  const auto& X = sim.mesh().X;
-  const float inf = std::numeric_limits<float>::infinity();
-  lo = {inf, inf, inf};
-  hi = {-inf, -inf, -inf};
-  for (std::size_t i = 0; i < X.size(); i += 3)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], float(X[i + k]));
-      hi[k] = std::max(hi[k], float(X[i + k]));
-    }
-}
 }  // namespace
-
-Camera default_camera(const Simulation& sim) {
-  Vec3 lo, hi;
-  rest_bounds(sim, lo, hi);
-  const Vec3 c = (lo + hi) * 0.5f;
-  const float r = 0.5f * length(hi - lo);
-  Camera cam;
-  cam.azimuth_deg = 30;
-  cam.elevation_deg = 18;
-  cam.frame(c - Vec3{0, 0.15f * r, 0}, r, 0.8f);
-  return cam;
-}
-
-float default_plane_half(const Simulation& sim) {
-  Vec3 lo, hi;
-  rest_bounds(sim, lo, hi);
-  return 2.5f * length(hi - lo);
-}
 
 std::string frame_file_name(const std::string& stem, double t) {
   char buf[64];
@@ -67,7 +36,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
   {
     // GL objects live in this scope so they go before the context does.
     SceneRenderer renderer;
-    BodyVertexBuffer body(build_surface_topology(sim.mesh()));
+    const std::unique_ptr<BodyVertexBuffer> body = make_body_buffer(build_surface_topology(sim.mesh()));
     OffscreenTarget target(o.width, o.height, o.samples);
     if (info) info->samples = target.samples();
     Camera cam = default_camera(sim);
@@ -98,16 +67,16 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       if (o.auto_umax) style.umax = std::max(umax, 1e-4f);
 
       t0 = Clock::now();
-      body.update(sim.solver());
+      write_body_vertices(sim, *body);
       f.upload_s = seconds_since(t0);
-      if (info) info->vertex_path = body.path();
+      if (info) info->vertex_path = body->path();
 
       t0 = Clock::now();
       target.bind();
       const Vec3 focus{float(d.centroid[0]), float(d.centroid[1]), float(d.centroid[2])};
       if (o.follow) cam.target = cam.target + (focus - last_centroid);
       last_centroid = focus;
-      renderer.draw(cam, o.width, o.height, body, sim.params().planes, focus, plane_half, style);
+      renderer.draw(cam, o.width, o.height, *body, render_planes(sim.params().planes), focus, plane_half, style);
       f.image = target.read();
       f.draw_s = seconds_since(t0);
 

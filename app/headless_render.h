@@ -1,8 +1,8 @@
 #pragma once
 // Offscreen frames of a running Simulation: `softtled render` and the screenshot
-// regression share this. Steps the simulation to each requested time, writes the render
-// vertices into the GL buffer (interop on CUDA), draws with SceneRenderer into an
-// OffscreenTarget and writes one PNG per time.
+// regression share this. The app's headless loop: steps the simulation to each requested
+// time, hands its render vertices to the GL buffer (interop on CUDA, render_handoff.h),
+// draws with render/'s SceneRenderer into an OffscreenTarget and writes one PNG per time.
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,11 +14,6 @@
 #include "sim/scene/simulation.h"
 
 namespace softtled {
-
-// Camera that frames the body's rest shape and the floor below it, seen slightly from above.
-Camera default_camera(const Simulation& sim);
-// Half side of the drawn planes [m]: a few body sizes.
-float default_plane_half(const Simulation& sim);
 
 struct HeadlessOptions {
   std::vector<double> times;      // [s], ascending; each must be >= the simulation's time

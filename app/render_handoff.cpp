@@ -1,0 +1,63 @@
+#include "app/render_handoff.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "sim/fem/surface_render.h"
+
+namespace softtled {
+
+static_assert(kBodyFloatsPerVertex == kRenderFloatsPerVertex,
+              "render/body_buffer.h and sim/fem/surface_render.h must agree on the vertex layout");
+
+std::unique_ptr<BodyVertexBuffer> make_body_buffer(const SurfaceTopology& topo) {
+  return std::make_unique<BodyVertexBuffer>(int(topo.node.size()), topo.tri);
+}
+
+void write_body_vertices(Simulation& sim, BodyVertexBuffer& body) {
+  float* dst = body.map(sim.render_buffer_on_device());
+  sim.write_render_vertices(dst);
+  body.unmap();
+}
+
+std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes) {
+  std::vector<RenderPlane> r;
+  for (const PlaneSpec& p : planes)
+    r.push_back({{float(p.point[0]), float(p.point[1]), float(p.point[2])},
+                  {float(p.normal[0]), float(p.normal[1]), float(p.normal[2])}});
+  return r;
+}
+
+namespace {
+void rest_bounds(const Simulation& sim, Vec3& lo, Vec3& hi) {
+  const auto& X = sim.mesh().X;
+  const float inf = std::numeric_limits<float>::infinity();
+  lo = {inf, inf, inf};
+  hi = {-inf, -inf, -inf};
+  for (std::size_t i = 0; i < X.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], float(X[i + k]));
+      hi[k] = std::max(hi[k], float(X[i + k]));
+    }
+}
+}  // namespace
+
+Camera default_camera(const Simulation& sim) {
+  Vec3 lo, hi;
+  rest_bounds(sim, lo, hi);
+  const Vec3 c = (lo + hi) * 0.5f;
+  const float r = 0.5f * length(hi - lo);
+  Camera cam;
+  cam.azimuth_deg = 30;
+  cam.elevation_deg = 18;
+  cam.frame(c - Vec3{0, 0.15f * r, 0}, r, 0.8f);
+  return cam;
+}
+
+float default_plane_half(const Simulation& sim) {
+  Vec3 lo, hi;
+  rest_bounds(sim, lo, hi);
+  return 2.5f * length(hi - lo);
+}
+
+}  // namespace softtled

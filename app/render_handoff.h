@@ -1,0 +1,31 @@
+#pragma once
+// The app's bridge between a Simulation and render/ (which knows no sim type): the body's
+// vertex buffer and its per-frame fill, the planes as plain geometry, and a camera and
+// plane size that frame the body. The viewer and the offscreen frames share these.
+#include <memory>
+#include <vector>
+
+#include "render/body_buffer.h"
+#include "render/camera.h"
+#include "render/scene_renderer.h"
+#include "sim/mesh/surface_topology.h"
+#include "sim/scene/simulation.h"
+
+namespace softtled {
+
+// A vertex buffer for the boundary the simulation writes: build_surface_topology(mesh)
+// gives the vertex and triangle order the solver uses.
+std::unique_ptr<BodyVertexBuffer> make_body_buffer(const SurfaceTopology& topo);
+// The per-frame hand-off: the simulation writes its render vertices straight into the
+// mapped buffer (a device pointer on a GPU backend, host memory otherwise). On a GPU
+// backend this waits for the queued steps.
+void write_body_vertices(Simulation& sim, BodyVertexBuffer& body);
+
+std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
+
+// Camera that frames the body's rest shape and the floor below it, seen slightly from above.
+Camera default_camera(const Simulation& sim);
+// Half side of the drawn planes [m]: a few body sizes.
+float default_plane_half(const Simulation& sim);
+
+}  // namespace softtled

@@ -1,0 +1,142 @@
+#include "sim/scene/scene_geometry.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "sim/core/body_view.h"
+#include "sim/mesh/surface_generators.h"
+#include "sim/mesh/surface_io.h"
+
+namespace softtled {
+
+SurfaceMesh scene_surface(const Scene& s) {
+  SurfaceMesh m;
+  if (s.shape == "torus") {
+    m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
+  } else if (s.shape == "box") {
+    m = make_box(s.size[0], s.size[1], s.size[2], s.divisions[0], s.divisions[1], s.divisions[2]);
+  } else if (s.shape == "sphere") {
+    m = make_sphere(s.radius, s.subdivisions);
+  } else {
+    std::string path = s.file;
+    const auto slash = s.source.find_last_of('/');
+    if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = s.source.substr(0, slash + 1) + path;
+    m = load_surface(path);
+    for (double& v : m.xyz) v *= s.scale;
+  }
+  const double pi = 3.14159265358979323846;
+  const double ax = s.rotation_deg[0] * pi / 180, ay = s.rotation_deg[1] * pi / 180, az = s.rotation_deg[2] * pi / 180;
+  for (int i = 0; i < m.npoint(); ++i) {
+    double* p = &m.xyz[3 * i];
+    double y = p[1] * std::cos(ax) - p[2] * std::sin(ax), z = p[1] * std::sin(ax) + p[2] * std::cos(ax);
+    p[1] = y, p[2] = z;
+    double x = p[0] * std::cos(ay) + p[2] * std::sin(ay);
+    z = -p[0] * std::sin(ay) + p[2] * std::cos(ay);
+    p[0] = x, p[2] = z;
+    x = p[0] * std::cos(az) - p[1] * std::sin(az);
+    y = p[0] * std::sin(az) + p[1] * std::cos(az);
+    p[0] = x, p[1] = y;
+    for (int k = 0; k < 3; ++k) p[k] = (p[k] + s.position[k]) * s.length_unit;
+  }
+  return m;
+}
+
+TetgenOptions scene_tetgen_options(const Scene& s) {
+  TetgenOptions o = s.tetgen;
+  o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
+  return o;
+}
+
+std::vector<PlaneSpec> scene_planes(const Scene& s) {
+  std::vector<PlaneSpec> planes;
+  if (s.floor) {
+    PlaneSpec p;
+    for (int k = 0; k < 3; ++k) {
+      p.point[k] = s.floor_point[k] * s.length_unit;
+      p.normal[k] = s.floor_normal[k];
+    }
+    planes.push_back(p);
+  }
+  if (s.slope) {
+    const double th = s.slope_angle_deg * 3.14159265358979323846 / 180;
+    const double* n = s.floor_normal.data();
+    PlaneSpec p;
+    for (int k = 0; k < 3; ++k) p.point[k] = s.slope_point[k] * s.length_unit;
+    p.normal[0] = n[0] * std::cos(th) - n[1] * std::sin(th);
+    p.normal[1] = n[0] * std::sin(th) + n[1] * std::cos(th);
+    p.normal[2] = n[2];
+    planes.push_back(p);
+  }
+  return planes;
+}
+
+double slope_angle_deg(const Scene& s, const PlaneSpec& slope) {
+  const double* f = s.floor_normal.data();
+  const double* n = slope.normal;
+  return std::atan2(f[0] * n[1] - f[1] * n[0], f[0] * n[0] + f[1] * n[1]) * 180 / 3.14159265358979323846;
+}
+
+std::vector<std::uint8_t> scene_node_flags(const Scene& s, const TetMesh& m, int* n_fixed) {
+  std::vector<std::uint8_t> flags(m.nnode(), 0);
+  if (s.contact_nodes == "all") {
+    for (auto& f : flags) f |= kNodeContact;
+  } else {
+    for (int i : m.surface_nodes) flags[i] |= kNodeContact;
+  }
+  // Fixed nodes: selectors are in scene units and world coordinates (after placement).
+  *n_fixed = 0;
+  for (std::size_t k = 0; k < s.fixed.size(); ++k) {
+    const auto& f = s.fixed[k];
+    const double u = s.length_unit, tol = 1e-9;
+    int count = 0;
+    for (int i = 0; i < m.nnode(); ++i) {
+      const double* x = &m.X[3 * i];
+      bool in;
+      if (f.is_box) {
+        in = true;
+        for (int d = 0; d < 3; ++d) in = in && x[d] >= f.a[d] * u - tol && x[d] <= f.b[d] * u + tol;
+      } else {
+        in = f.b[0] * (x[0] - f.a[0] * u) + f.b[1] * (x[1] - f.a[1] * u) + f.b[2] * (x[2] - f.a[2] * u) <= tol;
+      }
+      if (in) flags[i] |= kNodeFixed, ++count;
+    }
+    if (count == 0) throw InputError(s.source + ": fixed[" + std::to_string(k) + "] selects no node");
+    *n_fixed += count;
+  }
+  return flags;
+}
+
+std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m) {
+  std::vector<int> tracked;
+  for (const auto& q : s.track_points) {
+    double best = std::numeric_limits<double>::infinity();
+    int bi = 0;
+    for (int i = 0; i < m.nnode(); ++i) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double e = m.X[3 * i + k] - (q[k]) * s.length_unit;
+        d += e * e;
+      }
+      if (d < best) best = d, bi = i;
+    }
+    tracked.push_back(bi);
+  }
+  return tracked;
+}
+
+void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes) {
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    double worst = 0;
+    for (int i = 0; i < m.nnode(); ++i) worst = std::min(worst, signed_distance(planes[p], &m.X[3 * i]));
+    if (worst < -1e-9) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, ": the body starts %.4g mm inside the %s plane; move body.position or the plane",
+                    -worst * 1e3, s.floor && p == 0 ? "floor" : "slope");
+      throw InputError(s.source + buf);
+    }
+  }
+}
+
+}  // namespace softtled

@@ -1,0 +1,35 @@
+#pragma once
+// The scene's geometry in metres and world coordinates, as the Simulation assembles it:
+// the body's surface and TetGen options, the contact planes, the node flags (contact and
+// fixed) and the tracked nodes.
+#include <cstdint>
+#include <vector>
+
+#include "sim/mesh/surface_mesh.h"
+#include "sim/mesh/tet_mesh.h"
+#include "sim/mesh/tetgen_mesher.h"
+#include "sim/scene/scene.h"
+#include "sim/solver/solver.h"
+
+namespace softtled {
+
+// The surface the scene describes, rotated and placed.
+SurfaceMesh scene_surface(const Scene& s);
+TetgenOptions scene_tetgen_options(const Scene& s);
+// Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
+std::vector<PlaneSpec> scene_planes(const Scene& s);
+// The inverse for the slope: the angle [deg] by which `slope` is turned from the floor
+// normal about z (a slope that turns as a kinematic plane).
+double slope_angle_deg(const Scene& s, const PlaneSpec& slope);
+
+// NodeFlag per node: kNodeContact on the boundary (or every node, contact.nodes = "all"),
+// kNodeFixed inside a [[fixed]] selector. InputError when a selector selects no node;
+// *n_fixed receives the sum of the selectors' counts.
+std::vector<std::uint8_t> scene_node_flags(const Scene& s, const TetMesh& m, int* n_fixed);
+// The node nearest each of output.track_points.
+std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m);
+// A body that starts inside a plane would be shot out by the projection: InputError
+// naming the plane (planes as scene_planes returns them).
+void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes);
+
+}  // namespace softtled
