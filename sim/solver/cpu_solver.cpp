@@ -76,10 +76,7 @@ class CpuSolver final : public Solver {
   }
 
   double strain_energy() const override {
-    energy_.resize(rest_.ntet);
-#pragma omp parallel for schedule(static) num_threads(threads_)
-    for (int e = 0; e < rest_.ntet; ++e) energy_[e] = double(element_strain_energy(mesh_, cfg_.mat, u_.data(), e));
-    return fixed_order_sum(energy_, threads_);
+    return cpu_strain_energy(mesh_, cfg_.mat, cfg_.element, u_.data(), energy_vol_, energy_, threads_);
   }
 
   void set_external_forces(const std::vector<double>& f) override {
@@ -119,6 +116,7 @@ class CpuSolver final : public Solver {
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
   mutable std::vector<double> energy_;  // strain_energy's per-element (and per-node) terms
+  mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes
   std::vector<std::uint8_t> contact_;
   StepConfig<T> cfg_;
 };
