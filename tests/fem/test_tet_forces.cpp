@@ -163,3 +163,40 @@ TEST(TetForces, InvertedElementGivesFiniteRestoringForce) {
     EXPECT_LT(P(0, 0), 0.0) << "compressed along x: stress must be compressive, l = " << l;
   }
 }
+
+namespace {
+// P against the central difference of the energy density: P = dW/dF, entry by entry.
+template <class Mat>
+double max_pk1_vs_energy_gradient(const NeoHookean<double>& mat, const Mat& F, double* scale) {
+  const Mat P = neo_hookean_pk1(mat, F);
+  const double h = 1e-7;
+  double worst = 0, big = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Mat Fp = F, Fm = F;
+      Fp(i, j) += h;
+      Fm(i, j) -= h;
+      const double dW = (neo_hookean_energy_density(mat, Fp) - neo_hookean_energy_density(mat, Fm)) / (2 * h);
+      worst = std::max(worst, std::fabs(P(i, j) - dW));
+      big = std::max(big, std::fabs(P(i, j)));
+    }
+  *scale = big;
+  return worst;
+}
+}  // namespace
+
+TEST(TetForces, StressIsTheEnergyGradientAlsoBelowTheInversionGuard) {
+  // The guard replaces J^(-2/3) below J_floor = 0.05; stress and energy must still be one
+  // pair (the energy is what the CSV, the watchdog and T4ANP's energy report), above the
+  // guard, below it, and for inverted elements; for both material models.
+  for (int model : {int(kTaylorNeoHookean), int(kStableNeoHookean)}) {
+    const auto mat = neo_hookean_from_E_nu<double>(3000, 0.45, model);
+    for (const Mat3<double>& F : {Mat3<double>{{{1.1, 0.2, 0.0}, {0.05, 0.9, 0.1}, {0.0, -0.1, 1.05}}},  // J ~ 1
+                                  Mat3<double>{{{0.03, 0.2, 0.0}, {0.0, 0.8, 0.1}, {0.01, -0.1, 1.05}}},  // J ~ 0.025
+                                  Mat3<double>{{{-0.3, 0.2, 0.0}, {0.0, 0.9, 0.1}, {0.0, 0.3, 1.1}}}}) {  // J < 0
+      double scale = 0;
+      const double err = max_pk1_vs_energy_gradient(mat, F, &scale);
+      EXPECT_LT(err, 1e-6 * scale) << "model " << model << ", J = " << det3(F);
+    }
+  }
+}
