@@ -9,7 +9,12 @@
 //   p_e  = mean of p_i over the element's 4 nodes
 //   P    = P_dev(F) + p_e cof(F)                 (instead of kappa (J_e - 1) cof(F))
 // Three stages per step instead of one before the node update: element J, nodal
-// pressure (through the same gather table), element forces.
+// pressure (through the same gather table), element forces. These forces are the
+// gradient of the energy
+//   W = sum_e V0_e W_dev(F_e) + sum_i V0_i kappa/2 (J_i - 1)^2,   V0_i = sum_e V0_e / 4
+// (dJ_i/dx = sum_e V0_e dJ_e/dx / sum_e V0_e, so node i contributes p_i V0_e/4 cof(F_e) to
+// every element e around it: p_e is the mean of its 4 nodes' p_i), and W is the strain
+// energy the solvers report for T4ANP (anp_element_energy + anp_node_energy).
 #include "sim/core/body_view.h"
 #include "sim/core/mat3.h"
 #include "sim/core/sim_hd.h"
@@ -23,8 +28,12 @@ namespace softtled {
 
 // Stage 1: the current volume V0_e J_e of an element.
 template <class T>
+SIM_HD inline T anp_element_volume(const Mat3<T>& F, T V0) {
+  return V0 * volume_ratio(F);
+}
+template <class T>
 SIM_HD inline T anp_element_volume(const T dhdX[12], T V0, const T u[4][3]) {
-  return V0 * det3(deformation_gradient(dhdX, u));
+  return anp_element_volume(deformation_gradient(dhdX, u), V0);
 }
 
 // Stage 2: nodal pressure from the node's summed current (v) and rest (v0) volumes.
@@ -33,17 +42,38 @@ SIM_HD inline T anp_pressure(const NeoHookean<T>& mat, T v, T v0) {
   return mat.kappa * (v / v0 - T(1));
 }
 
+// The deviatoric part of the material: the Taylor form with kappa = 0 (the volumetric
+// response comes from the nodes).
+template <class T>
+SIM_HD inline NeoHookean<T> anp_deviatoric(const NeoHookean<T>& mat) {
+  NeoHookean<T> dev = mat;
+  dev.kappa = T(0);
+  dev.model = kTaylorNeoHookean;
+  return dev;
+}
+
 // Stage 3: deviatoric Neo-Hookean stress plus the element's averaged pressure p.
 template <class T>
 SIM_HD inline Mat3<T> anp_stress(const NeoHookean<T>& mat, const Mat3<T>& F, T p) {
-  NeoHookean<T> dev = mat;
-  dev.kappa = T(0);  // deviatoric part only (Taylor form); the pressure comes from the nodes
-  dev.model = kTaylorNeoHookean;
-  Mat3<T> P = neo_hookean_pk1(dev, F);
+  Mat3<T> P = neo_hookean_pk1(anp_deviatoric(mat), F);
   const Mat3<T> cof = cofactor3(F);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) P(i, j) += p * cof(i, j);
   return P;
+}
+
+// Energy, element part: V0 W_dev(F).
+template <class T>
+SIM_HD inline T anp_element_energy(const NeoHookean<T>& mat, const Mat3<T>& F, T V0) {
+  return V0 * neo_hookean_energy_density(anp_deviatoric(mat), F);
+}
+
+// Energy, node part: V0_i kappa/2 (J_i - 1)^2 from the node's summed current (v) and rest
+// (v0) element volumes (J_i = v / v0 as in anp_pressure, V0_i = v0 / 4).
+template <class T>
+SIM_HD inline T anp_node_energy(const NeoHookean<T>& mat, T v, T v0) {
+  const T d = v / v0 - T(1);
+  return v0 / T(4) * mat.kappa / T(2) * d * d;
 }
 
 // ---- the backends' loop bodies on the struct-of-arrays views ----
@@ -89,6 +119,25 @@ SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
   p *= T(0.25);
   corner_forces(anp_stress(mat, deformation_gradient(g, ue), p), m.vol[e], g, f);
   store_corner_forces(m, f, fcorner, e);
+}
+
+// Energy loop bodies: element e's deviatoric energy (its current volume into vol_now, for
+// the node part), then node i's volumetric energy from those volumes.
+template <class T>
+SIM_HD inline T anp_element_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* vol_now, int e) {
+  T g[12], ue[4][3];
+  load_dhdX(m, e, g);
+  load_corner_u(m, u, e, ue);
+  const Mat3<T> F = deformation_gradient(g, ue);
+  vol_now[e] = anp_element_volume(F, m.vol[e]);
+  return anp_element_energy(mat, F, m.vol[e]);
+}
+
+template <class T>
+SIM_HD inline T anp_node_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* vol_now, int i) {
+  T v, v0;
+  gather_node_volume(m.gather_start, m.gather_slot, m.ntet, vol_now, m.vol, i, v, v0);
+  return anp_node_energy(mat, v, v0);
 }
 
 }  // namespace softtled

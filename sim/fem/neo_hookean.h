@@ -19,10 +19,15 @@ template <class T>
 struct NeoHookean {
   T mu;     // shear modulus [Pa]
   T kappa;  // bulk modulus [Pa]
-  // Below this J the deviatoric term uses J_floor instead of J: J^(-2/3) and C^-1
-  // are singular at J = 0 and undefined for J < 0, which is where a classic TLED code
-  // produces NaN. The volumetric term needs no guard: kappa (J-1) cof(F) is smooth
-  // through J = 0 and always pushes J back towards 1.
+  // Inversion guard of the Taylor form. J^(-2/3) is singular at J = 0 and undefined for
+  // J < 0, which is where a classic TLED code produces NaN. Below J_floor the deviatoric
+  // energy uses, instead of J^(-2/3), its tangent line at J_floor (guarded_jm23):
+  //   phi(J) = Jf^(-2/3) (1 - 2/3 (J - Jf) / Jf),   W_dev = mu/2 (phi(J) I1 - 3),
+  // finite for every F, and equal to J^(-2/3) with its slope at Jf, so W and P are
+  // continuous there. neo_hookean_pk1 is the exact gradient of this guarded energy:
+  //   P_dev = mu phi(J) F + mu/2 I1 phi'(J) cof(F),  phi' = -2/3 Jf^(-5/3) below Jf.
+  // The volumetric term needs no guard: kappa (J-1) cof(F) is smooth through J = 0 and
+  // always pushes J back towards 1.
   T J_floor;
   int model = kTaylorNeoHookean;
   // Stable Neo-Hookean constants (Smith et al. eq. 14, with their Lame re-parameterisation
@@ -42,8 +47,16 @@ inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTay
   return m;
 }
 
+// The guarded J^(-2/3) below J_floor (see NeoHookean::J_floor): its tangent line at Jf,
+// given jf23 = Jf^(-2/3).
+template <class T>
+SIM_HD inline T guarded_jm23(T J, T Jf, T jf23) {
+  return jf23 * (T(1) - T(2) / T(3) * (J - Jf) / Jf);
+}
+
 // First Piola-Kirchhoff stress P = F S, written with cof(F) so it needs no inverse:
-//   P = mu J^(-2/3) (F - I1/3 cof(F)/J) + kappa (J-1) cof(F)
+//   P = mu J^(-2/3) (F - I1/3 cof(F)/J) + kappa (J-1) cof(F)   (J > J_floor; below it the
+//   gradient of the guarded energy, see NeoHookean::J_floor)
 // Stable Neo-Hookean: W = mu/2 (Ic - 3) + lambda/2 (J - a)^2 - mu/2 log(Ic + 1),
 //   P = mu (1 - 1/(Ic + 1)) F + lambda (J - a) cof(F)
 // smooth and finite for every F, inverted or not: no guard needed.
@@ -70,10 +83,12 @@ SIM_HD inline Mat3<T> neo_hookean_pk1(const NeoHookean<T>& mat, const Mat3<T>& F
   T I1 = T(0);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) I1 += F(i, j) * F(i, j);
-  const T Jd = J > mat.J_floor ? J : mat.J_floor;
+  const bool above = J > mat.J_floor;
+  const T Jd = above ? J : mat.J_floor;
   const T Jm23 = T(1) / cbrt(Jd * Jd);
-  const T a = mat.mu * Jm23;
-  const T b = a * I1 / (T(3) * Jd);
+  const T a0 = mat.mu * Jm23;
+  const T a = above ? a0 : mat.mu * guarded_jm23(J, mat.J_floor, Jm23);  // mu phi(J)
+  const T b = a0 * I1 / (T(3) * Jd);  // -mu/2 I1 phi'(J)
   const T c = mat.kappa * (J - T(1));
   Mat3<T> P;
   for (int i = 0; i < 3; ++i)
@@ -109,8 +124,9 @@ SIM_HD inline T neo_hookean_energy_density(const NeoHookean<T>& mat, const Mat3<
     return mat.snh_mu / T(2) * (I1 - T(3)) + mat.snh_lambda / T(2) * (d * d - a0 * a0) -
            mat.snh_mu / T(2) * (log(I1 + T(1)) - log(T(4)));
   }
-  const T Jd = J > mat.J_floor ? J : mat.J_floor;
-  return mat.mu / T(2) * (I1 / cbrt(Jd * Jd) - T(3)) + mat.kappa / T(2) * (J - T(1)) * (J - T(1));
+  const T jf23 = T(1) / cbrt(mat.J_floor * mat.J_floor);
+  const T dev = J > mat.J_floor ? I1 / cbrt(J * J) : I1 * guarded_jm23(J, mat.J_floor, jf23);
+  return mat.mu / T(2) * (dev - T(3)) + mat.kappa / T(2) * (J - T(1)) * (J - T(1));
 }
 
 }  // namespace softtled

@@ -27,14 +27,21 @@ SIM_HD inline T shape_gradients(const T X[4][3], T dhdX[12]) {
   return det;
 }
 
-// F = I + sum_a u_a (x) dh_a/dX, built from displacements so float keeps F - I accurate.
-// dhdX[a * 3 + k] = dh_a/dX_k, u[a][i] = displacement of corner a.
+// F = I + sum_{a=1..3} (u_a - u_0) (x) dh_a/dX, with dhdX[a * 3 + k] = dh_a/dX_k and
+// u[a][i] the displacement of corner a. Built from displacements so float keeps F - I
+// accurate, and from differences so a rigid translation cancels exactly: algebraically it
+// is I + sum_{a=0..3} u_a (x) dh_a/dX (dh_0/dX = -sum of the others), but in float the
+// four stored dh_a/dX do not sum to zero, and a body that has travelled 1 m would feel
+// the common u as a strain (~1e-7 |u| / element size). dh_0/dX is only needed for
+// corner 0's force.
 template <class T>
 SIM_HD inline Mat3<T> deformation_gradient(const T dhdX[12], const T u[4][3]) {
   Mat3<T> F = identity3<T>();
-  for (int a = 0; a < 4; ++a)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) F(i, j) += u[a][i] * dhdX[a * 3 + j];
+  for (int a = 1; a < 4; ++a)
+    for (int i = 0; i < 3; ++i) {
+      const T d = u[a][i] - u[0][i];
+      for (int j = 0; j < 3; ++j) F(i, j) += d * dhdX[a * 3 + j];
+    }
   return F;
 }
 

@@ -13,6 +13,7 @@
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/mesh/surface_topology.h"
+#include "sim/solver/cpu_energy.h"
 #include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/solver.h"
@@ -75,10 +76,7 @@ class CpuSolver final : public Solver {
   }
 
   double strain_energy() const override {
-    double se = 0;
-#pragma omp parallel for reduction(+ : se) num_threads(threads_)
-    for (int e = 0; e < rest_.ntet; ++e) se += double(element_strain_energy(mesh_, cfg_.mat, u_.data(), e));
-    return se;
+    return cpu_strain_energy(mesh_, cfg_.mat, cfg_.element, u_.data(), energy_vol_, energy_, threads_);
   }
 
   void set_external_forces(const std::vector<double>& f) override {
@@ -117,6 +115,8 @@ class CpuSolver final : public Solver {
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
+  mutable std::vector<double> energy_;  // strain_energy's per-element (and per-node) terms
+  mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes
   std::vector<std::uint8_t> contact_;
   StepConfig<T> cfg_;
 };

@@ -2,6 +2,7 @@
 // Neo-Hookean stress on a cube of tets.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -85,6 +86,32 @@ TEST(TetForces, ZeroUnderLargeRigidRotation) {
   EXPECT_LT(max_abs(ff), 1e-3 * max_abs(fs));
 }
 
+TEST(TetForces, FloatRigidTranslationIsForceFree) {
+  // A body that has travelled 1 m (fallen, slid down a slope) must not be strained by it.
+  // With F = I + sum_a u_a (x) dh_a/dX the four float dh_a/dX do not sum to exactly zero,
+  // so a common u turns into a strain of ~1e-7 |u| / h (1.3 g per unit mass at 1 m on
+  // the torus); F built from u_a - u_0 cancels the common part exactly.
+  // The coarse torus: irregular TetGen geometry (a box's round coordinates can make the
+  // float dh/dX sum to zero by luck).
+  const TetMesh m = tetrahedralize_surface(make_torus(7.5e-3, 2.5e-3, 45, 9), TetgenOptions{});
+  const auto mat = neo_hookean_from_E_nu<float>(3000, 0.49);
+  const RestArrays<float> r = build_rest_state<float>(m, 1000.0, std::vector<std::uint8_t>(m.nnode(), 0));
+  double weight = 0;
+  for (double mi : r.mass) weight += mi * 9.81;
+  const int n = m.nnode(), ne = m.ntet();
+  const std::array<double, 3> translations[] = {{1.0, 0.0, 0.0}, {0.6, -0.8, 0.0}, {0.0, -0.577, 0.8169}};
+  for (const auto& U : translations) {
+    std::vector<float> u(3 * n), fc(12 * ne);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) u[k * n + i] = float(U[k]);
+    const TetMeshView<float> v = r.view();
+    for (int e = 0; e < ne; ++e) element_corner_forces(v, mat, u.data(), fc.data(), e);
+    double worst = 0;
+    for (float f : fc) worst = std::max(worst, double(std::fabs(f)));
+    EXPECT_LT(worst, 1e-6 * weight) << "translation (" << U[0] << ", " << U[1] << ", " << U[2] << ") m";
+  }
+}
+
 // Analytic Neo-Hookean (Taylor et al. 2008) for F = diag(l1, l2, l3):
 //   S_ii = mu J^(-2/3) (1 - I1 / (3 li^2)) + kappa J (J - 1) / li^2,   P_ii = li S_ii
 static double analytic_P(double mu, double kappa, const double l[3], int i) {
@@ -134,5 +161,42 @@ TEST(TetForces, InvertedElementGivesFiniteRestoringForce) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) EXPECT_TRUE(std::isfinite(P(i, j)));
     EXPECT_LT(P(0, 0), 0.0) << "compressed along x: stress must be compressive, l = " << l;
+  }
+}
+
+namespace {
+// P against the central difference of the energy density: P = dW/dF, entry by entry.
+template <class Mat>
+double max_pk1_vs_energy_gradient(const NeoHookean<double>& mat, const Mat& F, double* scale) {
+  const Mat P = neo_hookean_pk1(mat, F);
+  const double h = 1e-7;
+  double worst = 0, big = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Mat Fp = F, Fm = F;
+      Fp(i, j) += h;
+      Fm(i, j) -= h;
+      const double dW = (neo_hookean_energy_density(mat, Fp) - neo_hookean_energy_density(mat, Fm)) / (2 * h);
+      worst = std::max(worst, std::fabs(P(i, j) - dW));
+      big = std::max(big, std::fabs(P(i, j)));
+    }
+  *scale = big;
+  return worst;
+}
+}  // namespace
+
+TEST(TetForces, StressIsTheEnergyGradientAlsoBelowTheInversionGuard) {
+  // The guard replaces J^(-2/3) below J_floor = 0.05; stress and energy must still be one
+  // pair (the energy is what the CSV, the watchdog and T4ANP's energy report), above the
+  // guard, below it, and for inverted elements; for both material models.
+  for (int model : {int(kTaylorNeoHookean), int(kStableNeoHookean)}) {
+    const auto mat = neo_hookean_from_E_nu<double>(3000, 0.45, model);
+    for (const Mat3<double>& F : {Mat3<double>{{{1.1, 0.2, 0.0}, {0.05, 0.9, 0.1}, {0.0, -0.1, 1.05}}},  // J ~ 1
+                                  Mat3<double>{{{0.03, 0.2, 0.0}, {0.0, 0.8, 0.1}, {0.01, -0.1, 1.05}}},  // J ~ 0.025
+                                  Mat3<double>{{{-0.3, 0.2, 0.0}, {0.0, 0.9, 0.1}, {0.0, 0.3, 1.1}}}}) {  // J < 0
+      double scale = 0;
+      const double err = max_pk1_vs_energy_gradient(mat, F, &scale);
+      EXPECT_LT(err, 1e-6 * scale) << "model " << model << ", J = " << det3(F);
+    }
   }
 }

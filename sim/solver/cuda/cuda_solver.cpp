@@ -168,7 +168,8 @@ class CudaSolver final : public CudaSolverApi {
     live_.du.fill_zero();
     live_.fcorner.fill_zero();
     live_.contact.fill_zero();
-    energy_.resize(std::size_t(std::max(ne_, 1)));
+    energy_.resize(std::size_t(std::max(ne_ + n_, 1)));  // T4ANP: ntet + nnode terms
+    energy_vol_.resize(std::size_t(std::max(ne_, 1)));
     partials_.resize(kSumBlocks);
     energy_sum_.resize(1);
 
@@ -311,9 +312,11 @@ class CudaSolver final : public CudaSolverApi {
 
   double strain_energy() const override {
     if (ne_ == 0) return 0;
-    const LaunchShape ls = shape_for(ne_, nsm_, false);
-    SOFTTLED_CUDA_CHECK(launch_element_energy<T>(stream_, ls, rest_.view, cfg_.mat, live_.u.data(), energy_.data()));
-    SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), ne_, partials_.data(), energy_sum_.data()));
+    const bool anp = cfg_.element == kT4ANP;
+    SOFTTLED_CUDA_CHECK(launch_strain_energy_terms<T>(stream_, shape_for(ne_, nsm_, false), shape_for(n_, nsm_, false),
+                                                      rest_.view, cfg_.mat, anp, live_.u.data(), energy_vol_.data(),
+                                                      energy_.data()));
+    SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), anp ? ne_ + n_ : ne_, partials_.data(), energy_sum_.data()));
     double e = 0;
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&e, energy_sum_.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
@@ -550,6 +553,7 @@ class CudaSolver final : public CudaSolverApi {
   DeviceRest<T> rest_;
   DeviceLive<T> live_;
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
+  mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
   bool fext_active_ = false;
   StepConfig<T> cfg_;
   ExecMode mode_ = ExecMode::kAuto;

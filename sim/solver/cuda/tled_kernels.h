@@ -7,7 +7,7 @@
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
 //                   update_node (central_difference.h; plane contact fused in)
-//   tled_output.cu  render vertices (surface_render.h), element energy, deterministic sum
+//   tled_output.cu  render vertices (surface_render.h), strain-energy terms, deterministic sum
 // Every kernel calls the SIM_HD value functions the CPU backend (cpu_step.h) loops over.
 // Launchers return the launch's cudaError_t; the caller checks it.
 #include <cuda_runtime_api.h>
@@ -108,10 +108,14 @@ template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
                                    const T* u, const std::uint8_t* contact, float* dst);
 
-// out[e] = strain energy of element e, in double.
+// The strain energy's terms, in double: T4 (anp false): out[e] = V0 W(F_e), ntet terms
+// (le: one thread per element). T4ANP: out[e] = V0 W_dev(F_e), then out[ntet + i] =
+// V0_i kappa/2 (J_i - 1)^2 (ln: one thread per node), ntet + nnode terms; vol: ntet scratch
+// for the element volumes. Each thread writes its own term: sum them with launch_sum.
 template <class T>
-cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
-                                  const T* u, double* out);
+cudaError_t launch_strain_energy_terms(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln,
+                                       const TetMeshView<T>& m, const NeoHookean<T>& mat, bool anp, const T* u, T* vol,
+                                       double* out);
 
 // Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
 // fixed tree order into partials (kSumBlocks of them), then one block reduces those.

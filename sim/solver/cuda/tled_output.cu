@@ -1,6 +1,8 @@
-// Kernels outside the step: the render hand-off (surface_render.h), per-element strain
-// energy, and the deterministic sum that totals it (fixed blocks, fixed tree: the same
+// Kernels outside the step: the render hand-off (surface_render.h), the strain energy's
+// terms (per element; for T4ANP also per node, anp.h), and the deterministic sum that
+// totals them (fixed blocks, fixed tree: the same
 // number every run).
+#include "sim/fem/anp.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/solver/cuda/kernel_support.cuh"
@@ -17,12 +19,23 @@ __global__ void render_vertices_kernel(const TetMeshView<T> m, const SurfaceView
   write_render_vertex(m, sv, u, contact, dst, v);
 }
 
+// T4: out[e] = V0 W(F_e). T4ANP (anp.h): out[e] = V0 W_dev(F_e), and vol[e] = V0 J_e for
+// node_energy_kernel.
 template <class T>
-__global__ void element_energy_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
-                                      double* __restrict__ out) {
+__global__ void element_energy_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, bool anp, const T* __restrict__ u,
+                                      T* __restrict__ vol, double* __restrict__ out) {
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= m.ntet) return;
-  out[e] = double(element_strain_energy(m, mat, u, e));
+  out[e] = anp ? double(anp_element_energy(m, mat, u, vol, e)) : double(element_strain_energy(m, mat, u, e));
+}
+
+// T4ANP: out[ntet + i] = V0_i kappa/2 (J_i - 1)^2 from the element volumes.
+template <class T>
+__global__ void node_energy_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ vol,
+                                   double* __restrict__ out) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= m.nnode) return;
+  out[m.ntet + i] = double(anp_node_energy(m, mat, vol, i));
 }
 
 constexpr int kSumThreads = 256;
@@ -53,9 +66,12 @@ cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const 
 }
 
 template <class T>
-cudaError_t launch_element_energy(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
-                                  const T* u, double* out) {
-  return launch(s, ls, element_energy_kernel<T>, m, mat, u, out);
+cudaError_t launch_strain_energy_terms(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln,
+                                       const TetMeshView<T>& m, const NeoHookean<T>& mat, bool anp, const T* u, T* vol,
+                                       double* out) {
+  const cudaError_t e = launch(s, le, element_energy_kernel<T>, m, mat, anp, u, vol, out);
+  if (e != cudaSuccess || !anp) return e;
+  return launch(s, ln, node_energy_kernel<T>, m, mat, static_cast<const T*>(vol), out);
 }
 
 cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out) {
@@ -72,8 +88,9 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
 #define SOFTTLED_INSTANTIATE(T)                                                                            \
   template cudaError_t launch_render_vertices<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,   \
                                                  const SurfaceView&, const T*, const std::uint8_t*, float*); \
-  template cudaError_t launch_element_energy<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,    \
-                                                const NeoHookean<T>&, const T*, double*);
+  template cudaError_t launch_strain_energy_terms<T>(cudaStream_t, const LaunchShape&, const LaunchShape&,  \
+                                                     const TetMeshView<T>&, const NeoHookean<T>&, bool, const T*, \
+                                                     T*, double*);
 SOFTTLED_INSTANTIATE(float)
 SOFTTLED_INSTANTIATE(double)
 #undef SOFTTLED_INSTANTIATE
