@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "sim/core/body_view.h"
 #include "sim/mesh/mesh_cache.h"
 #include "sim/solver/solver_factory.h"
 #include "sim/solver/stable_step.h"
@@ -27,9 +28,9 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   const SurfaceMesh surface = scene_surface(scene_);
   mesh_ = scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
                             : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
-  const std::vector<std::uint8_t> flags = scene_node_flags(scene_, mesh_, &n_fixed_);
+  flags_ = scene_node_flags(scene_, mesh_, &n_fixed_);
   std::string note;
-  solver_ = make_solver(backend, mesh_, scene_.rho, flags, scene_.precision, &note);
+  solver_ = make_solver(backend, mesh_, scene_.rho, flags_, scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
@@ -127,9 +128,16 @@ void Simulation::apply_initial_state() {
   s.u.assign(3 * n, 0.0);
   s.du.assign(3 * n, 0.0);
   s.contact.assign(n, 0);
-  // du is the step taken during the last dt: the initial velocity times dt.
-  for (int k = 0; k < 3; ++k)
-    for (int i = 0; i < n; ++i) s.du[k * n + i] = scene_.velocity[k] * params_.dt;
+  // du = u(0) - u(-dt) = v0 dt - a0 dt^2 / 2 to second order, a0 = g - alpha v0: the body
+  // starts unstressed (no internal force) and without user forces. With du = v0 dt alone
+  // the start, and so the whole run, would be first order (a free fall runs ahead by
+  // g t dt / 2). Fixed nodes do not move.
+  const double dt = params_.dt;
+  for (int k = 0; k < 3; ++k) {
+    const double a0 = params_.g[k] - params_.alpha * scene_.velocity[k];
+    for (int i = 0; i < n; ++i)
+      s.du[k * n + i] = (flags_[i] & kNodeFixed) ? 0.0 : scene_.velocity[k] * dt - 0.5 * a0 * dt * dt;
+  }
   solver_->set_state(s);
   state_changed();
   nsteps_ = 0;

@@ -110,6 +110,7 @@ class Simulation {
   std::vector<PlaneMotion> plane_motion_;  // one per params_.planes
   TimeStepInfo ts_;
   std::vector<int> tracked_;
+  std::vector<std::uint8_t> flags_;  // NodeFlag per node
   int n_fixed_ = 0;
   long nsteps_ = 0;
   double t_offset_ = 0;  // time accumulated before the last dt change
