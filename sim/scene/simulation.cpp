@@ -242,7 +242,6 @@ void Simulation::step(long n) {
     done += k;
     state_changed();
   }
-  state_changed();
 }
 
 void Simulation::set_plane_motion(std::size_t plane, const PlaneMotion& m) {

@@ -1,7 +1,8 @@
 #define _USE_MATH_DEFINES
 // Numerical stability at the extremes (one test each). Each asserts that the run is
 // stable and physically sane, or that the watchdog stops it with a diagnosis: never
-// silent garbage.
+// silent garbage. Then the watchdog itself: its rollback after a live dt change, and its
+// energy test (a slow gain caught at any cadence, user work and healthy runs not flagged).
 #include <gtest/gtest.h>
 
 #include <cmath>
