@@ -16,6 +16,9 @@
 namespace softtled {
 
 namespace {
+// One row per output time (README, "Command line"). ke is computed from the integrator's
+// half-step velocity du/dt, the mean velocity over the last step (t - dt, t), not the
+// velocity at t: in free fall it lags by g dt / 2 (Diagnostics::ke).
 void write_csv_header(std::ostream& o, int ntracked) {
   o << "t,cx,cy,cz,min_gap,ke,se,pe,n_contact,n_stick,max_u";
   for (int j = 0; j < ntracked; ++j) o << ",n" << j << "_ux,n" << j << "_uy,n" << j << "_uz";

@@ -17,17 +17,16 @@
 #include <memory>
 
 #include "app/render_handoff.h"
+#include "app/viewer_camera.h"
+#include "app/viewer_panel.h"
+#include "app/viewer_picking.h"
 #include "render/body_buffer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/offscreen_target.h"
 #include "render/scene_renderer.h"
-#include "sim/contact/plane_contact.h"
-#include "sim/scene/simulation.h"
 #include "sim/mesh/surface_topology.h"
-#include "app/viewer_camera.h"
-#include "app/viewer_panel.h"
-#include "app/viewer_picking.h"
+#include "sim/scene/simulation.h"
 
 namespace softtled {
 

@@ -65,9 +65,10 @@ class Simulation {
   double gap_to(const std::vector<PlaneSpec>& planes);
 
   void step(long n);  // n steps, no checks (benchmarks); moves kinematic planes
-  // n steps with the watchdog checking every check_every steps: NaN/Inf, energy gained
-  // from nowhere, inverted elements (Taylor model only). On failure the state is rolled
-  // back to the last good check and SimulationDiverged is thrown.
+  // n steps with the watchdog checking every check_every steps (watchdog.h): NaN/Inf,
+  // inverted elements (Taylor model only), energy gained from nowhere (net of the work of
+  // the user's forces). On failure the state is rolled back to the last good check and
+  // SimulationDiverged is thrown.
   void advance(long n, long check_every);
   void reset();  // back to the initial state (the viewer's "drop again")
   // The live state on the host, downloaded at most once per step count: every reader of
@@ -102,6 +103,7 @@ class Simulation {
   // Moves the kinematic planes for the next steps; returns how many (at most max_steps)
   // may run before the next move.
   long move_planes(long max_steps);
+  void account_work();  // adds the work fext_ did since work_u_
 
   Scene scene_;
   TetMesh mesh_;
@@ -110,6 +112,7 @@ class Simulation {
   std::vector<PlaneMotion> plane_motion_;  // one per params_.planes
   TimeStepInfo ts_;
   std::vector<int> tracked_;
+  std::vector<std::uint8_t> flags_;  // NodeFlag per node
   int n_fixed_ = 0;
   long nsteps_ = 0;
   double t_offset_ = 0;  // time accumulated before the last dt change
@@ -121,6 +124,12 @@ class Simulation {
   HostState last_good_;  // the state at the last healthy check, what a rollback restores
   long last_good_steps_ = 0;
   double last_good_offset_ = 0;
+  double last_good_work_ = 0;
+  bool planes_moved_ = false;      // a kinematic plane moved since the last check
+  // Work of the user's forces, for the watchdog's energy balance: fext_ as last set,
+  // work_ [J] done up to the displacements work_u_.
+  std::vector<double> fext_, work_u_;
+  double work_ = 0;
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
   int eigen_model_ = -1;
 };

@@ -17,7 +17,7 @@ int first_element_of(const TetMesh& m, int node) {
 }
 }  // namespace
 
-std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState& s, const Diagnostics& d,
+std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
                                                MaterialModel model, bool unstable_dt) {
   const int n = m.nnode();
   for (std::size_t j = 0; j < s.u.size(); ++j)
@@ -49,15 +49,18 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
       }
     }
   }
-  // Energy gained from nowhere: with damping and passive contact the total energy can
-  // only fall; user drag forces add a little per check, a blow-up adds more than the
-  // whole energy scale of the scene between two checks.
-  const double e_total = d.ke + d.se + d.pe;
-  if (!std::isfinite(e_total) || e_total - energy0_ > scale_)
-    return WatchdogFinding{"total energy grew by " + std::to_string(e_total - energy0_) + " J since the last check (scale " +
-                               std::to_string(scale_) + " J)",
-                           -1, unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda"};
-  energy0_ = e_total;
+  // Energy gained from nowhere (see the class comment).
+  const double h = d.ke + d.se + d.pe - work;
+  if (!std::isfinite(h))
+    return WatchdogFinding{"the total energy is not finite", -1, unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda"};
+  if (!have_min_) h_min_ = h, have_min_ = true;
+  if (h - h_min_ > kEnergyTolerance * scale_) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "the total energy rose %.3g J above its lowest value (%.3g J, scale %.3g J)", h - h_min_,
+                  h_min_, scale_);
+    return WatchdogFinding{buf, -1, unstable_dt ? kDtCause : "energy from nowhere: a numerical blow-up; try a smaller lambda"};
+  }
+  h_min_ = std::min(h_min_, h);
   return std::nullopt;
 }
 

@@ -1,7 +1,8 @@
 #define _USE_MATH_DEFINES
 // Numerical stability at the extremes (one test each). Each asserts that the run is
 // stable and physically sane, or that the watchdog stops it with a diagnosis: never
-// silent garbage.
+// silent garbage. Then the watchdog itself: its rollback after a live dt change, and its
+// energy test (a slow gain caught at any cadence, user work and healthy runs not flagged).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -277,4 +278,71 @@ TEST_P(Extremes, RollbackAfterALiveStepChangeRestoresTheSavedMotion) {
     const double v = saved.du[j] / dt1;
     ASSERT_NEAR(back.du[j] / dt2, v, 1e-9 * std::fabs(v)) << "velocity of dof " << j;
   }
+}
+
+TEST_P(Extremes, SlowEnergyGainIsCaughtAtAnyCheckCadence) {
+  // A falling box with anti-damping (alpha < 0: energy from nowhere, a little every step)
+  // must be stopped, and at about the same time whether checked every 1 ms or every 10 ms.
+  double stopped_at[2] = {-1, -1};
+  const double cadence[2] = {1e-3, 1e-2};
+  for (int c = 0; c < 2; ++c) {
+    Simulation sim(box_scene("[damping]\nalpha = 0.0\n"), backend());
+    PhysicsParams p = sim.params();
+    p.alpha = -2;
+    sim.set_params(p);
+    const long every = std::lround(cadence[c] / sim.time_step().dt);
+    try {
+      while (sim.time() < 0.3) sim.advance(every, every);
+    } catch (const SimulationDiverged& e) {
+      EXPECT_NE(std::string(e.what()).find("energy"), std::string::npos) << e.what();
+      stopped_at[c] = sim.time();  // the last good check
+    }
+    EXPECT_GT(stopped_at[c], 0) << "a steady energy gain ran to 0.3 s at a " << cadence[c] << " s cadence";
+  }
+  EXPECT_NEAR(stopped_at[0], stopped_at[1], 1.1 * cadence[1]) << "stopped at the same gain, whatever the cadence";
+}
+
+TEST_P(Extremes, HealthyRunsAreNeverStopped) {
+  // The watchdog's energy test on healthy runs: drops and slopes, T4 and T4ANP, every
+  // contact mode, checked every 1 ms (the torus drop also every 10 ms).
+  struct Case {
+    const char* scene;
+    std::vector<std::string> set;
+    double cadence;
+  };
+  const std::vector<Case> cases = {
+      {"torus_coarse", {}, 1e-3},
+      {"torus_coarse", {}, 1e-2},
+      {"torus_coarse", {"material.element=T4ANP"}, 1e-3},
+      {"torus_slope_sliding", {"body.segments=[45, 9]"}, 1e-3},
+      {"torus_slope_static", {"body.segments=[45, 9]"}, 1e-3},
+      {"torus_slope_sliding", {"body.segments=[45, 9]", "contact.mode=coulomb", "contact.mu=0.3"}, 1e-3},
+  };
+  for (const Case& c : cases) {
+    Simulation sim(load_scene(assets_dir() + "/scenes/" + c.scene + ".toml", c.set), backend());
+    const long every = std::lround(c.cadence / sim.time_step().dt);
+    std::string what = c.scene;
+    for (const auto& s : c.set) what += " " + s;
+    EXPECT_NO_THROW(while (sim.time() < 0.1) sim.advance(every, every)) << what;
+    EXPECT_GT(sim.time(), 0.1) << what;
+  }
+}
+
+TEST_P(Extremes, WorkOfUserForcesIsNotEnergyFromNowhere) {
+  // A box pulled up at twice its weight gains far more energy than the watchdog's
+  // tolerance; the pull did that work, so the run goes on.
+  Simulation sim(box_scene("[damping]\nalpha = 0.0\n"), backend());
+  const int n = sim.mesh().nnode();
+  std::vector<double> f(3 * std::size_t(n), 0.0);
+  for (int i = 0; i < n; ++i) f[n + i] = 2 * 9.81 * sim.lumped_mass()[i];
+  sim.set_external_forces(f);
+  const Diagnostics d0 = sim.diagnostics();
+  const long every = std::lround(1e-3 / sim.time_step().dt);
+  EXPECT_NO_THROW(while (sim.time() < 0.1) sim.advance(every, every));
+  const Diagnostics d = sim.diagnostics();
+  double mass = 0;
+  for (double m : sim.lumped_mass()) mass += m;
+  const double rise = 0.5 * 9.81 * sim.time() * sim.time();
+  EXPECT_NEAR(d.centroid[1] - d0.centroid[1], rise, 0.01 * rise) << "rises at g";
+  EXPECT_GT(d.ke + d.pe - d0.ke - d0.pe, 0.5 * mass * 9.81 * 0.01) << "the pull did real work";
 }
