@@ -209,9 +209,6 @@ void Simulation::check_health() {
   account_work();
   if (planes_moved_) watchdog_.rebase();  // a moving plane did work nobody counted
   planes_moved_ = false;
-  // TEMPORARY, delete after merging the kernels branch: until then T4ANP's strain energy
-  // is not the energy its forces integrate (issue 15 item 1), so its balance is not checked.
-  if (params_.element == kT4ANP) watchdog_.rebase();
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
   const std::optional<WatchdogFinding> f =
       watchdog_.check(mesh_, s, diagnostics(), work_, params_.material_model, unstable_dt);

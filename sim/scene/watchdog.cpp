@@ -1,5 +1,7 @@
 #include "sim/scene/watchdog.h"
 
+#include "sim/fem/tet_kinematics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,12 +35,14 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
   if (model == kTaylorNeoHookean) {
     for (int e = 0; e < m.ntet(); ++e) {
       const int* t = &m.tet[4 * e];
-      // J = current volume / rest volume, in double on the host.
-      double x[4][3];
+      // J of the element, in double on the host, through the one F/J definition.
+      double X[4][3], u[4][3];
       for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) x[a][k] = m.X[3 * t[a] + k] + s.u[k * n + t[a]];
-      const double J = tet_signed_volume(x[0], x[1], x[2], x[3]) /
-                       tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
+        for (int k = 0; k < 3; ++k) {
+          X[a][k] = m.X[3 * t[a] + k];
+          u[a][k] = s.u[k * n + t[a]];
+        }
+      const double J = tet_volume_ratio(X, u);
       if (!(J > 0)) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
