@@ -11,7 +11,7 @@
 
 namespace softtled {
 
-SurfaceMesh scene_surface(const Scene& s) {
+SurfaceMesh scene_shape_surface(const Scene& s) {
   SurfaceMesh m;
   if (s.shape == "torus") {
     m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
@@ -26,6 +26,10 @@ SurfaceMesh scene_surface(const Scene& s) {
     m = load_surface(path);
     for (double& v : m.xyz) v *= s.scale;
   }
+  return m;
+}
+
+void place_surface(const Scene& s, SurfaceMesh& m) {
   const double pi = 3.14159265358979323846;
   const double ax = s.rotation_deg[0] * pi / 180, ay = s.rotation_deg[1] * pi / 180, az = s.rotation_deg[2] * pi / 180;
   for (int i = 0; i < m.npoint(); ++i) {
@@ -40,6 +44,11 @@ SurfaceMesh scene_surface(const Scene& s) {
     p[0] = x, p[1] = y;
     for (int k = 0; k < 3; ++k) p[k] = (p[k] + s.position[k]) * s.length_unit;
   }
+}
+
+SurfaceMesh scene_surface(const Scene& s) {
+  SurfaceMesh m = scene_shape_surface(s);
+  place_surface(s, m);
   return m;
 }
 

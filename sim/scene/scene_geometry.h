@@ -13,8 +13,12 @@
 
 namespace softtled {
 
-// The surface the scene describes, rotated and placed.
+// The surface the scene describes, rotated and placed: scene_shape_surface (the body's
+// own shape in scene units: a generator, or the file scaled by body.scale) then
+// place_surface (body.rotation_deg about x, y, z, then body.position, then to metres).
 SurfaceMesh scene_surface(const Scene& s);
+SurfaceMesh scene_shape_surface(const Scene& s);
+void place_surface(const Scene& s, SurfaceMesh& m);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);

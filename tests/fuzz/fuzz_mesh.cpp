@@ -23,6 +23,7 @@
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/scene/scene.h"
+#include "sim/scene/scene_geometry.h"
 
 using softtled::fuzz::require;
 
@@ -32,35 +33,18 @@ constexpr long kFuzzMaxTets = 20000;
 constexpr double kFuzzTimeLimitS = 10;  // below libFuzzer's -timeout in scripts/fuzz.sh
 constexpr long kFuzzMaxTriangles = 20000;
 
-// The body surface in metres, placed. Mirrors scene_surface() in sim/scene/simulation.cpp,
-// which cannot be linked here (it lives with the solver); keep the two in step.
+// The body surface in metres, placed by the scene layer's own code (scene_geometry.cpp);
+// only a file-shaped body reads the embedded text instead of a file.
 softtled::SurfaceMesh placed_surface(const softtled::Scene& s, const std::string& embedded, const std::string& format) {
   using namespace softtled;
   SurfaceMesh m;
-  if (s.shape == "torus") {
-    m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
-  } else if (s.shape == "box") {
-    m = make_box(s.size[0], s.size[1], s.size[2], s.divisions[0], s.divisions[1], s.divisions[2]);
-  } else if (s.shape == "sphere") {
-    m = make_sphere(s.radius, s.subdivisions);
-  } else {
+  if (s.shape == "file") {
     m = format == "off" ? parse_off(embedded, "fuzz.off") : parse_obj(embedded, "fuzz.obj");
     for (double& v : m.xyz) v *= s.scale;
+  } else {
+    m = scene_shape_surface(s);
   }
-  const double pi = 3.14159265358979323846;
-  const double ax = s.rotation_deg[0] * pi / 180, ay = s.rotation_deg[1] * pi / 180, az = s.rotation_deg[2] * pi / 180;
-  for (int i = 0; i < m.npoint(); ++i) {
-    double* p = &m.xyz[3 * i];
-    double y = p[1] * std::cos(ax) - p[2] * std::sin(ax), z = p[1] * std::sin(ax) + p[2] * std::cos(ax);
-    p[1] = y, p[2] = z;
-    double x = p[0] * std::cos(ay) + p[2] * std::sin(ay);
-    z = -p[0] * std::sin(ay) + p[2] * std::cos(ay);
-    p[0] = x, p[2] = z;
-    x = p[0] * std::cos(az) - p[1] * std::sin(az);
-    y = p[0] * std::sin(az) + p[1] * std::cos(az);
-    p[0] = x, p[1] = y;
-    for (int k = 0; k < 3; ++k) p[k] = (p[k] + s.position[k]) * s.length_unit;
-  }
+  place_surface(s, m);
   return m;
 }
 
