@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -61,6 +62,51 @@ inline bool bitwise_equal(const HostState& a, const HostState& b) {
   return a.u.size() == b.u.size() && a.du.size() == b.du.size() && a.contact == b.contact &&
          std::memcmp(a.u.data(), b.u.data(), a.u.size() * sizeof(double)) == 0 &&
          std::memcmp(a.du.data(), b.du.data(), a.du.size() * sizeof(double)) == 0;
+}
+
+// Every execution mode (graph-pdl twice, graph, fused, auto) from the same start, at 8, 4
+// and 1 lanes per node: within a lane count the runs must be bitwise identical; another
+// lane count sums in another (fixed) order, so it may differ by rounding only (< 1e-6 m).
+// check_mode(requested, api) asserts which mode the solver actually runs.
+template <class CheckMode>
+void expect_modes_bitwise_identical(const Scene& s, long steps, const std::string& label, CheckMode&& check_mode) {
+  HostState lanes8;
+  for (int lanes : {8, 4, 1}) {
+    HostState ref;
+    bool have_ref = false;
+    for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
+                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
+      auto sim = make_sim(s, "cuda");
+      auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
+      ASSERT_NE(api, nullptr);
+      api->set_exec_mode(m);
+      api->set_node_lanes(lanes);
+      check_mode(m, *api);
+      // Uneven chunks exercise the graph decomposition (K-step graphs plus powers of two).
+      for (long done = 0; done < steps;) {
+        const long n = std::min(steps - done, 37 + done % 300);
+        sim->step(n);
+        done += n;
+      }
+      HostState st;
+      sim->solver().get_state(st);
+      if (!have_ref) {
+        ref = st;
+        have_ref = true;
+        continue;
+      }
+      EXPECT_TRUE(bitwise_equal(st, ref)) << label << "lanes " << lanes << ": mode " << cuda::exec_mode_name(m)
+                                          << " differs from graph-pdl";
+    }
+    if (lanes == 8) {
+      lanes8 = ref;
+    } else {
+      double worst = 0;
+      for (std::size_t j = 0; j < ref.u.size(); ++j) worst = std::max(worst, std::abs(ref.u[j] - lanes8.u[j]));
+      std::printf("%slanes %d vs 8: max |u| difference %.3g m after %ld steps\n", label.c_str(), lanes, worst, steps);
+      EXPECT_LT(worst, 1e-6);
+    }
+  }
 }
 
 }  // namespace softtled::test

@@ -50,46 +50,11 @@ TEST(CudaAnp, TorusDropMatchesCpuWithinFloatTolerance) {
 
 TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
   SKIP_WITHOUT_GPU();
-  const Scene s = torus("float");
-  const long steps = 5000;  // past the first contact (~3600 steps)
-  HostState lanes8;
-  for (int lanes : {8, 4, 1}) {  // the nodal pressure uses the node stage's lanes
-    HostState ref;
-    bool have_ref = false;
+  const long steps = 5000;  // past the first contact (~3600 steps); the nodal pressure uses the node stage's lanes
+  expect_modes_bitwise_identical(torus("float"), steps, "T4ANP, ", [](cuda::ExecMode m, cuda::CudaSolverApi& api) {
     // kFused is T4 only: with T4ANP it runs as graph-pdl.
-    for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
-      auto sim = make_sim(s, "cuda");
-      auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
-      ASSERT_NE(api, nullptr);
-      api->set_exec_mode(m);
-      api->set_node_lanes(lanes);
-      if (m == cuda::ExecMode::kFused) EXPECT_EQ(api->exec_mode(), cuda::ExecMode::kGraphPdl) << "fused falls back";
-      for (long done = 0; done < steps;) {
-        const long n = std::min(steps - done, 37 + done % 300);
-        sim->step(n);
-        done += n;
-      }
-      HostState st;
-      sim->solver().get_state(st);
-      if (!have_ref) {
-        ref = st;
-        have_ref = true;
-        continue;
-      }
-      EXPECT_TRUE(bitwise_equal(st, ref)) << "T4ANP, lanes " << lanes << ": mode " << cuda::exec_mode_name(m)
-                                          << " differs from graph-pdl";
-    }
-    if (lanes == 8) {
-      lanes8 = ref;
-    } else {
-      // Another lane count sums in another (fixed) order: rounding only.
-      double worst = 0;
-      for (std::size_t j = 0; j < ref.u.size(); ++j) worst = std::max(worst, std::abs(ref.u[j] - lanes8.u[j]));
-      std::printf("T4ANP lanes %d vs 8: max |u| difference %.3g m after %ld steps\n", lanes, worst, steps);
-      EXPECT_LT(worst, 1e-6);
-    }
-  }
+    if (m == cuda::ExecMode::kFused) EXPECT_EQ(api.exec_mode(), cuda::ExecMode::kGraphPdl) << "fused falls back";
+  });
 }
 
 TEST(CudaAnp, SwitchingElementLiveRebuildsTheStep) {

@@ -72,48 +72,12 @@ TEST(CudaSolver, TorusDropMatchesCpuWithinFloatTolerance) {
 
 TEST(CudaSolver, RepeatedRunsAndAllExecutionModesAreBitwiseIdentical) {
   SKIP_WITHOUT_GPU();
-  const Scene s = torus("float");
   const long steps = 5000;  // past the first contact (~3600 steps)
-  HostState lanes8;
-  for (int lanes : {8, 4, 1}) {
-    HostState ref;
-    bool have_ref = false;
-    for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
-      auto sim = make_sim(s, "cuda");
-      auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
-      ASSERT_NE(api, nullptr);
-      api->set_exec_mode(m);
-      api->set_node_lanes(lanes);
-      if (m == cuda::ExecMode::kAuto)
-        EXPECT_TRUE(api->exec_mode() == cuda::ExecMode::kFused || api->exec_mode() == cuda::ExecMode::kGraphPdl)
-            << "auto picks one of the product's two steps, not " << cuda::exec_mode_name(api->exec_mode());
-      // Uneven chunks exercise the graph decomposition (K-step graphs plus powers of two).
-      for (long done = 0; done < steps;) {
-        const long n = std::min(steps - done, 37 + done % 300);
-        sim->step(n);
-        done += n;
-      }
-      HostState st;
-      sim->solver().get_state(st);
-      if (!have_ref) {
-        ref = st;
-        have_ref = true;
-        continue;
-      }
-      EXPECT_TRUE(bitwise_equal(st, ref)) << "lanes " << lanes << ": mode " << cuda::exec_mode_name(m)
-                                          << " differs from graph-pdl";
-    }
-    if (lanes == 8) {
-      lanes8 = ref;
-    } else {
-      // Another lane count sums the corner forces in another (fixed) order: rounding only.
-      double worst = 0;
-      for (std::size_t j = 0; j < ref.u.size(); ++j) worst = std::max(worst, std::abs(ref.u[j] - lanes8.u[j]));
-      std::printf("lanes %d vs 8: max |u| difference %.3g m after %ld steps\n", lanes, worst, steps);
-      EXPECT_LT(worst, 1e-6);
-    }
-  }
+  expect_modes_bitwise_identical(torus("float"), steps, "", [](cuda::ExecMode m, cuda::CudaSolverApi& api) {
+    if (m == cuda::ExecMode::kAuto)
+      EXPECT_TRUE(api.exec_mode() == cuda::ExecMode::kFused || api.exec_mode() == cuda::ExecMode::kGraphPdl)
+          << "auto picks one of the product's two steps, not " << cuda::exec_mode_name(api.exec_mode());
+  });
 }
 
 TEST(CudaSolver, RenderBufferEnergyAndMassesMatchCpu) {
