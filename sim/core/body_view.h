@@ -37,6 +37,10 @@ struct BodyStateView {
                          // component k of slot s = a * ntet + e at [k * 4 * ntet + s]
   std::uint8_t* contact = nullptr;  // nnode, ContactState of the last step
   const T* fext = nullptr;  // 3 x nnode or null: user forces [N] (the viewer's drag spring)
+  // 3 x nnode or null (beta = 0): u + (beta / dt) du, the displacement the element stage
+  // reads with stiffness-proportional damping (central_difference.h), written by the node
+  // stage
+  T* ub = nullptr;
 };
 
 }  // namespace softtled

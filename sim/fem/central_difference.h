@@ -25,17 +25,39 @@ struct StepParams {
   T gamma1;    // 2 dt^2 / (alpha dt + 2)
   T c_du;      // g2 - 1 = (2 - alpha dt) / (2 + alpha dt)
   T g[3];      // gravity [m/s^2]
+  T beta_dt;   // beta / dt: stiffness-proportional (Rayleigh) damping; 0 = off
   ContactParams<T> contact;
 };
 
+// The coefficients of one step of length dt. dt_mid is the step the velocity update spans,
+// (dt_{n-1/2} + dt_{n+1/2}) / 2: equal to dt except on the first step after a change of
+// dt (variable-step central difference, Belytschko, Liu & Moran, Nonlinear Finite Elements
+// for Continua and Structures, sec. 6.2.1). With du = u(t) - u(t - dt) already rescaled to
+// the new dt (du / dt = v_{n-1/2}), the damped update
+//   v_{n+1/2} (1 + alpha dt_mid / 2) = v_{n-1/2} (1 - alpha dt_mid / 2) + dt_mid M^-1 (r - f)
+// times dt gives du+ = gamma1 M^-1 (r - f) + c_du du with the coefficients below. For
+// dt_mid = dt they are the constant-step ones, computed by the same operations.
 template <class T>
-inline StepParams<T> make_step_params(double dt, double alpha, const double g[3]) {
+inline StepParams<T> make_step_params(double dt, double alpha, const double g[3], double beta = 0,
+                                      double dt_mid = 0) {
+  if (!(dt_mid > 0)) dt_mid = dt;
   StepParams<T> p{};
   p.dt = T(dt);
-  p.gamma1 = T(2.0 * dt * dt / (alpha * dt + 2.0));
-  p.c_du = T((2.0 - alpha * dt) / (2.0 + alpha * dt));
+  p.gamma1 = T(2.0 * dt * dt_mid / (alpha * dt_mid + 2.0));
+  p.c_du = T((2.0 - alpha * dt_mid) / (2.0 + alpha * dt_mid));
   for (int k = 0; k < 3; ++k) p.g[k] = T(g[k]);
+  p.beta_dt = T(beta > 0 ? beta / dt : 0.0);
   return p;
+}
+
+// The displacement the element stage sees with stiffness-proportional damping
+// C = beta K: f(u + beta v) = f(u) + beta K v to first order, with v = du / dt the
+// half-step velocity (lagged, so the step stays explicit). One function for the node
+// update that stores it and for the backends' refresh after a state or step change, so
+// both round the same way.
+template <class T>
+SIM_HD inline T rayleigh_displacement(T u, T du, T beta_dt) {
+  return u + beta_dt * du;
 }
 
 // Node i's internal force: the sum of its corner forces in gather-table order.
@@ -89,10 +111,12 @@ SIM_HD inline NodeState<T> integrate_node(const T f[3], const T x0[3], const T u
 // The node loop's body, given node i's summed force f: loads its values from the
 // struct-of-arrays (component k of node i at [k * nnode + i]), integrate_node, stores.
 // Reads (u_in, du_in) and writes (u_out, du_out): the same arrays in place, or the fused
-// GPU step's double buffers. fext may be null (no user forces).
+// GPU step's double buffers. fext may be null (no user forces). ub_out: null, or where
+// the next element stage's displacement u + (beta / dt) du goes (beta > 0).
 template <class T>
 SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
-                               const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i) {
+                               const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i,
+                               T* ub_out = nullptr) {
   const int n = m.nnode;
   const std::uint8_t flags = m.flags[i];
   T x0[3] = {T(0), T(0), T(0)}, u[3], du[3], fe[3];
@@ -108,6 +132,8 @@ SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, 
     u_out[k * n + i] = s.u[k];
     du_out[k * n + i] = s.du[k];
   }
+  if (ub_out)
+    for (int k = 0; k < 3; ++k) ub_out[k * n + i] = rayleigh_displacement(s.u[k], s.du[k], p.beta_dt);
   contact[i] = s.contact;
 }
 

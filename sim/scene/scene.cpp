@@ -281,6 +281,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
   s.rho = r.num("material.rho", s.rho, 0, INFINITY, true);
   s.alpha = r.num("damping.alpha", s.alpha, 0, INFINITY);
+  s.beta = r.num("damping.beta", s.beta, 0, INFINITY);
   s.g = r.vec<3>("gravity.g", s.g);
 
   s.floor = r.boolean("floor.enabled", s.floor);

@@ -39,6 +39,7 @@ struct Scene {
 
   // [damping]
   double alpha = 10;  // [1/s]
+  double beta = 0;    // stiffness-proportional (Rayleigh) damping [s]; 0 = off
 
   // [gravity]
   std::array<double, 3> g = {0, -9.81, 0};

@@ -38,6 +38,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.material_model = scene_.material_model;
   params_.nu = scene_.nu;
   params_.alpha = scene_.alpha;
+  params_.beta = scene_.beta;
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
   params_.planes = scene_planes(scene_);
   check_body_outside_planes(scene_, mesh_, params_.planes);
@@ -74,8 +75,9 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   PhysicsParams q = p;
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
-  if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha))
-    throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, finite alpha");
+  if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||
+      !(q.beta >= 0 && std::isfinite(q.beta)))
+    throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, finite alpha, finite beta >= 0");
   ts_.c = dilatational_wave_speed(q.E, q.nu, scene_.rho);
   if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
   ts_.dt_le = ts_.min_Le / ts_.c;
@@ -85,7 +87,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     eigen_model_ = q.material_model;
   }
   ts_.dt_eigen = 2.0 / std::sqrt(eigen_scale_ * q.E / scene_.rho);
-  ts_.dt_cr = std::min(ts_.dt_le, ts_.dt_eigen);
+  ts_.dt_cr = rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
   std::string warning;
   if (!(q.lambda > 0 && q.lambda <= 1)) throw InputError("lambda must lie in (0, 1]");
   if (q.dt_auto) {

@@ -48,16 +48,21 @@ class CpuSolver final : public Solver {
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 
-  void set_params(const PhysicsParams& p) override { cfg_ = step_config_from<T>(p); }
+  void set_params(const PhysicsParams& p) override {
+    const T old_beta_dt = cfg_.step.beta_dt;
+    cfg_ = step_config_from<T>(p);
+    if (cfg_.step.beta_dt != old_beta_dt || (cfg_.step.beta_dt > 0) != !ub_.empty()) refresh_ub();
+  }
 
   void step(long nsteps) override {
     const TetMeshView<T> m = mesh_;
     const BodyStateView<T> b = view();
     const StepConfig<T> c = cfg_;
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
+    const T* ue = element_displacement(b);
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
-      cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
+      cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
       cpu_node_stage(m, b, c.step);
     }
   }
@@ -73,6 +78,7 @@ class CpuSolver final : public Solver {
     std::transform(s.u.begin(), s.u.end(), u_.begin(), [](double v) { return T(v); });
     std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
     if (s.contact.size() == contact_.size()) contact_ = s.contact;
+    refresh_ub();
   }
 
   double strain_energy() const override {
@@ -99,6 +105,18 @@ class CpuSolver final : public Solver {
   }
 
  private:
+  // ub = u + (beta / dt) du from the live state (rayleigh_displacement, as the node stage
+  // writes it), or no ub when beta = 0: after a new state, beta or dt.
+  void refresh_ub() {
+    const T r = cfg_.step.beta_dt;
+    if (!(r > 0)) {
+      ub_.clear();
+      return;
+    }
+    ub_.resize(u_.size());
+    for (std::size_t k = 0; k < u_.size(); ++k) ub_[k] = rayleigh_displacement(u_[k], du_[k], r);
+  }
+
   BodyStateView<T> view() {
     BodyStateView<T> b;
     b.u = u_.data();
@@ -106,6 +124,7 @@ class CpuSolver final : public Solver {
     b.fcorner = fcorner_.data();
     b.contact = contact_.data();
     b.fext = fext_.empty() ? nullptr : fext_.data();
+    b.ub = ub_.empty() ? nullptr : ub_.data();
     return b;
   }
 
@@ -114,6 +133,7 @@ class CpuSolver final : public Solver {
   SurfaceTopology surf_;
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
+  std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
   mutable std::vector<double> energy_;  // strain_energy's per-element (and per-node) terms
   mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes

@@ -23,7 +23,8 @@ struct AnpScratch {
 };
 
 // Element stage: corner forces into fcorner. element: ElementType (T4: one loop; T4ANP:
-// element volumes, nodal pressures, corner forces).
+// element volumes, nodal pressures, corner forces). u: the displacement the forces are
+// taken at (b.u, or b.ub with stiffness-proportional damping: element_displacement).
 template <class T>
 inline void cpu_element_stage(const TetMeshView<T>& m, const NeoHookean<T>& mat, int element, const T* u,
                               const AnpScratch<T>& anp, T* fcorner) {
@@ -41,7 +42,13 @@ inline void cpu_element_stage(const TetMeshView<T>& m, const NeoHookean<T>& mat,
   for (int e = 0; e < ne; ++e) element_corner_forces(m, mat, u, fcorner, e);
 }
 
-// Node stage: gather, central difference and contact, in place on b.
+// What the element stage reads: u, or u + (beta / dt) du where beta > 0 (b.ub).
+template <class T>
+inline const T* element_displacement(const BodyStateView<T>& b) {
+  return b.ub ? b.ub : b.u;
+}
+
+// Node stage: gather, central difference and contact, in place on b (and b.ub when set).
 template <class T>
 inline void cpu_node_stage(const TetMeshView<T>& m, const BodyStateView<T>& b, const StepParams<T>& p) {
   const int n = m.nnode, stride = 4 * m.ntet;
@@ -49,7 +56,7 @@ inline void cpu_node_stage(const TetMeshView<T>& m, const BodyStateView<T>& b, c
   for (int i = 0; i < n; ++i) {
     T f[3];
     gather_node_force(m.gather_start, m.gather_slot, b.fcorner, stride, i, f);
-    update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i);
+    update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub);
   }
 }
 

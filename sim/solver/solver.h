@@ -34,6 +34,7 @@ struct PhysicsParams {
   MaterialModel material_model = kTaylorNeoHookean;
   ElementType element = kT4;
   double alpha = 10;           // mass-proportional damping [1/s]
+  double beta = 0;             // stiffness-proportional damping [s] (0: off)
   double dt = 1e-5;            // time step [s] (ignored when dt_auto)
   bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
   double lambda = 0.5;         // Courant-like factor for dt_auto

@@ -47,4 +47,10 @@ double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations) 
   return lambda;
 }
 
+double rayleigh_stable_step(double dt_cr, double beta) {
+  if (!(beta > 0)) return dt_cr;
+  const double xi = beta / dt_cr;
+  return dt_cr * (std::sqrt(1 + xi * xi) - xi);
+}
+
 }  // namespace softtled

@@ -13,4 +13,14 @@ namespace softtled {
 // omega_max^2 / (E / rho) for this mesh, nu and material model [1/m^2].
 double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations = 60);
 
+// The stable step with stiffness-proportional (Rayleigh) damping C = beta K taken at the
+// lagged velocity (central_difference.h): the mode omega obeys the recurrence
+//   z^2 - (2 - x^2 - c) z + (1 - c) = 0,  x = omega dt, c = beta omega^2 dt,
+// stable while x^2 + 2 c <= 4, i.e. dt <= (2 / omega) (sqrt(1 + xi^2) - xi),
+// xi = beta omega / 2 = beta / dt_cr for the highest mode (dt_cr = 2 / omega_max):
+//   dt_cr_beta = dt_cr (sqrt(1 + xi^2) - xi)
+// (Belytschko, Liu & Moran, Nonlinear Finite Elements for Continua and Structures, 2000,
+// sec. 6.2, eq. 6.2.12). beta = 0 returns dt_cr unchanged.
+double rayleigh_stable_step(double dt_cr, double beta);
+
 }  // namespace softtled

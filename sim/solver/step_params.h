@@ -10,9 +10,9 @@
 namespace softtled {
 
 template <class T>
-inline StepParams<T> step_params_from(const PhysicsParams& p) {
+inline StepParams<T> step_params_from(const PhysicsParams& p, double dt_mid = 0) {
   if (p.planes.size() > std::size_t(kMaxPlanes)) throw std::invalid_argument("too many planes");
-  StepParams<T> s = make_step_params<T>(p.dt, p.alpha, p.g);
+  StepParams<T> s = make_step_params<T>(p.dt, p.alpha, p.g, p.beta, dt_mid);
   s.contact.nplanes = int(p.planes.size());
   for (std::size_t i = 0; i < p.planes.size(); ++i)
     for (int k = 0; k < 3; ++k) {

@@ -71,6 +71,9 @@ template <class T>
 struct DeviceLive {
   DeviceBuffer<T> u, du, fcorner, fext;
   DeviceBuffer<T> u2, du2;  // fused step: the other displacement buffer (odd steps write it)
+  // beta > 0: u + (beta / dt) du that goes with (u, du) and (u2, du2) (BodyStateView::ub);
+  // allocated when beta is first switched on
+  DeviceBuffer<T> ub, ub2;
   DeviceBuffer<T> vol_now, p_node;  // T4ANP: ntet current element volumes, nnode nodal pressures
   DeviceBuffer<std::uint8_t> contact;
 };
@@ -189,8 +192,10 @@ class CudaSolver final : public CudaSolverApi {
   int render_vertex_count() const override { return rest_.surface.nvert; }
 
   void set_params(const PhysicsParams& p) override {
+    const T old_beta_dt = cfg_.step.beta_dt;
     cfg_ = step_config_from<T>(p);
     clear_graphs();  // the parameters are baked into the captured kernel nodes
+    if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
   }
 
   void set_exec_mode(ExecMode m) override {
@@ -264,6 +269,7 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), u0.data(), u0.bytes(), cudaMemcpyDeviceToDevice, stream_));
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), du0.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.contact.data(), c0.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    refresh_ub();
     synchronize();
     return t;
   }
@@ -307,6 +313,7 @@ class CudaSolver final : public CudaSolverApi {
       upload(c, live_.contact);
       SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
     }
+    refresh_ub();
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host vectors die here
   }
 
@@ -359,6 +366,25 @@ class CudaSolver final : public CudaSolverApi {
   }
 
  private:
+  bool beta_on() const { return cfg_.step.beta_dt > T(0); }
+
+  // ub = u + (beta / dt) du of the live state (the value function the node stage uses),
+  // after a new state, beta or dt; nothing while beta = 0.
+  void refresh_ub() {
+    if (!beta_on()) return;
+    const std::size_t n3 = 3 * std::size_t(n_);
+    if (live_.ub.size() != n3) {
+      SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+      clear_graphs();  // new pointers
+      live_.ub.resize(n3);
+      live_.ub2.resize(n3);
+      live_.ub2.fill_zero();
+    }
+    SOFTTLED_CUDA_CHECK(launch_rayleigh_displacement<T>(stream_, shape_for(int(n3), nsm_, false), int(n3),
+                                                        live_.u.data(), live_.du.data(), cfg_.step.beta_dt,
+                                                        live_.ub.data()));
+  }
+
   // Chosen from the bench (bench/NOTES.md, "The auto rule"): the fused one-kernel step
   // while its 4x element arithmetic is free (up to 256 tets per SM), PDL graphs above; 8
   // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
@@ -409,6 +435,7 @@ class CudaSolver final : public CudaSolverApi {
     a.b.fcorner = const_cast<T*>(live_.fcorner.data());
     a.b.contact = const_cast<std::uint8_t*>(live_.contact.data());
     a.b.fext = fext_active_ ? live_.fext.data() : nullptr;
+    a.b.ub = beta_on() ? const_cast<T*>(live_.ub.data()) : nullptr;
     a.mat = cfg_.mat;
     a.p = p;
     a.lanes = lanes_;
@@ -426,8 +453,11 @@ class CudaSolver final : public CudaSolverApi {
   void enqueue_fused_step(const StepArgs<T>& a, int s, bool pdl) {
     T* u[2] = {live_.u.data(), live_.u2.data()};
     T* du[2] = {live_.du.data(), live_.du2.data()};
+    T* ub[2] = {live_.ub.data(), live_.ub2.data()};
     const int p = s & 1;
-    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, u[p], du[p], u[1 - p], du[1 - p]));
+    const bool beta = a.b.ub != nullptr;
+    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, u[p], du[p], u[1 - p], du[1 - p],
+                                             beta ? ub[p] : u[p], beta ? ub[1 - p] : nullptr));
   }
 
   // Element stage: one kernel for T4, three for T4ANP (anp.h).
@@ -480,6 +510,8 @@ class CudaSolver final : public CudaSolverApi {
         if (k & 1) {  // every graph starts and ends with the state in (u, du)
           SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), live_.u2.data(), live_.u.bytes(), cudaMemcpyDeviceToDevice, stream_));
           SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), live_.du2.data(), live_.du.bytes(), cudaMemcpyDeviceToDevice, stream_));
+          if (a.b.ub)
+            SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.ub.data(), live_.ub2.data(), live_.ub.bytes(), cudaMemcpyDeviceToDevice, stream_));
         }
       });
     } catch (const CudaError& e) {

@@ -75,6 +75,12 @@ inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
   return s;
 }
 
+// What the element stage reads: u, or u + (beta / dt) du where beta > 0 (b.ub).
+template <class T>
+inline const T* element_displacement(const BodyStateView<T>& b) {
+  return b.ub ? b.ub : b.u;
+}
+
 // ---- the GPU step (tled_step.cu) ----
 // Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
 // entry of its nodes, the force of that corner (the element recomputed by each of its 4
@@ -82,12 +88,15 @@ inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
 // lanes per node sum them in the node stage's order (same lane split, same lane_sum) and
 // the first lane runs update_node on the node. Reads the displacement from (u_prev, du_prev),
 // writes (u_next, du_next): other blocks still read u_prev while a node is updated, so
-// the caller alternates two buffers. a.b.u / a.b.du are ignored; a.b.contact and
+// the caller alternates two buffers. a.b.u / a.b.du / a.b.ub are ignored; a.b.contact and
 // a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
+// Stiffness-proportional damping (beta > 0): the corner forces are taken at ue_prev =
+// the ub buffer that goes with u_prev, and the node stage writes ub_next; with beta = 0
+// ue_prev is u_prev and ub_next null.
 constexpr int kFusedMaxThreads = 256;
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
-                              const T* du_prev, T* u_next, T* du_next);
+                              const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next);
 
 // ---- the two-kernel step (tled_stages.cu) ----
 // T4: element_corner_forces (ls: one thread per element).
@@ -102,6 +111,12 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
 // Threads: a.lanes x nnode (shape it with shape_for(a.lanes * nnode, ...)).
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a);
+
+// ub[k] = rayleigh_displacement(u[k], du[k], beta_dt), k < n3 (ls: one thread per entry):
+// ub after a new state, beta or dt (the node stage keeps it up to date while stepping).
+template <class T>
+cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, const T* du,
+                                         T beta_dt, T* ub);
 
 // ---- outside the step (tled_output.cu) ----
 template <class T>

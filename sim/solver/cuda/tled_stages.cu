@@ -52,7 +52,7 @@ __global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T
   if (i >= m.nnode) return;
   T f[3];
   gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
-  update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i);
+  update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub);
 }
 
 // ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
@@ -154,7 +154,7 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
     for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
   }
   for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
-  if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i);
+  if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i, a.b.ub);
 }
 
 template <class T, int G, bool kPrefetch>
@@ -221,11 +221,26 @@ __global__ void anp_pressure_lanes_kernel(const StepArgs<T> a) {
   anp_pressure_lanes<T, G>(a, g);
 }
 
+// ub = u + (beta / dt) du, one thread per array entry (3 x nnode).
+template <class T>
+__global__ void rayleigh_displacement_kernel(int n3, const T* __restrict__ u, const T* __restrict__ du, T beta_dt,
+                                             T* __restrict__ ub) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n3) return;
+  ub[k] = rayleigh_displacement(u[k], du[k], beta_dt);
+}
+
 }  // namespace
 
 template <class T>
+cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, const T* du,
+                                         T beta_dt, T* ub) {
+  return launch(s, ls, rayleigh_displacement_kernel<T>, n3, u, du, beta_dt, ub);
+}
+
+template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
-  const T* u = a.b.u;
+  const T* u = element_displacement(a.b);
   if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.b.fcorner);
   return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.b.fcorner);
 }
@@ -233,7 +248,7 @@ cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const S
 template <class T>
 cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln, const StepArgs<T>& a) {
   if (!a.vol_now || !a.p_node) return cudaErrorInvalidValue;
-  const T* u = a.b.u;
+  const T* u = element_displacement(a.b);
   const T* vol_now = a.vol_now;
   const T* p_node = a.p_node;
   cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
@@ -278,7 +293,8 @@ cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const Step
 #define SOFTTLED_INSTANTIATE(T)                                                                                        \
   template cudaError_t launch_element_forces<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                \
   template cudaError_t launch_anp_stages<T>(cudaStream_t, const LaunchShape&, const LaunchShape&, const StepArgs<T>&); \
-  template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);
+  template cudaError_t launch_node_update<T>(cudaStream_t, const LaunchShape&, const StepArgs<T>&);                   \
+  template cudaError_t launch_rayleigh_displacement<T>(cudaStream_t, const LaunchShape&, int, const T*, const T*, T, T*);
 SOFTTLED_INSTANTIATE(float)
 SOFTTLED_INSTANTIATE(double)
 #undef SOFTTLED_INSTANTIATE

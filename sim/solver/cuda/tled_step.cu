@@ -13,7 +13,8 @@
 //      ...), lane_sum adds the lanes, and the first lane runs update_node (central
 //      difference + plane contact, central_difference.h).
 // Other blocks still read a node's u while it is updated, so the state is double
-// buffered: (u_prev, du_prev) in, (u_next, du_next) out. The sums and the value
+// buffered: (u_prev, du_prev) in, (u_next, du_next) out (with beta > 0 also the element
+// stage's displacement ub, central_difference.h). The sums and the value
 // functions are those of the two-kernel step, so both give bitwise identical results.
 #include <algorithm>
 #include <cstddef>
@@ -67,7 +68,8 @@ __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int
 template <class T, int G>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
-                      T* __restrict__ u_next, T* __restrict__ du_next) {
+                      T* __restrict__ u_next, T* __restrict__ du_next, const T* __restrict__ ue_prev,
+                      T* __restrict__ ub_next) {
   extern __shared__ __align__(16) unsigned char fused_smem[];
   T* fs = reinterpret_cast<T*>(fused_smem);  // 3 x a.fsmem_entries, this block's corner forces
   const int S = a.fsmem_entries;
@@ -93,13 +95,13 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   pdl_wait();  // u_prev is written by the previous step
   if (first) {
     T f[3];
-    fused_corner_force(a.mat, m.nnode, u_prev, r, f);
+    fused_corner_force(a.mat, m.nnode, ue_prev, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + tid] = f[k];
   }
   for (int j = jb + tid + nt; j < je; j += nt) {
     load_corner_rest(m, j, r);
     T f[3];
-    fused_corner_force(a.mat, m.nnode, u_prev, r, f);
+    fused_corner_force(a.mat, m.nnode, ue_prev, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - jb)] = f[k];
   }
   __syncthreads();
@@ -121,7 +123,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
     for (int j = j0 + lane; j < j1; j += G)
       for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
     for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
-    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i);
+    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next);
   }
 }
 
@@ -129,7 +131,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
 
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
-                              const T* du_prev, T* u_next, T* du_next) {
+                              const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
   if (a.nfblock <= 0) return cudaSuccess;
   if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
   LaunchShape ls;
@@ -138,16 +140,16 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
   ls.pdl = pdl;
   ls.smem_bytes = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
   switch (a.lanes) {
-    case 1: return launch(s, ls, fused_step_kernel<T, 1>, a, u_prev, du_prev, u_next, du_next);
-    case 4: return launch(s, ls, fused_step_kernel<T, 4>, a, u_prev, du_prev, u_next, du_next);
-    case 8: return launch(s, ls, fused_step_kernel<T, 8>, a, u_prev, du_prev, u_next, du_next);
+    case 1: return launch(s, ls, fused_step_kernel<T, 1>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 4: return launch(s, ls, fused_step_kernel<T, 4>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 8: return launch(s, ls, fused_step_kernel<T, 8>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
   }
   return cudaErrorInvalidValue;
 }
 
 template cudaError_t launch_fused_step<float>(cudaStream_t, int, bool, const StepArgs<float>&, const float*,
-                                             const float*, float*, float*);
+                                             const float*, float*, float*, const float*, float*);
 template cudaError_t launch_fused_step<double>(cudaStream_t, int, bool, const StepArgs<double>&, const double*,
-                                              const double*, double*, double*);
+                                              const double*, double*, double*, const double*, double*);
 
 }  // namespace softtled::cuda

@@ -57,6 +57,13 @@ TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
   });
 }
 
+TEST(CudaAnp, RayleighBetaAllExecutionModesAreBitwiseIdentical) {
+  SKIP_WITHOUT_GPU();
+  Scene s = torus("float");
+  s.beta = 2e-6;  // the three T4ANP stages read u + (beta / dt) du
+  expect_modes_bitwise_identical(s, 5000, "T4ANP, beta, ", [](cuda::ExecMode, cuda::CudaSolverApi&) {});
+}
+
 TEST(CudaAnp, SwitchingElementLiveRebuildsTheStep) {
   SKIP_WITHOUT_GPU();
   // T4 for 3000 steps, then T4ANP (the viewer's live edit): must match the CPU doing the same.
