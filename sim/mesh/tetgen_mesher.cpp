@@ -167,8 +167,7 @@ std::string format(const Switches& s) {
 
 std::string tetgen_switches(const TetgenOptions& o) { return format(resolve(o)); }
 
-void check_surface_for_meshing(const SurfaceMesh& surface) {
-  const std::string what = "surface to mesh";
+void check_surface_for_meshing(const SurfaceMesh& surface, const std::string& what) {
   auto fail = [&](const std::string& msg) { throw InputError(what + ": " + msg); };
   for (std::size_t i = 0; i < surface.xyz.size(); ++i)
     if (!std::isfinite(surface.xyz[i])) fail("vertex " + std::to_string(i / 3) + " has a NaN or infinite coordinate");
