@@ -125,7 +125,7 @@ void check_output_dir(const std::string& path, const std::string& what) {
       if (::access(p.c_str(), W_OK | X_OK) != 0) throw InputError(where + "cannot write in " + p + ": " + std::strerror(errno));
       return;
     }
-    if (errno != ENOENT) throw InputError(where + "cannot use " + p + ": " + std::strerror(errno));
+    if (errno != ENOENT && errno != ENOTDIR) throw InputError(where + "cannot use " + p + ": " + std::strerror(errno));
     const std::string parent = parent_of(p);
     if (parent == p) throw InputError(where + "no existing parent directory");
     p = parent;
