@@ -100,6 +100,7 @@ Command add_render_command(CLI::App& app) {
     const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
     Simulation& sim = *sim_owner;
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
+    for (double t : h.times) (void)checked_step_count(t, sim.time_step().dt, "--at");  // before the GL context
     const TimeStepInfo& ts = sim.time_step();
     std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
                 sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.dt * 1e6, ts.dt_cr * 1e6,

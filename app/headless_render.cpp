@@ -67,7 +67,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       HeadlessFrame f;
       f.t = t;
       const double dt = sim.params().dt;
-      const long n = t > sim.time() ? checked_step_count(t - sim.time(), dt, "--at " + std::to_string(t)) : 0;
+      const long n = t > sim.time() ? checked_step_count(t - sim.time(), dt, "time " + frame_file_name("", t)) : 0;
       // Timed to the end of diagnostics(), which reads the state back: a GPU backend's
       // step() only queues work.
       auto t0 = Clock::now();
