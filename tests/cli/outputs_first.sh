@@ -24,5 +24,19 @@ bash "$expect" 2 "--write $tmp/nodir/base.node: directory $tmp/nodir does not ex
 bash "$expect" 2 "--vtu $tmp: is a directory" "$exe" mesh --scene "$data/surface.toml" "${bad_mesh[@]}" --vtu "$tmp" || status=1
 bash "$expect" 2 "--json $tmp/nodir/b.json: directory $tmp/nodir does not exist" "$exe" bench --scene "$data/surface.toml" \
   "${bad_mesh[@]}" --json "$tmp/nodir/b.json" || status=1
+# Unwritable directory and file (root writes anywhere: only checked as another user).
+if [ "$(id -u)" -ne 0 ]; then
+  mkdir "$tmp/ro" && chmod 555 "$tmp/ro"
+  bash "$expect" 2 "--csv $tmp/ro/x.csv: cannot write in directory $tmp/ro: Permission denied" "$exe" run \
+    --scene "$data/surface.toml" "${bad_mesh[@]}" --csv "$tmp/ro/x.csv" || status=1
+  bash "$expect" 2 "--vtu $tmp/ro/frames: cannot write in $tmp/ro: Permission denied" "$exe" run \
+    --scene "$data/surface.toml" "${bad_mesh[@]}" --vtu "$tmp/ro/frames" || status=1
+  chmod 444 "$tmp/keep.csv"
+  bash "$expect" 2 "--csv $tmp/keep.csv: cannot write: Permission denied" "$exe" run \
+    --scene "$data/surface.toml" "${bad_mesh[@]}" --csv "$tmp/keep.csv" || status=1
+  chmod 755 "$tmp/ro"; chmod 644 "$tmp/keep.csv"
+else
+  echo "note: running as root; the unwritable-directory cases are not checked"
+fi
 [ ! -e "$tmp/nodir" ] || { echo "FAIL: $tmp/nodir was created"; status=1; }
 exit $status
