@@ -170,7 +170,7 @@ Command add_run_command(CLI::App& app) {
     std::fprintf(summary, "simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t,
                  total, dt * 1e6, wall, wall / double(std::max(1L, total)) * 1e6, d.t / wall);
     std::fprintf(summary,
-                 "final centroid (%.3f, %.3f, %.3f) mm, min gap over run %.4f mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
+                 "final centroid (%.6g, %.6g, %.6g) mm, min gap over run %.6g mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
                  d.centroid[0] * 1e3, d.centroid[1] * 1e3, d.centroid[2] * 1e3, min_gap * 1e3, max_contact, max_ke, d.ke);
     if (csv || vtu) std::fprintf(summary, "wrote %s\n", written().c_str());
     return 0;
