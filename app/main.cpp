@@ -2,7 +2,9 @@
 // one "softtled: error: ..." line and an exit code (cli_support.h, README "Exit codes"):
 // usage errors and InputErrors 2, resource problems 5, a stop by signal 130/143.
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <map>
 #include <new>
@@ -50,7 +52,17 @@ int main(int argc, char** argv) {
     return exit_code_for_signal(sig);
   };
   try {
-    for (auto* sub : app.get_subcommands()) return commands.at(sub->get_name())();
+    for (auto* sub : app.get_subcommands()) {
+      const int rc = commands.at(sub->get_name())();
+      // The summary and tables on stdout are output too: a full disk must not pass silently.
+      errno = 0;
+      if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+        std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", errno ? ": " : "",
+                     errno ? std::strerror(errno) : "");
+        return kExitResource;
+      }
+      return rc;
+    }
   } catch (const InputError& e) {
     if (stop_requested()) return stopped(e.what());  // e.g. TetGen's child ended by the same Ctrl-C
     std::fprintf(stderr, "softtled: error: %s\n", e.what());

@@ -33,7 +33,7 @@ OutputFile::~OutputFile() {
 
 void OutputFile::fail(const char* what) {
   const int e = errno;
-  std::string msg = path_ + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string());
+  std::string msg = (f_ == stdout ? std::string("standard output") : path_) + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string());
   if (f_ && f_ != stdout) std::fclose(f_);
   f_ = nullptr;
   if (!tmp_.empty()) std::remove(tmp_.c_str());
