@@ -19,4 +19,7 @@ check 2 "body.file: $tmp/dir.obj: not a regular file (a directory)" "$exe" run -
 check 2 "body.file: /dev/null: not a regular file (a character device)" "$exe" run --scene "$data/surface.toml" --set body.file=/dev/null
 check 2 "$tmp/fifo.obj: not a regular file (a FIFO)" "$exe" mesh --surface "$tmp/fifo.obj"
 check 2 "$tmp/dir.obj: not a regular file (a directory)" "$exe" mesh --surface "$tmp/dir.obj"
+# Size caps: a scene file above 4 MiB is refused before it is read.
+head -c 5000000 /dev/zero | tr '\0' '#' >"$tmp/big.toml"
+check 2 "scene file $tmp/big.toml: 5000000 bytes, above the limit of 4194304 bytes" "$exe" run --scene "$tmp/big.toml"
 exit $status
