@@ -1,85 +1,232 @@
 // `softtled accuracy`: the speed-for-accuracy trade on the paper's torus drop. Runs a
 // reference (finest level, double, small lambda) and a sweep over mesh level, precision,
 // lambda = dt/dt_cr and element type; writes accuracy.csv and accuracy.md.
+//
+// Every argument is checked before the reference run (which takes hours on a CPU), and
+// each variant prints a progress line with an estimate of the time left.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
 #include "analysis/accuracy_study.h"
+#include "sim/io/output_file.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 
 namespace softtled {
 
+namespace {
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> r;
+  std::stringstream ss(s);
+  std::string x;
+  while (std::getline(ss, x, ',')) r.push_back(x);
+  return r;
+}
+
+// The overrides run_accuracy_variant builds for a level ("NUxNV[@qRHO]"); a bad level is
+// an InputError naming the flag.
+std::vector<std::string> level_set(const std::string& flag, const std::string& level) {
+  unsigned nu = 0, nv = 0;
+  int used = 0;
+  const auto at = level.find("@q");
+  const std::string grid = level.substr(0, at);
+  if (std::sscanf(grid.c_str(), "%ux%u%n", &nu, &nv, &used) != 2 || used != int(grid.size()) ||
+      (at != std::string::npos && at + 2 >= level.size()))
+    throw InputError(flag + " '" + level + "': expected NUxNV[@qRHO], e.g. 91x19 or 91x19@q1.4");
+  std::vector<std::string> set = {"body.segments=[" + std::to_string(nu) + ", " + std::to_string(nv) + "]"};
+  if (at != std::string::npos) set.push_back("mesh.radius_edge=" + level.substr(at + 2));
+  return set;
+}
+
+// Relative cost of a variant: tets ~ NU NV, steps ~ sqrt(NU NV) / lambda (dt_cr ~ edge
+// length); doubles cost about 1.5 floats. Scaled by the measured rate for the ETA.
+double cost_units(const std::string& level, const std::string& prec, double lambda) {
+  unsigned nu = 1, nv = 1;
+  std::sscanf(level.c_str(), "%ux%u", &nu, &nv);
+  return std::pow(double(nu) * nv, 1.5) / lambda * (prec == "double" ? 1.5 : 1.0);
+}
+
+std::string duration_text(double s) {
+  char b[64];
+  if (s < 90) std::snprintf(b, sizeof b, "%.0f s", s);
+  else if (s < 5400) std::snprintf(b, sizeof b, "%.0f min", s / 60);
+  else std::snprintf(b, sizeof b, "%.1f h", s / 3600);
+  return b;
+}
+
+std::string default_out_dir() {
+  const std::time_t now = std::time(nullptr);
+  char b[64];
+  std::strftime(b, sizeof b, "accuracy-%Y%m%d-%H%M%S", std::localtime(&now));
+  std::string d = b;
+  for (int k = 2; std::filesystem::exists(d); ++k) d = std::string(b) + "-" + std::to_string(k);
+  return d;
+}
+}  // namespace
+
 Command add_accuracy_command(CLI::App& app) {
   struct Opts {
-    std::string scene = "assets/scenes/torus_drop.toml", out = "bench/accuracy", backend = "auto";
+    std::string scene = "assets/scenes/torus_drop.toml", out, backend = "auto";
     std::string levels = "45x9,91x19,182x38", ref = "273x57", lambdas = "0.1,0.25,0.5,1.0";
     std::string precisions = "float,double", elements = "T4,T4ANP";
     double t_end = 0.2, ref_lambda = 0.25;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("accuracy", "speed-for-accuracy sweep against a converged reference");
-  c->add_option("--scene", o->scene, "base scene (the torus drop)");
-  c->add_option("--out", o->out, "output directory for accuracy.csv and accuracy.md");
-  c->add_option("--backend", o->backend, "cpu, cuda or auto");
-  c->add_option("--levels", o->levels, "torus grids to sweep, e.g. 45x9,91x19; NUxNV@qRHO sets TetGen's radius-edge bound");
-  c->add_option("--ref", o->ref, "reference grid (finest)");
-  c->add_option("--ref-lambda", o->ref_lambda, "lambda of the reference");
-  c->add_option("--lambdas", o->lambdas, "lambda = dt/dt_cr values");
-  c->add_option("--precisions", o->precisions, "float,double");
-  c->add_option("--elements", o->elements, "T4,T4ANP");
-  c->add_option("--t-end", o->t_end, "simulated time per run [s]");
+  c->add_option("--scene", o->scene, "base scene (the torus drop)")->capture_default_str();
+  c->add_option("--out", o->out, "output directory for accuracy.csv and accuracy.md (default: a new ./accuracy-DATE-TIME)");
+  c->add_option("--backend", o->backend, "cpu, cuda or auto")->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
+  c->add_option("--levels", o->levels, "torus grids to sweep, e.g. 45x9,91x19; NUxNV@qRHO sets TetGen's radius-edge bound")
+      ->capture_default_str();
+  c->add_option("--ref", o->ref, "reference grid (finest)")->capture_default_str();
+  c->add_option("--ref-lambda", o->ref_lambda, "lambda of the reference")->check(finite_range(1e-3, 1))->capture_default_str();
+  c->add_option("--lambdas", o->lambdas, "lambda = dt/dt_cr values, each in (0, 1]")->capture_default_str();
+  c->add_option("--precisions", o->precisions, "float,double")->capture_default_str();
+  c->add_option("--elements", o->elements, "T4,T4ANP")->capture_default_str();
+  c->add_option("--t-end", o->t_end, "simulated time per run [s]")->check(finite_range(1e-3, 10))->capture_default_str();
   return [o]() {
-    const double t1 = std::min(0.05, o->t_end), t2 = std::min(0.1, o->t_end);
-    std::fprintf(stderr, "reference: %s, double, T4ANP and T4, lambda %.2f, %.2f s ...\n", o->ref.c_str(), o->ref_lambda, o->t_end);
-    const AccuracyRun ref = run_accuracy_variant(o->scene, o->backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2);
-    const FieldSampler sampler(*ref.mesh);
+    // ---- every argument first: the reference run takes hours on a CPU ----
+    std::vector<double> lambdas;
+    for (const auto& ls : split(o->lambdas)) {
+      double v = 0;
+      std::size_t used = 0;
+      try {
+        v = std::stod(ls, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != ls.size() || !std::isfinite(v) || !(v >= 1e-3 && v <= 1))
+        throw InputError("--lambdas '" + o->lambdas + "': '" + ls + "' is not a number in [0.001, 1]");
+      lambdas.push_back(v);
+    }
+    const std::vector<std::string> levels = split(o->levels), precs = split(o->precisions), elements = split(o->elements);
+    if (lambdas.empty() || levels.empty() || precs.empty() || elements.empty())
+      throw InputError("--levels, --lambdas, --precisions and --elements each need at least one value");
+    for (const auto& p : precs)
+      if (p != "float" && p != "double") throw InputError("--precisions: '" + p + "' is not float or double");
+    for (const auto& e : elements)
+      if (e != "T4" && e != "T4ANP") throw InputError("--elements: '" + e + "' is not T4 or T4ANP");
+    // The scene with each level's overrides (parse only: unknown keys, ranges, the mesh.* grammar).
+    auto check_scene = [&](const std::string& flag, const std::string& level) {
+      std::vector<std::string> set = level_set(flag, level);
+      set.push_back("time.dt=\"auto\"");
+      (void)load_scene(o->scene, set);
+    };
+    check_scene("--ref", o->ref);
+    for (const auto& l : levels) check_scene("--levels", l);
+    if (o->out.empty()) o->out = default_out_dir();  // never the committed bench/accuracy
+    check_output_dir(o->out, "--out");
     std::filesystem::create_directories(o->out);
-    std::ofstream csv(o->out + "/accuracy.csv");
-    csv << "level,ntet,precision,element,lambda,dt_us,steps,us_per_step,wall_s,centroid_rms_mm,max_err_mm_t1,mean_err_mm_t1,"
-           "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm\n";
+    const std::string backend = resolve_backend(o->backend);
+    const std::string csv_path = o->out + "/accuracy.csv", md_path = o->out + "/accuracy.md";
+    check_output_file(csv_path, "--out");
+    check_output_file(md_path, "--out");
+
+    const double t1 = std::min(0.05, o->t_end), t2 = std::min(0.1, o->t_end);
+    const std::string header =
+        "level,ntet,precision,element,lambda,dt_us,steps,us_per_step,wall_s,centroid_rms_mm,max_err_mm_t1,mean_err_mm_t1,"
+        "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm";
+    OutputFile csv(csv_path);
+    csv.write(header + "\n");
+    csv.flush();
+    std::vector<std::string> rows;
+    auto write_md = [&] {
+      std::ostringstream md;
+      md << "# Speed for accuracy\n\nScene `" << o->scene << "`, backend " << backend << ", t_end " << o->t_end
+         << " s; reference " << o->ref << " (double, T4ANP, lambda " << o->ref_lambda
+         << "). Errors in mm against the reference (README, \"Speed for accuracy\").\n\n|";
+      for (const auto& h : split(header)) md << " " << h << " |";
+      md << "\n|";
+      for (std::size_t i = 0; i < split(header).size(); ++i) md << "---|";
+      md << "\n";
+      for (const auto& r : rows) {
+        md << "|";
+        for (const auto& f : split(r)) md << " " << f << " |";
+        md << "\n";
+      }
+      write_file_atomic(md_path, md.str());
+    };
+    auto add_row = [&](const std::string& row) {
+      csv.write(row + "\n");
+      csv.flush();
+      rows.push_back(row);
+      write_md();
+      std::fputs((row + "\n").c_str(), stdout);
+      std::fflush(stdout);
+    };
     auto emit = [&](const AccuracyRun& r, const AccuracyErrors& e) {
       char buf[512];
-      std::snprintf(buf, sizeof buf, "%s,%d,%s,%s,%.3g,%.4g,%ld,%.4g,%.4g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g\n", r.level.c_str(),
+      std::snprintf(buf, sizeof buf, "%s,%d,%s,%s,%.3g,%.4g,%ld,%.4g,%.4g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g", r.level.c_str(),
                     r.ntet, r.precision.c_str(), r.element.c_str(), r.lambda, r.dt * 1e6, r.steps, r.us_per_step, r.wall_s,
                     e.centroid_rms * 1e3, e.max_err[0] * 1e3, e.mean_err[0] * 1e3, e.max_err[1] * 1e3, e.mean_err[1] * 1e3,
                     e.rest * 1e3);
-      csv << buf;
-      csv.flush();
-      std::fputs(buf, stdout);
+      add_row(buf);
     };
+
+    // ---- progress: cost units of every run, the rate measured on the runs so far ----
+    struct Job {
+      std::string level, prec, element;
+      double lambda;
+    };
+    std::vector<Job> jobs = {{o->ref, "double", "T4ANP", o->ref_lambda}, {o->ref, "double", "T4", o->ref_lambda}};
+    for (const auto& level : levels)
+      for (const auto& el : elements)
+        for (const auto& prec : precs)
+          for (double l : lambdas) jobs.push_back({level, prec, el, l});
+    double units_left = 0, units_done = 0, wall_done = 0;
+    for (const auto& j : jobs) units_left += cost_units(j.level, j.prec, j.lambda);
+    const auto start = std::chrono::steady_clock::now();
+    std::size_t k = 0;
+    auto begin_job = [&](const Job& j) {
+      ++k;
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::string eta = "ETA after the first run";
+      if (units_done > 0) eta = "about " + duration_text(wall_done / units_done * units_left) + " left";
+      std::fprintf(stderr, "[%zu/%zu] %s %s %s lambda %g, %g s simulated ... (%s elapsed, %s)\n", k, jobs.size(),
+                   j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, o->t_end, duration_text(elapsed).c_str(),
+                   eta.c_str());
+      return std::chrono::steady_clock::now();
+    };
+    auto end_job = [&](const Job& j, std::chrono::steady_clock::time_point t0) {
+      const double u = cost_units(j.level, j.prec, j.lambda);
+      units_done += u, units_left -= u;
+      wall_done += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+
+    auto t0 = begin_job(jobs[0]);
+    const AccuracyRun ref = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2);
+    end_job(jobs[0], t0);
+    const FieldSampler sampler(*ref.mesh);
     emit(ref, compare_runs(ref, ref, sampler, t2));
     // The reference's own convergence: T4 on the same grid, and the next level down.
-    const AccuracyRun ref_t4 = run_accuracy_variant(o->scene, o->backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2);
+    t0 = begin_job(jobs[1]);
+    const AccuracyRun ref_t4 = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2);
+    end_job(jobs[1], t0);
     emit(ref_t4, compare_runs(ref_t4, ref, sampler, t2));
-    auto split = [](const std::string& s) {
-      std::vector<std::string> r;
-      std::stringstream ss(s);
-      std::string x;
-      while (std::getline(ss, x, ',')) r.push_back(x);
-      return r;
-    };
-    for (const auto& level : split(o->levels))
-      for (const auto& el : split(o->elements))
-        for (const auto& prec : split(o->precisions))
-          for (const auto& ls : split(o->lambdas)) {
-            try {
-              const AccuracyRun r = run_accuracy_variant(o->scene, o->backend, level, prec, std::stod(ls), el, o->t_end, t1, t2);
-              emit(r, compare_runs(r, ref, sampler, t2));
-            } catch (const SimulationDiverged& e) {
-              std::fprintf(stdout, "%s,,%s,%s,%s,diverged,,,,,,,,,\n", level.c_str(), prec.c_str(), el.c_str(), ls.c_str());
-              std::fprintf(stderr, "%s %s %s lambda %s: %s\n", level.c_str(), prec.c_str(), el.c_str(), ls.c_str(), e.what());
-              csv << level << ",," << prec << "," << el << "," << ls << ",diverged,,,,,,,,,\n";
-            }
-          }
-    std::fprintf(stderr, "wrote %s/accuracy.csv\n", o->out.c_str());
+    for (std::size_t i = 2; i < jobs.size(); ++i) {
+      const Job& j = jobs[i];
+      t0 = begin_job(j);
+      try {
+        const AccuracyRun r = run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end, t1, t2);
+        emit(r, compare_runs(r, ref, sampler, t2));
+      } catch (const SimulationDiverged& e) {
+        std::fprintf(stderr, "%s %s %s lambda %g: %s\n", j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, e.what());
+        char lam[32];
+        std::snprintf(lam, sizeof lam, "%.3g", j.lambda);
+        add_row(j.level + ",," + j.prec + "," + j.element + "," + lam + ",diverged,,,,,,,,,");
+      }
+      end_job(j, t0);
+    }
+    csv.close();
+    std::fprintf(stderr, "wrote %s and %s\n", csv_path.c_str(), md_path.c_str());
     return 0;
   };
 }

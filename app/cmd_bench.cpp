@@ -19,7 +19,9 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_support.h"
 #include "commands.h"
+#include "sim/io/output_file.h"
 #include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/step_params.h"
@@ -139,7 +141,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
 }
 
 struct Opts {
-  std::string scene, backend = "cuda", json, precision = "float", mode = "auto";
+  std::string scene, backend = "auto", json, precision = "float", mode = "auto";
   std::vector<std::string> set;
   long steps = 8000;
   int samples = 15, threads = 0, stage_reps = 200;
@@ -338,18 +340,22 @@ Command add_bench_command(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("bench", "time the explicit step (paper's Table II); --sweep over refined tori");
   c->add_option("--scene", o->scene, "scene file (TOML)")->required();
-  c->add_option("--backend", o->backend, "cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
-  c->add_option("--steps", o->steps, "timed steps for the scene (paper: 8000)")->check(CLI::PositiveNumber);
+  c->add_option("--backend", o->backend, "cpu, cuda or auto (cuda when a device is usable)")
+      ->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
+  c->add_option("--steps", o->steps, "timed steps for the scene (paper: 8000)")->check(int_range(1, 1000000000))->capture_default_str();
   c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
-  c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph");
-  c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)");
-  c->add_option("--samples", o->samples, "timed chunks per measurement")->check(CLI::Range(3, 1000));
-  c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(CLI::Range(1, 100000));
+  c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph")
+      ->check(CLI::IsMember({"auto", "fused", "graph-pdl", "graph"}))->capture_default_str();
+  c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
+  c->add_option("--samples", o->samples, "timed chunks per measurement")->check(int_range(3, 1000))->capture_default_str();
+  c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   return [o]() {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
+    if (!o->json.empty()) check_output_file(o->json, "--json");  // before minutes of timing
+    o->backend = resolve_backend(o->backend);
     std::vector<std::string> set = o->set;
     set.push_back("solver.precision=" + o->precision);
     const Scene sc = load_scene(o->scene, set);
@@ -426,8 +432,7 @@ Command add_bench_command(CLI::App& app) {
                       m.second.median, m.second.min, m.second.max);
     }
     if (!o->json.empty()) {
-      std::ofstream f(o->json);
-      if (!f) throw InputError(o->json + ": cannot write");
+      std::ostringstream f;
       f << "{\"scene\": " << json_str(o->scene) << ", \"copy_GBps\": " << copy_gbs << ",\n \"result\": " << json_result(main, copy_gbs);
       if (!rows.empty()) {
         f << ",\n \"sweep\": [";
@@ -435,6 +440,7 @@ Command add_bench_command(CLI::App& app) {
         f << "]";
       }
       f << "}\n";
+      write_file_atomic(o->json, f.str());  // checked: ResourceError naming the file
     }
     return 0;
   };

@@ -11,6 +11,7 @@
 #include "sim/solver/stable_step.h"
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/io/output_file.h"
 #include "sim/io/vtu_writer.h"
 
 namespace softtled {
@@ -30,15 +31,26 @@ Command add_mesh_command(CLI::App& app) {
   c->add_option("--write", o->write, "write BASE.node and BASE.ele");
   c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file");
   return [o]() {
+    // Output paths first: a bad one must fail before minutes of meshing.
+    if (!o->write.empty()) {
+      check_output_file(o->write + ".node", "--write");
+      check_output_file(o->write + ".ele", "--write");
+    }
+    if (!o->vtu.empty()) check_output_file(o->vtu, "--vtu");
     Scene s = o->scene.empty() ? parse_scene("", "(defaults)", o->set) : load_scene(o->scene, o->set);
     if (!o->surface.empty()) {
       s.shape = "file";
       s.file = o->surface;
-      s.source = "./";
+      s.source = "--surface";  // no directory: the path is used as given
     }
     const SurfaceMesh surf = scene_surface(s);
     const TetgenOptions topt = scene_tetgen_options(s);
-    const TetMesh m = tetrahedralize_surface(surf, topt);
+    TetMesh m;
+    try {
+      m = tetrahedralize_surface(surf, topt);
+    } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
+      throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
+    }
     const MeshCounts cnt = count_faces_and_edges(m);
     const MeshQuality q = measure_quality(m);
     const double c_wave = dilatational_wave_speed(s.E, s.nu, s.rho);

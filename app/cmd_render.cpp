@@ -1,13 +1,16 @@
 // `softtled render`: headless frames of a scene at given simulation times, one PNG each,
 // through an EGL offscreen context (no window system; never calls glfwInit).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/headless_render.h"
+#include "sim/io/output_file.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 
@@ -22,20 +25,22 @@ std::vector<double> parse_times(const std::string& s) {
     try {
       std::size_t used = 0;
       const double v = std::stod(item, &used);
-      if (used != item.size() || !(v >= 0)) throw std::invalid_argument(item);
+      if (used != item.size() || !(v >= 0) || !std::isfinite(v)) throw std::invalid_argument(item);
       t.push_back(v);
     } catch (const std::exception&) {
-      throw InputError("--at '" + s + "': expected non-negative times in seconds separated by commas, e.g. 0.02,0.05,0.2");
+      throw InputError("--at '" + s + "': expected finite non-negative times in seconds separated by commas, e.g. 0.02,0.05,0.2");
     }
   }
   if (t.empty()) throw InputError("--at: no times given");
+  if (t.size() > 100000) throw InputError("--at: at most 100000 times");
   for (std::size_t i = 1; i < t.size(); ++i)
     if (t[i] < t[i - 1]) throw InputError("--at: times must be in increasing order");
   return t;
 }
 
 void parse_size(const std::string& s, int& w, int& h) {
-  if (std::sscanf(s.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+  char rest = 0;
+  if (std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
     throw InputError("--size '" + s + "': expected WxH between 16 and 8192, e.g. 960x720");
 }
 }  // namespace
@@ -55,13 +60,16 @@ Command add_render_command(CLI::App& app) {
   c->add_option("--out", o->out, "output directory")->capture_default_str();
   c->add_option("--size", o->size, "image size WxH")->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")->capture_default_str();
-  c->add_option("--context", o->context, "GL context: egl (offscreen) or glfw (hidden window, needs a display)")->capture_default_str();
-  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")->capture_default_str();
-  c->add_option("--azimuth", o->azimuth, "camera azimuth about +y [deg]")->capture_default_str();
-  c->add_option("--elevation", o->elevation, "camera elevation [deg]")->capture_default_str();
-  c->add_option("--zoom", o->zoom, "camera zoom factor")->capture_default_str();
-  c->add_option("--samples", o->samples, "MSAA samples (0 to 8)")->capture_default_str();
+  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")
+      ->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
+  c->add_option("--context", o->context, "GL context: egl (offscreen) or glfw (hidden window, needs a display)")
+      ->check(CLI::IsMember({"egl", "glfw"}))->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")
+      ->check(CLI::IsMember({"shaded", "displacement", "contact"}))->capture_default_str();
+  c->add_option("--azimuth", o->azimuth, "camera azimuth about +y [deg]")->check(finite_range(-360, 360))->capture_default_str();
+  c->add_option("--elevation", o->elevation, "camera elevation [deg]")->check(finite_range(-89, 89))->capture_default_str();
+  c->add_option("--zoom", o->zoom, "camera zoom factor")->check(finite_range(0.01, 100))->capture_default_str();
+  c->add_option("--samples", o->samples, "MSAA samples")->check(int_range(0, 8))->capture_default_str();
   c->add_flag("--fixed-camera", o->fixed_camera, "keep the camera still instead of following the body");
   c->add_option("--stem", o->stem, "PNG file name stem (default: the scene file's name)");
   return [o]() {
@@ -82,13 +90,17 @@ Command add_render_command(CLI::App& app) {
     h.out_dir = o->out;
     h.stem = o->stem.empty() ? std::filesystem::path(o->scene).stem().string() : o->stem;
     h.context.backend = o->context;
-    h.context.cuda_device = o->backend == "cpu" ? -1 : 0;
+    check_output_dir(h.out_dir, "--out");  // before meshing
+    const Scene s = load_scene(o->scene, o->set);
     std::error_code ec;
     std::filesystem::create_directories(h.out_dir, ec);
-    if (ec) throw InputError(h.out_dir + ": cannot create directory: " + ec.message());
-
-    const Scene s = load_scene(o->scene, o->set);
-    Simulation sim(s, o->backend);
+    if (ec) throw InputError("--out " + h.out_dir + ": cannot create directory: " + ec.message());
+    install_stop_signals();
+    h.should_stop = [] { return stop_requested(); };
+    const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
+    Simulation& sim = *sim_owner;
+    h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
+    for (double t : h.times) (void)checked_step_count(t, sim.time_step().dt, "--at");  // before the GL context
     const TimeStepInfo& ts = sim.time_step();
     std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
                 sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.dt * 1e6, ts.dt_cr * 1e6,
@@ -116,8 +128,16 @@ Command add_render_command(CLI::App& app) {
       sim_total += f.sim_s;
       });
     } catch (const SimulationDiverged& e) {
-      throw InputError(std::string("simulation diverged: ") + e.what());
+      std::fprintf(stderr, "softtled: simulation diverged: %s\n", e.what());
+      return int(kExitDiverged);
     }
+    if (info.stopped || stop_requested()) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s; %zu complete PNGs in %s\n", stop_signal(), sim.time(),
+                   frames.size(), h.out_dir.c_str());
+      return exit_code_for_signal(stop_signal());
+    }
+    if (frames.empty()) return 0;
     const double n = double(frames.size());
     std::printf("frame time: %.2f ms mean (vertices %.2f ms, draw/readback %.2f ms) over %zu frames; simulation %.1f us/step\n",
                 (draw_total + upload_total) / n * 1e3, upload_total / n * 1e3, draw_total / n * 1e3, frames.size(),

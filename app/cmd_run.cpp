@@ -5,13 +5,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
+#include <string>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
+#include "sim/io/output_file.h"
+#include "sim/io/vtu_writer.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
-#include "sim/io/vtu_writer.h"
 
 namespace softtled {
 
@@ -19,97 +21,158 @@ namespace {
 // One row per output time (README, "Command line"). ke is computed from the integrator's
 // half-step velocity du/dt, the mean velocity over the last step (t - dt, t), not the
 // velocity at t: in free fall it lags by g dt / 2 (Diagnostics::ke).
-void write_csv_header(std::ostream& o, int ntracked) {
-  o << "t,cx,cy,cz,min_gap,ke,se,pe,n_contact,n_stick,max_u";
-  for (int j = 0; j < ntracked; ++j) o << ",n" << j << "_ux,n" << j << "_uy,n" << j << "_uz";
-  o << '\n';
+std::string csv_header(int ntracked) {
+  std::string h = "t,cx,cy,cz,min_gap,ke,se,pe,n_contact,n_stick,max_u";
+  for (int j = 0; j < ntracked; ++j)
+    h += ",n" + std::to_string(j) + "_ux,n" + std::to_string(j) + "_uy,n" + std::to_string(j) + "_uz";
+  return h + '\n';
 }
-void write_csv_row(std::ostream& o, const Diagnostics& d) {
+// t with time_decimals(dt) decimals: consecutive rows stay distinct at any dt.
+std::string csv_row(const Diagnostics& d, int t_decimals) {
   char buf[512];
-  std::snprintf(buf, sizeof buf, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g", d.t, d.centroid[0], d.centroid[1],
-                d.centroid[2], d.min_gap, d.ke, d.se, d.pe, d.n_contact, d.n_stick, d.max_u);
-  o << buf;
+  std::snprintf(buf, sizeof buf, "%.*f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g", t_decimals, d.t, d.centroid[0],
+                d.centroid[1], d.centroid[2], d.min_gap, d.ke, d.se, d.pe, d.n_contact, d.n_stick, d.max_u);
+  std::string row = buf;
   for (double v : d.tracked) {
     std::snprintf(buf, sizeof buf, ",%.9g", v);
-    o << buf;
+    row += buf;
   }
-  o << '\n';
+  return row + '\n';
 }
+
+// Steps per advance() call at most, so that a signal is answered within one such chunk
+// even when time.output_every spans millions of steps.
+constexpr long kMaxChunkSteps = 20000;
+// Warn when the run is estimated to take longer than this [s] of wall time.
+constexpr double kLongRunWarnS = 300;
+// At most this many CSV rows / VTU frames (time.duration / time.output_every).
+constexpr double kMaxOutputRows = 1e8;
 }  // namespace
 
 Command add_run_command(CLI::App& app) {
   struct Opts {
     std::string scene, csv, vtu, backend = "auto";
-    int every = 1;
+    long every = 1;
     std::vector<std::string> set;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("run", "run a scene headless and print a summary");
   c->add_option("--scene", o->scene, "scene file (TOML)")->required();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  c->add_option("--csv", o->csv, "write one row per output time");
-  c->add_option("--backend", o->backend, "cpu, cuda or auto");
+  c->add_option("--csv", o->csv, "write one row per output time to this file ('-': standard output; the summary then goes to stderr)");
+  c->add_option("--backend", o->backend, "cpu, cuda or auto")->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--vtu", o->vtu, "write a ParaView series (DIR/frame_*.vtu + DIR/series.pvd)");
-  c->add_option("--every", o->every, "with --vtu: one frame per N output times")->check(CLI::PositiveNumber);
+  c->add_option("--every", o->every, "with --vtu: one frame per N output times")->check(int_range(1, 1000000000))->capture_default_str();
   return [o]() {
+    // Every output path is checked before anything is read, meshed or truncated.
+    if (!o->csv.empty()) check_output_file(o->csv, "--csv", true);
+    if (!o->vtu.empty()) check_output_dir(o->vtu, "--vtu");
     const Scene s = load_scene(o->scene, o->set);
-    Simulation sim(s, o->backend);
+    install_stop_signals();
+    const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
+    Simulation& sim = *sim_owner;
     const TimeStepInfo& ts = sim.time_step();
+    const double dt = ts.dt;
+    const long total = checked_step_count(s.duration, dt, s.source + ": time.duration");
+    const long every = std::max(1L, std::min(total > 0 ? total : 1L, std::lround(std::min(s.output_every / dt, kMaxRunSteps))));
+    if (s.duration / std::max(s.output_every, dt) > kMaxOutputRows)
+      throw InputError(s.source + ": time.output_every: " + std::to_string(s.duration / std::max(s.output_every, dt)) +
+                       " output rows for time.duration " + std::to_string(s.duration) + " s, above the limit of 1e8");
     std::fprintf(stderr,
                  "mesh: %d nodes, %d tets, %zu surface nodes; c = %.3g m/s, Le_min = %.4g mm\n"
                  "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
                  ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6, ts.dt * 1e6, ts.dt / ts.dt_cr,
                  sim.backend().c_str(), precision_name(s.precision));
-    std::ofstream csv;
+    const int t_dec = time_decimals(dt);
+    std::unique_ptr<OutputFile> csv;
+    long rows = 0;
+    auto write_row = [&](const Diagnostics& d) {
+      if (!csv) return;
+      csv->write(csv_row(d, t_dec));
+      csv->flush();  // a stop or a full disk leaves only whole rows, and is seen at once
+      ++rows;
+    };
     if (!o->csv.empty()) {
-      csv.open(o->csv);
-      if (!csv) throw InputError(o->csv + ": cannot write");
-      write_csv_header(csv, int(sim.tracked_nodes().size()));
+      csv = std::make_unique<OutputFile>(o->csv);
+      csv->write(csv_header(int(sim.tracked_nodes().size())));
     }
+    FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     std::unique_ptr<VtuSeries> vtu;
-    int out_index = 0;
+    long out_index = 0;
     auto write_frame = [&] {
       if (!vtu || out_index++ % o->every) return;
       vtu->add(sim.time(), sim.mesh(), sim.state(), sim.time_step().dt,
                neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
+    auto written = [&]() {
+      std::string w;
+      if (csv) w += std::to_string(rows) + " CSV rows to " + (csv->is_stdout() ? std::string("stdout") : o->csv);
+      if (vtu) w += std::string(w.empty() ? "" : ", ") + std::to_string(vtu->size()) + " frames to " + o->vtu + "/series.pvd";
+      return w.empty() ? std::string("no output files") : w;
+    };
     write_frame();
     const bool tty = isatty(2);
-    const double dt = ts.dt;
-    const long total = std::lround(s.duration / dt);
-    const long every = std::max(1L, std::lround(s.output_every / dt));
     const auto t0 = std::chrono::steady_clock::now();
+    auto wall_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     Diagnostics d = sim.diagnostics();
-    if (csv) write_csv_row(csv, d);
+    write_row(d);
     double min_gap = d.min_gap, max_ke = d.ke;
     int max_contact = 0;
-    for (long done = 0; done < total;) {
+    bool warned = false;
+    for (long done = 0; done < total && !stop_requested();) {
       const long n = std::min(every, total - done);
+      long k = 0;
       try {
-        sim.advance(n, n);
+        // The output interval in chunks, so that a signal is answered within one chunk;
+        // the watchdog checks at the end of each.
+        while (k < n && !stop_requested()) {
+          const long m = std::min(kMaxChunkSteps, n - k);
+          sim.advance(m, m);
+          k += m;
+        }
       } catch (const SimulationDiverged& e) {
         if (tty) std::fprintf(stderr, "\n");
         std::fprintf(stderr, "softtled: %s\n", e.what());
-        if (csv) write_csv_row(csv, sim.diagnostics());  // the rolled-back, last healthy state
-        return 4;
+        write_row(sim.diagnostics());  // the rolled-back, last healthy state
+        if (csv) csv->close();
+        return int(kExitDiverged);
       }
-      done += n;
+      done += k;
+      if (k < n) break;  // stopped inside an output interval: rows and frames stay on output times
       d = sim.diagnostics();
       write_frame();
-      if (csv) write_csv_row(csv, d);
+      write_row(d);
       min_gap = std::min(min_gap, d.min_gap);
       max_ke = std::max(max_ke, d.ke);
       max_contact = std::max(max_contact, d.n_contact);
+      const double w = wall_s();
+      if (!warned && w > 2 && done < total) {
+        const double left = w / double(done) * double(total - done);
+        warned = true;
+        if (left > kLongRunWarnS)
+          std::fprintf(stderr,
+                       "%swarning: this run will take about %.0f more minutes of wall time (%ld steps at %.3g us/step); "
+                       "Ctrl-C stops it and keeps the output written so far\n",
+                       tty ? "\n" : "", left / 60, total - done, w / double(done) * 1e6);
+      }
       if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * done / total);
     }
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (tty) std::fprintf(stderr, "\n");
-    std::printf("simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t, total,
-                dt * 1e6, wall, wall / std::max(1L, total) * 1e6, d.t / wall);
-    std::printf("final centroid (%.3f, %.3f, %.3f) mm, min gap over run %.4f mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
-                d.centroid[0] * 1e3, d.centroid[1] * 1e3, d.centroid[2] * 1e3, min_gap * 1e3, max_contact, max_ke, d.ke);
+    if (csv) csv->close();
+    if (stop_requested()) {
+      std::fprintf(stderr, "softtled: stopped by signal %d at t = %.*f s of %g s; wrote %s\n", stop_signal(), t_dec,
+                   sim.time(), s.duration, written().c_str());
+      return exit_code_for_signal(stop_signal());
+    }
+    const double wall = wall_s();
+    std::fprintf(summary, "simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t,
+                 total, dt * 1e6, wall, wall / double(std::max(1L, total)) * 1e6, d.t / wall);
+    std::fprintf(summary,
+                 "final centroid (%.6g, %.6g, %.6g) mm, min gap over run %.6g mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
+                 d.centroid[0] * 1e3, d.centroid[1] * 1e3, d.centroid[2] * 1e3, min_gap * 1e3, max_contact, max_ke, d.ke);
+    if (csv || vtu) std::fprintf(summary, "wrote %s\n", written().c_str());
     return 0;
   };
 }

@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <memory>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
+#include "sim/io/output_file.h"
 #include "sim/mesh/surface_mesh.h"
 #include "app/viewer_app.h"
 
@@ -34,17 +36,23 @@ Command add_view_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("view", "open the interactive viewer (GLFW window, Dear ImGui panel)");
   c->add_option("--scene", o->scene, "scene file (TOML); default assets/scenes/torus_drop.toml");
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")->capture_default_str();
+  c->add_option("--backend", o->backend, "solver backend: cpu, cuda or auto")
+      ->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--size", *size, "window size WxH")->capture_default_str();
   c->add_flag("--paused", o->paused, "start paused");
-  c->add_option("--substeps", o->substeps, "fixed steps per frame (default: follow wall time)");
-  c->add_option("--time-scale", o->time_scale, "simulated seconds per wall second when following wall time")->capture_default_str();
-  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")->capture_default_str();
+  c->add_option("--substeps", o->substeps, "fixed steps per frame (default 0: follow wall time)")->check(int_range(0, 100000));
+  c->add_option("--time-scale", o->time_scale, "simulated seconds per wall second when following wall time")
+      ->check(finite_range(1e-6, 1e3))->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")
+      ->check(CLI::IsMember({"shaded", "displacement", "contact"}))->capture_default_str();
   c->add_option("--screenshot-dir", o->screenshot_dir, "where P writes softtled_view_NNN.png")->capture_default_str();
-  c->add_option("--quit-after", o->quit_after, "close after this many seconds (for tests)");
+  c->add_option("--quit-after", o->quit_after, "close after this many seconds (for tests; 0: never)")->check(finite_range(0, 1e6));
   return [o, size]() {
-    if (std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2 || o->width < 320 || o->height < 240)
-      throw InputError("--size '" + *size + "': expected WxH of at least 320x240");
+    char rest = 0;
+    if (std::sscanf(size->c_str(), "%dx%d%c", &o->width, &o->height, &rest) != 2 || o->width < 320 || o->height < 240 ||
+        o->width > 16384 || o->height > 16384)
+      throw InputError("--size '" + *size + "': expected WxH from 320x240 to 16384x16384");
+    check_output_dir(o->screenshot_dir, "--screenshot-dir");
     if (o->scene.empty()) o->scene = default_scene();
     if (!(o->time_scale > 0)) throw InputError("--time-scale must be positive");
     return run_viewer(*o);

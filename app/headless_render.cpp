@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
+#include "app/cli_support.h"
 #include "app/render_handoff.h"
+#include "sim/io/output_file.h"
 #include "render/offscreen_target.h"
 
 namespace softtled {
@@ -28,7 +32,12 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
   co.width = o.width;
   co.height = o.height;
   co.visible = false;
-  auto ctx = make_gl_context(co);
+  std::unique_ptr<GlContext> ctx;
+  try {
+    ctx = make_gl_context(co);
+  } catch (const std::exception& e) {  // no EGL device / display: the machine, not the input
+    throw ResourceError(std::string("cannot create a ") + co.backend + " GL context: " + e.what());
+  }
   if (info) {
     info->renderer = gl_renderer_string();
     info->platform = ctx->platform();
@@ -51,14 +60,26 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
 
     std::vector<HeadlessFrame> frames;
     for (double t : o.times) {
+      if (o.should_stop && o.should_stop()) {
+        if (info) info->stopped = true;
+        return frames;
+      }
       HeadlessFrame f;
       f.t = t;
       const double dt = sim.params().dt;
-      const long n = std::max(0L, std::lround((t - sim.time()) / dt));
+      const long n = t > sim.time() ? checked_step_count(t - sim.time(), dt, "time " + frame_file_name("", t)) : 0;
       // Timed to the end of diagnostics(), which reads the state back: a GPU backend's
       // step() only queues work.
       auto t0 = Clock::now();
-      sim.advance(n, 2000);  // watchdog: throws SimulationDiverged with the cause
+      for (long k = 0; k < n;) {  // in chunks, so that a stop request is answered within one
+        if (o.should_stop && o.should_stop()) {
+          if (info) info->stopped = true;
+          return frames;
+        }
+        const long m = std::min(2000L, n - k);
+        sim.advance(m, 2000);  // watchdog: throws SimulationDiverged with the cause
+        k += m;
+      }
       f.steps = n;
       const Diagnostics d = sim.diagnostics();
       f.sim_s = seconds_since(t0);
@@ -83,7 +104,19 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       if (!o.out_dir.empty()) {
         t0 = Clock::now();
         f.path = o.out_dir + "/" + frame_file_name(o.stem, t);
-        write_png(f.path, f.image);
+        // To PATH.tmp, renamed when complete: no half-written PNG under the frame's name.
+        const std::string tmp = f.path + ".tmp";
+        try {
+          write_png(tmp, f.image);
+        } catch (const std::exception&) {
+          std::remove(tmp.c_str());
+          throw ResourceError(f.path + ": cannot write PNG: " + std::strerror(errno));
+        }
+        if (std::rename(tmp.c_str(), f.path.c_str()) != 0) {
+          const int e = errno;
+          std::remove(tmp.c_str());
+          throw ResourceError(f.path + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
+        }
         f.png_s = seconds_since(t0);
       }
       if (on_frame) on_frame(f);

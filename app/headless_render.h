@@ -26,6 +26,7 @@ struct HeadlessOptions {
   float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // camera relative to default_camera
   bool follow = true;             // the camera target follows the body's centroid
   ContextOptions context;         // backend "egl" (default) or "glfw" (hidden window)
+  std::function<bool()> should_stop;  // polled between frames and every 2000 steps
 };
 
 struct HeadlessFrame {
@@ -44,9 +45,12 @@ struct HeadlessInfo {
   std::string platform;           // which EGL display
   std::string vertex_path;        // "interop" | "staging" | "host"
   int samples = 0;
+  bool stopped = false;           // should_stop() ended the loop early
 };
 
-// Throws std::runtime_error when no context can be made; on_frame sees each frame
+// Throws ResourceError when no context can be made (no EGL device, no display) or a PNG
+// cannot be written (each goes to NAME.tmp and is renamed when complete); InputError when
+// a time is too far for the step count (checked_step_count). on_frame sees each frame
 // as soon as it is written (the image is moved into the returned vector afterwards).
 std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info = nullptr,
                                            const std::function<void(const HeadlessFrame&)>& on_frame = {});

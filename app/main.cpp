@@ -1,39 +1,81 @@
-// softtled: command-line entry. Sub-commands live in cmd_*.cpp; every user-facing input
-// problem arrives here as an InputError and becomes a one-line message and exit code 2.
+// softtled: command-line entry. Sub-commands live in cmd_*.cpp. Every failure ends here as
+// one "softtled: error: ..." line and an exit code (cli_support.h, README "Exit codes"):
+// usage errors and InputErrors 2, resource problems 5, a stop by signal 130/143.
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <map>
+#include <new>
 #include <string>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
+#include "sim/io/output_file.h"
 #include "sim/mesh/surface_mesh.h"
 
+#ifndef SOFTTLED_VERSION
+#define SOFTTLED_VERSION "unknown"
+#endif
+
 int main(int argc, char** argv) {
-  CLI::App app{"SoftTLED: real-time soft-body simulation (TLED, Neo-Hookean, plane contact)"};
+  using namespace softtled;
+  CLI::App app{"SoftTLED: real-time soft-body simulation (TLED, Neo-Hookean, plane contact)\n"
+               "Exit codes: 0 success, 2 bad input or usage, 3 internal error, 4 the watchdog stopped a diverging run,\n"
+               "5 resource (out of memory, disk full or write error, no display/EGL), 130/143 stopped by SIGINT/SIGTERM."};
   app.require_subcommand(1);
-  std::map<std::string, softtled::Command> commands;
-  commands["mesh"] = softtled::add_mesh_command(app);
-  commands["run"] = softtled::add_run_command(app);
-  commands["accuracy"] = softtled::add_accuracy_command(app);
-  commands["bench"] = softtled::add_bench_command(app);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("softtled: error: ") + e.what() + "\nRun with --help for more information.\n";
+  });
+  app.set_version_flag("--version", "softtled " SOFTTLED_VERSION);
+  app.add_flag("-v,--verbose", g_verbose, "print notices (e.g. why backend auto chose the CPU)");
+  std::map<std::string, Command> commands;
+  commands["mesh"] = add_mesh_command(app);
+  commands["run"] = add_run_command(app);
+  commands["accuracy"] = add_accuracy_command(app);
+  commands["bench"] = add_bench_command(app);
 #ifdef SOFTTLED_HAVE_RENDER
-  commands["render"] = softtled::add_render_command(app);
-  commands["view"] = softtled::add_view_command(app);
+  commands["render"] = add_render_command(app);
+  commands["view"] = add_view_command(app);
 #endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every usage error (CLI11's 101..) is bad input.
+    const int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitInput;
   }
+  auto stopped = [](const char* what) {
+    const int sig = stop_signal();
+    std::fprintf(stderr, "softtled: stopped by signal %d (%s)\n", sig, what);
+    return exit_code_for_signal(sig);
+  };
   try {
-    for (auto* sub : app.get_subcommands()) return commands.at(sub->get_name())();
-  } catch (const softtled::InputError& e) {
+    for (auto* sub : app.get_subcommands()) {
+      const int rc = commands.at(sub->get_name())();
+      // The summary and tables on stdout are output too: a full disk must not pass silently.
+      errno = 0;
+      if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+        std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", errno ? ": " : "",
+                     errno ? std::strerror(errno) : "");
+        return kExitResource;
+      }
+      return rc;
+    }
+  } catch (const InputError& e) {
+    if (stop_requested()) return stopped(e.what());  // e.g. TetGen's child ended by the same Ctrl-C
     std::fprintf(stderr, "softtled: error: %s\n", e.what());
-    return 2;
+    return kExitInput;
+  } catch (const ResourceError& e) {
+    std::fprintf(stderr, "softtled: error: %s\n", e.what());
+    return kExitResource;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "softtled: error: out of memory (std::bad_alloc); use a coarser mesh or a smaller mesh.max_tets\n");
+    return kExitResource;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "softtled: internal error: %s\n", e.what());
-    return 3;
+    return kExitInternal;
   }
   return 1;
 }

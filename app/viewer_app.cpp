@@ -1,5 +1,8 @@
 #include "app/viewer_app.h"
 
+#include "app/cli_support.h"
+#include "sim/io/output_file.h"
+
 // clang-format off
 #include "render/gl.h"  // GLEW before GLFW and the ImGui backends
 #include <GLFW/glfw3.h>
@@ -39,7 +42,7 @@ class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : opt_(o) {
     scene_ = load_scene(o.scene, o.set);
-    sim_ = std::make_unique<Simulation>(scene_, o.backend);
+    sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend));
     settings_from_scene();
     set_.paused = o.paused;
     if (o.substeps > 0) set_.fixed_substeps = true, set_.substeps = o.substeps;
@@ -53,7 +56,12 @@ class Viewer {
     co.width = o.width;
     co.height = o.height;
     co.title = "SoftTLED - " + std::filesystem::path(o.scene).filename().string();
-    ctx_ = make_gl_context(co);
+    try {
+      ctx_ = make_gl_context(co);
+    } catch (const std::exception& e) {  // no display, no GL: the machine, not the input
+      throw ResourceError(std::string("cannot open a window (GLFW needs a display; set DISPLAY or use `softtled render`): ") +
+                          e.what());
+    }
     win_ = ctx_->glfw_window();
 
     // Key presses are queued by our own callback (ImGui's backend chains to it): Dear

@@ -1,5 +1,9 @@
 #include "sim/io/vtu_writer.h"
 
+#include <sstream>
+
+#include "sim/io/output_file.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,8 +31,7 @@ Mat3<double> element_F(const TetMesh& m, const std::vector<double>* u, int e) {
 }  // namespace
 
 void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, double dt, const NeoHookean<double>& mat) {
-  std::ofstream o(path);
-  if (!o) throw InputError(path + ": cannot write");
+  std::ostringstream o;
   const int n = m.nnode(), ne = m.ntet();
   o.precision(9);
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -78,7 +81,7 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
   o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
   for (double v : vm) o << v << '\n';
   o << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  if (!o) throw InputError(path + ": write failed");
+  write_file_atomic(path, o.str());  // PATH.tmp, renamed when complete
 }
 
 VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
@@ -92,11 +95,12 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, c
   std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
   write_vtu(dir_ + "/" + name, m, &s, dt, mat);
   frames_.emplace_back(t, name);
-  std::ofstream o(dir_ + "/series.pvd");
-  o.precision(9);
+  std::ostringstream o;
+  o.precision(17);
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
   for (const auto& [ft, f] : frames_) o << "<DataSet timestep=\"" << ft << "\" file=\"" << f << "\"/>\n";
   o << "</Collection>\n</VTKFile>\n";
+  write_file_atomic(dir_ + "/series.pvd", o.str());  // always a complete index of complete frames
 }
 
 }  // namespace softtled

@@ -11,14 +11,20 @@
 namespace softtled {
 
 // state may be null: the rest mesh alone. dt converts the increment du to a velocity.
+// Written atomically (PATH.tmp, then renamed); write errors are ResourceErrors.
 void write_vtu(const std::string& path, const TetMesh& m, const HostState* state, double dt,
                const NeoHookean<double>& mat);
 
-// Collects frames and keeps DIR/series.pvd up to date after each one.
+// Collects frames and keeps DIR/series.pvd up to date after each one. Every file is
+// written to NAME.tmp and renamed when complete (output_file.h), so after any stop the
+// directory holds whole frames and a .pvd that lists exactly those; write errors are
+// ResourceErrors naming the file.
 class VtuSeries {
  public:
   explicit VtuSeries(std::string dir);
   void add(double t, const TetMesh& m, const HostState& s, double dt, const NeoHookean<double>& mat);
+  std::size_t size() const { return frames_.size(); }
+  const std::string& dir() const { return dir_; }
 
  private:
   std::string dir_;

@@ -1,4 +1,5 @@
 #include "sim/mesh/surface_io.h"
+#include "sim/io/output_file.h"
 
 #include <algorithm>
 #include <cctype>
@@ -448,14 +449,11 @@ SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes) {
 }
 
 void write_obj(const SurfaceMesh& s, const std::string& path) {
-  std::ofstream o(path);
-  if (!o) throw InputError(path + ": cannot write: " + std::strerror(errno));
+  std::ostringstream o;
   o.precision(17);
   for (int i = 0; i < s.npoint(); ++i) o << "v " << s.xyz[3 * i] << ' ' << s.xyz[3 * i + 1] << ' ' << s.xyz[3 * i + 2] << '\n';
   for (int t = 0; t < s.ntri(); ++t) o << "f " << s.tri[3 * t] + 1 << ' ' << s.tri[3 * t + 1] + 1 << ' ' << s.tri[3 * t + 2] + 1 << '\n';
-  errno = 0;
-  o.close();  // flushes: a full disk shows here
-  if (!o) throw InputError(path + ": write failed" + (errno ? std::string(": ") + std::strerror(errno) : std::string()));
+  write_file_atomic(path, o.str());  // every write checked: ResourceError naming the file and the OS reason
 }
 
 }  // namespace softtled

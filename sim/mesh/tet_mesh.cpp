@@ -1,4 +1,7 @@
 #include "sim/mesh/tet_mesh.h"
+#include "sim/io/output_file.h"
+
+#include <sstream>
 
 #include <algorithm>
 #include <array>
@@ -131,14 +134,15 @@ MeshQuality measure_quality(const TetMesh& m) {
 }
 
 void write_tetgen_files(const TetMesh& m, const std::string& base) {
-  std::ofstream nd(base + ".node"), el(base + ".ele");
-  if (!nd || !el) throw InputError(base + ": cannot write .node/.ele");
+  std::ostringstream nd, el;
   nd.precision(17);
   nd << m.nnode() << " 3 0 0\n";
   for (int i = 0; i < m.nnode(); ++i) nd << i << ' ' << m.X[3 * i] << ' ' << m.X[3 * i + 1] << ' ' << m.X[3 * i + 2] << '\n';
   el << m.ntet() << " 4 0\n";
   for (int e = 0; e < m.ntet(); ++e)
     el << e << ' ' << m.tet[4 * e] << ' ' << m.tet[4 * e + 1] << ' ' << m.tet[4 * e + 2] << ' ' << m.tet[4 * e + 3] << '\n';
+  write_file_atomic(base + ".node", nd.str());  // checked; ResourceError naming the file
+  write_file_atomic(base + ".ele", el.str());
 }
 
 }  // namespace softtled

@@ -1,4 +1,5 @@
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/io/output_file.h"  // ResourceError
 
 #include <algorithm>
 #include <cerrno>
@@ -8,6 +9,7 @@
 #include <cstring>
 #include <cctype>
 #include <cmath>
+#include <new>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -167,8 +169,7 @@ std::string format(const Switches& s) {
 
 std::string tetgen_switches(const TetgenOptions& o) { return format(resolve(o)); }
 
-void check_surface_for_meshing(const SurfaceMesh& surface) {
-  const std::string what = "surface to mesh";
+void check_surface_for_meshing(const SurfaceMesh& surface, const std::string& what) {
   auto fail = [&](const std::string& msg) { throw InputError(what + ": " + msg); };
   for (std::size_t i = 0; i < surface.xyz.size(); ++i)
     if (!std::isfinite(surface.xyz[i])) fail("vertex " + std::to_string(i / 3) + " has a NaN or infinite coordinate");
@@ -331,6 +332,9 @@ bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_po
   } catch (int code) {
     h.status = TetgenRun::kThrew;
     h.code = code;
+  } catch (const std::bad_alloc&) {
+    h.status = TetgenRun::kThrew;
+    h.code = 1;  // TetGen's own code for out of memory
   } catch (...) {
     h.status = TetgenRun::kThrew;
     h.code = -1;
@@ -346,18 +350,18 @@ bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_po
 TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double time_limit_s, long max_points, long max_tets) {
   TetgenRun run;
   int fds[2], err[2];  // the result; TetGen's stderr (its assertion messages)
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw InputError(std::string("cannot start TetGen: pipe: ") + std::strerror(errno));
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw ResourceError(std::string("cannot start TetGen: pipe: ") + std::strerror(errno));
   if (::pipe2(err, O_CLOEXEC | O_NONBLOCK) != 0) {
     const int e = errno;
     ::close(fds[0]), ::close(fds[1]);
-    throw InputError(std::string("cannot start TetGen: pipe: ") + std::strerror(e));
+    throw ResourceError(std::string("cannot start TetGen: pipe: ") + std::strerror(e));
   }
   std::fflush(nullptr);  // the child must not inherit unwritten output
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int e = errno;
     ::close(fds[0]), ::close(fds[1]), ::close(err[0]), ::close(err[1]);
-    throw InputError(std::string("cannot start TetGen: fork: ") + std::strerror(e));
+    throw ResourceError(std::string("cannot start TetGen: fork: ") + std::strerror(e));
   }
   if (pid == 0) {
     // TetGen prints warnings on stdout, which may be the program's data stream (--csv -):
@@ -474,6 +478,8 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
                         : code == 5 ? "two very close input facets"
                         : code == 10 ? "an input error"
                                      : "unknown failure";
+      if (code == 1)  // the machine, not the input (exit code 5 in the CLI)
+        throw ResourceError("TetGen (-" + sw + ") ran out of memory; use a coarser mesh (mesh.max_volume, mesh.max_tets)");
       throw InputError("TetGen (-" + sw + ") failed with code " + std::to_string(code) + ": " + why);
     }
     case TetgenRun::kCrashed:

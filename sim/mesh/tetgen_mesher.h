@@ -66,9 +66,9 @@ constexpr double kMinHeightPerExtent = 1e-7;           // smallest triangle heig
 
 // Throws InputError unless the surface is fit for TetGen: closed, manifold and
 // consistently oriented (check_and_orient_closed_surface), finite, and inside the ranges
-// above. Messages start with "surface to mesh: " so that a caller can say what put the
-// surface there (body.scale, body.position, body.rotation_deg).
-void check_surface_for_meshing(const SurfaceMesh& s);
+// above. Messages start with `what` + ": " ("surface to mesh" by default) so that a caller
+// can say what put the surface there (scene_surface: "SCENE: body.position/...").
+void check_surface_for_meshing(const SurfaceMesh& s, const std::string& what = "surface to mesh");
 
 // Estimated number of tets TetGen makes for this surface and these options (checked
 // first). Calibrated with TetGen 1.5 on tori, boxes, spheres and plates: within a factor

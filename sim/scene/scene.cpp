@@ -8,6 +8,7 @@
 
 #include <toml++/toml.h>
 
+#include "sim/mesh/surface_io.h"
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
@@ -191,6 +192,37 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   target->insert_or_assign(leaf, *parsed["v"].node());
 }
 
+// [mesh]: the TetGen options, with the ranges of the switch grammar (tetgen_mesher.h),
+// then the switches TetGen would run with, so that every mesh.* problem is reported here,
+// prefixed with the scene file, before any surface is built.
+void read_mesh_keys(Reader& r, Scene& s) {
+  s.tetgen.radius_edge = r.num("mesh.radius_edge", 2.0, 0, kMaxRadiusEdge);
+  if (s.tetgen.radius_edge > 0 && s.tetgen.radius_edge < kMinRadiusEdge)
+    r.fail("mesh.radius_edge", "must be 0 (no quality bound) or in 1.1..1000 (TetGen does not terminate below 1.1)");
+  s.tetgen.min_dihedral = r.num("mesh.min_dihedral_deg", 0.0, 0, kMaxMinDihedralDeg);
+  if (s.tetgen.min_dihedral > 0 && s.tetgen.min_dihedral < 0.001)
+    r.fail("mesh.min_dihedral_deg", "must be 0 (TetGen's default) or in 0.001..20 degrees");
+  s.tetgen.max_volume = r.num("mesh.max_volume", 0.0, 0, INFINITY);
+  s.tetgen.keep_boundary = r.boolean("mesh.keep_boundary", false);
+  {
+    const toml::node* n = r.get("mesh.switches");
+    if (n && n->as_string() && n->as_string()->get().size() > kMaxSwitchesLength)
+      r.fail("mesh.switches", "at most " + std::to_string(kMaxSwitchesLength) + " characters, got " +
+                                  std::to_string(n->as_string()->get().size()));
+  }
+  s.tetgen.switches = r.str("mesh.switches", "");
+  s.tetgen.max_tets = r.integer("mesh.max_tets", int(kDefaultMaxTets), 1, int(kMaxTetsLimit));
+  s.tetgen.time_limit_s = r.num("mesh.time_limit_s", kDefaultTetgenTimeLimitS, 0, 1e6);
+  s.mesh_cache = r.boolean("mesh.cache", true);
+  TetgenOptions o = s.tetgen;  // as scene_tetgen_options: max_volume in m^3
+  o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
+  try {
+    (void)tetgen_switches(o);
+  } catch (const InputError& e) {
+    throw InputError(s.source + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
@@ -226,13 +258,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (s.shape == "torus" && !(s.tube_radius < s.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
   if (s.shape == "file" && s.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
 
-  s.tetgen.radius_edge = r.num("mesh.radius_edge", 2.0, 0, 100);
-  if (s.tetgen.radius_edge > 0 && s.tetgen.radius_edge < 1.0) r.fail("mesh.radius_edge", "TetGen needs a radius-edge bound >= 1 (or 0 to disable)");
-  s.tetgen.min_dihedral = r.num("mesh.min_dihedral_deg", 0.0, 0, 30);
-  s.tetgen.max_volume = r.num("mesh.max_volume", 0.0, 0, INFINITY);
-  s.tetgen.keep_boundary = r.boolean("mesh.keep_boundary", false);
-  s.tetgen.switches = r.str("mesh.switches", "");
-  s.mesh_cache = r.boolean("mesh.cache", true);
+  read_mesh_keys(r, s);
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
     if (!arr) r.fail("fixed", "expected [[fixed]] tables");
@@ -338,11 +364,14 @@ const char* contact_mode_name(ContactMode m) { return name_of(kContactModes, m);
 const char* precision_name(Precision p) { return name_of(kPrecisions, p); }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path + ": cannot open scene file");
-  std::ostringstream buf;
-  buf << f.rdbuf();
-  return parse_scene(buf.str(), path, overrides);
+  // Regular files only, size-capped (a directory or FIFO is refused before it is opened).
+  std::string text;
+  try {
+    text = read_input_file(path, kMaxSceneBytes);
+  } catch (const InputError& e) {
+    throw InputError(std::string("scene file ") + e.what());
+  }
+  return parse_scene(text, path, overrides);
 }
 
 }  // namespace softtled

@@ -3,6 +3,7 @@
 // unknown keys, wrong types and out-of-range values are InputErrors naming the key.
 // Named modes are parsed into their enums here, once; *_name() gives the name back.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,10 @@ struct Scene {
 // a value that is not valid TOML is taken as a string (contact.mode=sliding).
 Scene parse_scene(const std::string& toml_text, const std::string& source,
                   const std::vector<std::string>& overrides = {});
+// Scene files larger than this are refused before they are read.
+constexpr std::uint64_t kMaxSceneBytes = 4ull << 20;
+// Reads a regular file of at most kMaxSceneBytes (read_input_file); errors name the path
+// and the OS reason ("scene file PATH: cannot open file: No such file or directory").
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // The scene file's names of the modes.

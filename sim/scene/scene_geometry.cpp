@@ -13,18 +13,27 @@ namespace softtled {
 
 SurfaceMesh scene_shape_surface(const Scene& s) {
   SurfaceMesh m;
-  if (s.shape == "torus") {
-    m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
-  } else if (s.shape == "box") {
-    m = make_box(s.size[0], s.size[1], s.size[2], s.divisions[0], s.divisions[1], s.divisions[2]);
-  } else if (s.shape == "sphere") {
-    m = make_sphere(s.radius, s.subdivisions);
-  } else {
-    std::string path = s.file;
-    const auto slash = s.source.find_last_of('/');
-    if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = s.source.substr(0, slash + 1) + path;
-    m = load_surface(path);
-    for (double& v : m.xyz) v *= s.scale;
+  // Generator and loader errors are prefixed with the scene file and the keys behind them.
+  const std::string keys = s.shape == "torus"    ? "body.major_radius/body.tube_radius/body.segments"
+                           : s.shape == "box"    ? "body.size/body.divisions"
+                           : s.shape == "sphere" ? "body.radius/body.subdivisions"
+                                                 : "body.file";
+  try {
+    if (s.shape == "torus") {
+      m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
+    } else if (s.shape == "box") {
+      m = make_box(s.size[0], s.size[1], s.size[2], s.divisions[0], s.divisions[1], s.divisions[2]);
+    } else if (s.shape == "sphere") {
+      m = make_sphere(s.radius, s.subdivisions);
+    } else {
+      std::string path = s.file;
+      const auto slash = s.source.find_last_of('/');
+      if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = s.source.substr(0, slash + 1) + path;
+      m = load_surface(path);
+      for (double& v : m.xyz) v *= s.scale;
+    }
+  } catch (const InputError& e) {
+    throw InputError(s.source + ": " + keys + ": " + e.what());
   }
   return m;
 }
@@ -48,7 +57,18 @@ void place_surface(const Scene& s, SurfaceMesh& m) {
 
 SurfaceMesh scene_surface(const Scene& s) {
   SurfaceMesh m = scene_shape_surface(s);
+  {  // the body's own shape in metres, before it is placed: its size comes from these keys
+    SurfaceMesh metres = m;
+    for (double& v : metres.xyz) v *= s.length_unit;
+    const char* keys = s.shape == "torus"  ? "body.major_radius/body.tube_radius/body.segments"
+                       : s.shape == "box"  ? "body.size/body.divisions"
+                       : s.shape == "sphere" ? "body.radius/body.subdivisions"
+                                           : "body.file/body.scale";
+    check_surface_for_meshing(metres, s.source + ": " + keys + " (units = \"" + (s.length_unit == 1 ? "m" : "mm") +
+                                          "\"): surface to mesh");
+  }
   place_surface(s, m);
+  check_surface_for_meshing(m, s.source + ": body.position/body.rotation_deg: surface to mesh");
   return m;
 }
 

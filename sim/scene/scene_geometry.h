@@ -16,6 +16,8 @@ namespace softtled {
 // The surface the scene describes, rotated and placed: scene_shape_surface (the body's
 // own shape in scene units: a generator, or the file scaled by body.scale) then
 // place_surface (body.rotation_deg about x, y, z, then body.position, then to metres).
+// Both stages are checked fit for TetGen (check_surface_for_meshing): InputErrors start
+// with "SCENE: body.scale: ..." (the shape's keys) or "SCENE: body.position/body.rotation_deg: ".
 SurfaceMesh scene_surface(const Scene& s);
 SurfaceMesh scene_shape_surface(const Scene& s);
 void place_surface(const Scene& s, SurfaceMesh& m);

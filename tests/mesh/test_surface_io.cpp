@@ -16,6 +16,7 @@
 
 #include "sim/mesh/surface_generators.h"
 #include "sim/mesh/surface_io.h"
+#include "sim/io/output_file.h"
 #include "sim/mesh/tetgen_mesher.h"
 
 using namespace softtled;
@@ -118,8 +119,8 @@ TEST(SurfaceFiles, ErrorsCarryTheOsReasonAndSizeIsCapped) {
   try {
     write_obj(make_box(1, 1, 1, 8, 8, 8), "/dev/full");
     ADD_FAILURE() << "write to /dev/full succeeded";
-  } catch (const InputError& err) {
-    EXPECT_NE(std::string(err.what()).find("No space left on device"), std::string::npos) << err.what();
+  } catch (const ResourceError& err) {
+    EXPECT_NE(std::string(err.what()).find("/dev/full: write failed: No space left on device"), std::string::npos) << err.what();
   }
   std::remove(f.c_str());
 }

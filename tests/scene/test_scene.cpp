@@ -4,6 +4,7 @@
 
 #include "scene_helpers.h"
 #include "sim/scene/scene.h"
+#include "sim/scene/scene_geometry.h"
 #include "sim/mesh/surface_mesh.h"
 
 using namespace softtled;
@@ -77,6 +78,69 @@ TEST(Scene, BadInputNamesTheKey) {
     load_scene("/nonexistent/scene.toml");
     ADD_FAILURE();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot open scene file"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("scene file /nonexistent/scene.toml: cannot open file: No such file or directory"),
+              std::string::npos)
+        << e.what();
   }
+  // Scene files go through the same reader as surfaces: regular files only, size-capped.
+  for (const char* p : {"/tmp", "/dev/null"}) {
+    try {
+      load_scene(p);
+      ADD_FAILURE() << p;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("scene file ") + p + ": not a regular file"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// The mesh.* keys: ranges of the switch grammar, the budget keys, key-named messages.
+TEST(Scene, MeshKeys) {
+  auto error_of = [](const std::string& toml) {
+    try {
+      parse_scene(toml, "s.toml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const Scene s = parse_scene("[mesh]\nmax_tets = 1234\ntime_limit_s = 5\nradius_edge = 1.1\nmin_dihedral_deg = 0.001\n", "s.toml");
+  EXPECT_EQ(s.tetgen.max_tets, 1234);
+  EXPECT_EQ(s.tetgen.time_limit_s, 5);
+  EXPECT_EQ(scene_tetgen_options(s).max_tets, 1234);
+  EXPECT_EQ(scene_tetgen_options(s).time_limit_s, 5);
+  EXPECT_NE(error_of("[mesh]\nmax_tets = 0\n").find("s.toml: mesh.max_tets: value out of range"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmax_tets = 1e9\n").find("s.toml: mesh.max_tets: expected an integer"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmax_tets = 300000000\n").find("mesh.max_tets: value out of range"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\ntime_limit_s = -1\n").find("s.toml: mesh.time_limit_s: value -1 out of range"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\ntime_limit_s = nan\n").find("mesh.time_limit_s: must be finite"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nradius_edge = 1.05\n").find("s.toml: mesh.radius_edge: must be 0"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nradius_edge = 1001\n").find("mesh.radius_edge: value 1001 out of range"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmin_dihedral_deg = 0.0005\n").find("s.toml: mesh.min_dihedral_deg: must be 0"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmin_dihedral_deg = 21\n").find("mesh.min_dihedral_deg: value 21 out of range"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nswitches = \"" + std::string(1500, 'q') + "\"\n").find("s.toml: mesh.switches: at most 64"),
+            std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nswitches = \"pT1\"\n").find("s.toml: mesh.switches: 'T' is not supported"), std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmax_volume = inf\n").find("mesh.max_volume: must be finite"), std::string::npos);
+}
+
+// scene_surface names the keys that put a surface out of TetGen's range.
+TEST(Scene, SurfaceErrorsNameTheKeys) {
+  auto error_of = [](const std::string& toml) {
+    try {
+      scene_surface(parse_scene(toml, "s.toml"));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("[body]\nposition = [1e15, 0, 0]\n").find("s.toml: body.position/body.rotation_deg: surface to mesh"),
+            std::string::npos);
+  EXPECT_NE(error_of("[body]\nshape = \"sphere\"\nradius = 1e-200\n").find("s.toml: body.radius/body.subdivisions"),
+            std::string::npos);
+  EXPECT_NE(error_of("[body]\nsegments = [4096, 4096]\n").find("s.toml: body.major_radius/body.tube_radius/body.segments"),
+            std::string::npos);
+  EXPECT_NE(error_of("[body]\nshape = \"file\"\nfile = \"/tmp\"\n").find("s.toml: body.file: /tmp: not a regular file"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[body]\nshape = \"box\"\n"), "no error");
 }

@@ -1,0 +1,56 @@
+#pragma once
+// What the sub-commands share: the exit codes, numeric validators for CLI11 options (the
+// range shows in --help), SIGINT/SIGTERM as a stop request, the backend choice and the
+// bounds on a run's step count.
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "sim/scene/simulation.h"
+
+namespace softtled {
+
+// README, "Exit codes".
+enum ExitCode {
+  kExitOk = 0,
+  kExitInput = 2,      // bad input or usage: the message names the file, key or flag
+  kExitInternal = 3,   // a bug
+  kExitDiverged = 4,   // the watchdog stopped a diverging run
+  kExitResource = 5,   // the machine: out of memory, disk full or write error, no display / EGL
+  kExitSigint = 130,   // stopped by SIGINT (128 + 2) after writing what it had
+  kExitSigterm = 143,  // stopped by SIGTERM (128 + 15)
+};
+
+// -v on the top-level command.
+extern bool g_verbose;
+
+// A finite number in [lo, hi] (NaN and infinities refused); shown in --help as "in [lo, hi]".
+CLI::Validator finite_range(double lo, double hi);
+// An integer option's range, shown in --help (CLI11 refuses values that overflow the type).
+CLI::Validator int_range(long lo, long hi);
+
+// SIGINT and SIGTERM set a flag that long loops poll (stop_requested) to finish the current
+// step, write what they have and return; a second signal ends the program at once.
+void install_stop_signals();
+int stop_signal();  // 0, SIGINT or SIGTERM
+inline bool stop_requested() { return stop_signal() != 0; }
+int exit_code_for_signal(int sig);
+
+// "auto" becomes "cuda" when a CUDA device is usable, else "cpu"; the reason is printed
+// only with -v (asking for "cuda" explicitly reports it as an error).
+std::string resolve_backend(const std::string& requested);
+
+// The Simulation of a scene on a backend (resolve_backend). InputErrors from meshing that
+// do not name the scene file yet ("mesh too large ...", "TetGen ... crashed") get it.
+std::unique_ptr<Simulation> make_simulation(const Scene& s, const std::string& backend);
+
+// Steps to cover `duration` at `dt` (rounded), refused with a message naming the keys when
+// it overflows, exceeds kMaxRunSteps, or is 0 for a positive duration.
+constexpr double kMaxRunSteps = 1e11;  // 1e11 steps: more than a day at 1 us/step
+long checked_step_count(double duration, double dt, const std::string& what);
+
+// The decimals the CSV and messages print times with: enough that consecutive output
+// times dt apart differ (3 significant digits of dt), at least 6.
+int time_decimals(double dt);
+
+}  // namespace softtled

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# signal_stop.sh SOFTTLED DATA
+# SIGTERM and SIGINT during `run --csv --vtu`: the run finishes its step, exits 143 / 130,
+# says what it wrote, and leaves only complete output: every CSV row whole (the field
+# count of the header, the file ends with a newline), as many rows as it reported, every
+# frame a complete .vtu listed by a parseable series.pvd, no temporary files. The run is
+# long enough for the wall-time warning, which must come first.
+set -u
+exe=$1 data=$2
+tmp=$(mktemp -d)
+pid=
+trap '[ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; echo "--- stderr"; cat "$tmp/err.txt"; exit 1; }
+
+stop_run() {  # SIGNAL EXPECTED_CODE
+  local sig=$1 want=$2
+  rm -rf "$tmp/vtu" "$tmp/out.csv" "$tmp/err.txt"
+  "$exe" run --scene "$data/surface.toml" --set time.duration=1e5 --set time.output_every=0.01 \
+    --csv "$tmp/out.csv" --vtu "$tmp/vtu" --every 100 >"$tmp/out.txt" 2>"$tmp/err.txt" &
+  pid=$!
+  # Wait (at most 120 s) for the warning and for a few frames.
+  for _ in $(seq 1200); do
+    if grep -q "warning: this run will take about" "$tmp/err.txt" && [ "$(ls "$tmp/vtu" 2>/dev/null | grep -c '\.vtu$')" -ge 3 ]; then
+      break
+    fi
+    kill -0 "$pid" 2>/dev/null || fail "run ended before the signal"
+    sleep 0.1
+  done
+  grep -q "warning: this run will take about" "$tmp/err.txt" || fail "no wall-time warning for a run of 1e5 s"
+  kill -"$sig" "$pid"
+  wait "$pid"
+  local rc=$?
+  pid=
+  [ "$rc" -eq "$want" ] || fail "SIG$sig: exit code $rc, wanted $want"
+  grep -q "softtled: stopped by signal" "$tmp/err.txt" || fail "SIG$sig: no 'stopped by signal' message"
+  local rows
+  rows=$(sed -n 's/.*wrote \([0-9]*\) CSV rows to.*/\1/p' "$tmp/err.txt")
+  [ -n "$rows" ] || fail "SIG$sig: the message does not say how many rows were written"
+  python3 - "$tmp/out.csv" "$rows" "$tmp/vtu" <<'PY' || fail "SIG$sig: incomplete output"
+import os, sys, xml.etree.ElementTree as ET
+csv, rows, vtu = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+data = open(csv).read()
+assert data.endswith("\n"), "CSV does not end with a newline (half-written row)"
+lines = data.splitlines()
+n = len(lines[0].split(","))
+for i, l in enumerate(lines):
+    assert len(l.split(",")) == n, f"CSV line {i + 1} has {len(l.split(','))} fields, header {n}"
+    if i: [float(x) for x in l.split(",")]
+assert len(lines) - 1 == rows, f"{len(lines) - 1} rows in the CSV, {rows} reported"
+assert rows >= 3, f"only {rows} rows"
+left = [f for f in os.listdir(vtu) if f.endswith(".tmp")]
+assert not left, f"temporary files left: {left}"
+frames = [d.get("file") for d in ET.parse(os.path.join(vtu, "series.pvd")).getroot().iter("DataSet")]
+on_disk = sorted(f for f in os.listdir(vtu) if f.endswith(".vtu"))
+assert sorted(frames) == on_disk, f"series.pvd lists {frames}, directory has {on_disk}"
+for f in frames:
+    piece = ET.parse(os.path.join(vtu, f)).getroot().find("UnstructuredGrid/Piece")
+    assert piece is not None and int(piece.get("NumberOfPoints")) > 0, f
+print(f"ok: {rows} complete rows, {len(frames)} complete frames")
+PY
+}
+stop_run TERM 143
+stop_run INT 130
+echo "ok: SIGTERM -> 143, SIGINT -> 130, output complete"
