@@ -10,6 +10,7 @@
 
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/surface_mesh.h"
+#include "sim/mesh/tetgen_mesher.h"
 
 namespace softtled {
 namespace {
@@ -21,6 +22,19 @@ const Names<MaterialModel> kMaterialModels = {{"neo_hookean", kTaylorNeoHookean}
 const Names<ElementType> kElements = {{"T4", kT4}, {"T4ANP", kT4ANP}};
 const Names<ContactMode> kContactModes = {{"sliding", kSliding}, {"static", kStatic}, {"coulomb", kCoulomb}};
 const Names<Precision> kPrecisions = {{"float", Precision::kFloat}, {"double", Precision::kDouble}};
+
+// Physical ranges of the material, motion and contact keys. Each is far outside any soft
+// body a user can mean, and inside what the step and its float32 state can represent;
+// a value past one is a typo or a unit slip, refused with the key's name rather than run
+// into a frozen body, a NaN or a silently meaningless answer.
+constexpr double kMaxYoungsModulus = 1e12;  // Pa: diamond is 1.2e12
+constexpr double kMaxDensity = 1e5;         // kg/m^3: osmium is 2.3e4
+constexpr double kMaxAlpha = 1e6;           // 1/s: alpha dt > 2 already over-damps a 2 us step
+constexpr double kMaxBeta = 1.0;            // s: beta >= dt_cr shrinks the step below dt_cr / 2
+constexpr double kMaxGravity = 1e6;         // m/s^2 per component: 1e5 g (the crush test uses 2000 g)
+constexpr double kMaxSpeed = 1e4;           // m/s per component: 30x the speed of sound in air
+constexpr double kMaxMu = 1e3;              // friction coefficient: above ~10 Coulomb is static anyway
+constexpr double kMaxDuration = 1e7;        // s of simulated time
 
 template <class E>
 const char* name_of(const Names<E>& names, E value) {
@@ -102,7 +116,8 @@ class Reader {
   }
 
   template <std::size_t N>
-  std::array<double, N> vec(const std::string& key, std::array<double, N> def) {
+  // limit: largest allowed |component| (in the key's own unit).
+  std::array<double, N> vec(const std::string& key, std::array<double, N> def, double limit = INFINITY) {
     const toml::node* n = get(key);
     if (!n) return def;
     auto a = n->as_array();
@@ -111,6 +126,11 @@ class Reader {
     for (std::size_t i = 0; i < N; ++i) {
       const auto v = (*a)[i].value<double>();
       if (!v || !std::isfinite(*v)) fail(key, "element " + std::to_string(i) + " is not a finite number");
+      if (std::abs(*v) > limit) {
+        std::ostringstream o;
+        o << "element " << i << " = " << *v << " is out of range [" << -limit << ", " << limit << "]";
+        fail(key, o.str());
+      }
       r[i] = *v;
     }
     return r;
@@ -254,7 +274,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.scale = r.num("body.scale", 1.0, 0, INFINITY, true);
   s.position = r.vec<3>("body.position", s.position);
   s.rotation_deg = r.vec<3>("body.rotation_deg", s.rotation_deg);
-  s.velocity = r.vec<3>("body.velocity", s.velocity);
+  s.velocity = r.vec<3>("body.velocity", s.velocity, kMaxSpeed);
   if (s.shape == "torus" && !(s.tube_radius < s.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
   if (s.shape == "file" && s.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
 
@@ -302,24 +322,24 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.element = r.choice("material.element", s.element, kElements);
   if (s.element == kT4ANP && s.material_model != kTaylorNeoHookean)
     r.fail("material.element", "T4ANP is implemented for the neo_hookean model only");
-  s.E = r.num("material.E", s.E, 0, INFINITY, true);
+  s.E = r.num("material.E", s.E, 0, kMaxYoungsModulus, true);
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
-  s.rho = r.num("material.rho", s.rho, 0, INFINITY, true);
-  s.alpha = r.num("damping.alpha", s.alpha, 0, INFINITY);
-  s.beta = r.num("damping.beta", s.beta, 0, INFINITY);
-  s.g = r.vec<3>("gravity.g", s.g);
+  s.rho = r.num("material.rho", s.rho, 0, kMaxDensity, true);
+  s.alpha = r.num("damping.alpha", s.alpha, 0, kMaxAlpha);
+  s.beta = r.num("damping.beta", s.beta, 0, kMaxBeta);
+  s.g = r.vec<3>("gravity.g", s.g, kMaxGravity);
 
   s.floor = r.boolean("floor.enabled", s.floor);
-  s.floor_point = r.vec<3>("floor.point", s.floor_point);
+  s.floor_point = r.vec<3>("floor.point", s.floor_point, kMaxCoordinate / s.length_unit);
   s.floor_normal = r.vec<3>("floor.normal", s.floor_normal);
   if (!normalize(s.floor_normal)) r.fail("floor.normal", "must be non-zero");
   s.slope = r.boolean("slope.enabled", s.slope);
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
-  s.slope_point = r.vec<3>("slope.point", s.floor_point);
+  s.slope_point = r.vec<3>("slope.point", s.floor_point, kMaxCoordinate / s.length_unit);
 
   s.contact_mode = r.choice("contact.mode", s.contact_mode, kContactModes);
-  s.mu = r.num("contact.mu", s.mu, 0, INFINITY);
+  s.mu = r.num("contact.mu", s.mu, 0, kMaxMu);
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
 
   {
@@ -333,7 +353,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   }
   s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
   s.allow_unstable = r.boolean("time.allow_unstable", false);
-  s.duration = r.num("time.duration", s.duration, 0, INFINITY);
+  s.duration = r.num("time.duration", s.duration, 0, kMaxDuration);
   s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);
 
   s.precision = r.choice("solver.precision", s.precision, kPrecisions);
