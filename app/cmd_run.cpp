@@ -78,8 +78,11 @@ Command add_run_command(CLI::App& app) {
     write_frame();
     const bool tty = isatty(2);
     const double dt = ts.dt;
-    const long total = std::lround(s.duration / dt);
-    const long every = std::max(1L, std::lround(s.output_every / dt));
+    // A changing step (time.dt = "adaptive") advances by output times, not step counts.
+    const bool adaptive = sim.params().dt_adaptive;
+    const long total = adaptive ? std::max(1L, std::lround(std::ceil(s.duration / s.output_every - 1e-9)))
+                                : std::lround(s.duration / dt);
+    const long every = adaptive ? 1 : std::max(1L, std::lround(s.output_every / dt));
     const auto t0 = std::chrono::steady_clock::now();
     Diagnostics d = sim.diagnostics();
     if (csv) write_csv_row(csv, d);
@@ -88,7 +91,10 @@ Command add_run_command(CLI::App& app) {
     for (long done = 0; done < total;) {
       const long n = std::min(every, total - done);
       try {
-        sim.advance(n, n);
+        if (adaptive)
+          sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
+        else
+          sim.advance(n, n);
       } catch (const SimulationDiverged& e) {
         if (tty) std::fprintf(stderr, "\n");
         std::fprintf(stderr, "softtled: %s\n", e.what());
@@ -106,8 +112,15 @@ Command add_run_command(CLI::App& app) {
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (tty) std::fprintf(stderr, "\n");
-    std::printf("simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t, total,
-                dt * 1e6, wall, wall / std::max(1L, total) * 1e6, d.t / wall);
+    const long steps = sim.total_steps();
+    if (adaptive)
+      std::printf("simulated %.4g s in %ld steps of %.4g us mean (%.4g-%.4g us): %.3g s wall, %.1f us/step, "
+                  "real-time factor %.3g; %ld omega_max estimates, %.1f %% of the wall time\n",
+                  d.t, steps, d.t / std::max(1L, steps) * 1e6, sim.dt_min_used() * 1e6, sim.dt_max_used() * 1e6, wall,
+                  wall / std::max(1L, steps) * 1e6, d.t / wall, sim.estimates(), 100 * sim.estimate_seconds() / wall);
+    else
+      std::printf("simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t,
+                  total, dt * 1e6, wall, wall / std::max(1L, total) * 1e6, d.t / wall);
     std::printf("final centroid (%.3f, %.3f, %.3f) mm, min gap over run %.4f mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
                 d.centroid[0] * 1e3, d.centroid[1] * 1e3, d.centroid[2] * 1e3, min_gap * 1e3, max_contact, max_ke, d.ke);
     return 0;
