@@ -114,6 +114,10 @@ Command add_run_command(CLI::App& app) {
     };
     write_frame();
     const bool tty = isatty(2);
+    // A changing step (time.dt = "adaptive") advances by output times, not step counts.
+    const bool adaptive = sim.params().dt_adaptive;
+    const long intervals = adaptive ? std::max(1L, std::lround(std::ceil(s.duration / s.output_every - 1e-9))) : total;
+    const long per_interval = adaptive ? 1 : every;
     const auto t0 = std::chrono::steady_clock::now();
     auto wall_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     Diagnostics d = sim.diagnostics();
@@ -121,12 +125,16 @@ Command add_run_command(CLI::App& app) {
     double min_gap = d.min_gap, max_ke = d.ke;
     int max_contact = 0;
     bool warned = false;
-    for (long done = 0; done < total && !stop_requested();) {
-      const long n = std::min(every, total - done);
+    for (long done = 0; done < intervals && !stop_requested();) {
+      const long n = std::min(per_interval, intervals - done);
       long k = 0;
       try {
         // The output interval in chunks, so that a signal is answered within one chunk;
         // the watchdog checks at the end of each.
+        if (adaptive) {
+          sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
+          k = n;
+        }
         while (k < n && !stop_requested()) {
           const long m = std::min(kMaxChunkSteps, n - k);
           sim.advance(m, m);
@@ -148,16 +156,16 @@ Command add_run_command(CLI::App& app) {
       max_ke = std::max(max_ke, d.ke);
       max_contact = std::max(max_contact, d.n_contact);
       const double w = wall_s();
-      if (!warned && w > 2 && done < total) {
-        const double left = w / double(done) * double(total - done);
+      if (!warned && w > 2 && done < intervals) {
+        const double left = w / double(done) * double(intervals - done);
         warned = true;
         if (left > kLongRunWarnS)
           std::fprintf(stderr,
-                       "%swarning: this run will take about %.0f more minutes of wall time (%ld steps at %.3g us/step); "
+                       "%swarning: this run will take about %.0f more minutes of wall time (%.1f %% done after %.0f s); "
                        "Ctrl-C stops it and keeps the output written so far\n",
-                       tty ? "\n" : "", left / 60, total - done, w / double(done) * 1e6);
+                       tty ? "\n" : "", left / 60, 100.0 * double(done) / double(intervals), w);
       }
-      if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * done / total);
+      if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * double(done) / double(intervals));
     }
     if (tty) std::fprintf(stderr, "\n");
     if (csv) csv->close();
@@ -167,8 +175,17 @@ Command add_run_command(CLI::App& app) {
       return exit_code_for_signal(stop_signal());
     }
     const double wall = wall_s();
-    std::fprintf(summary, "simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n", d.t,
-                 total, dt * 1e6, wall, wall / double(std::max(1L, total)) * 1e6, d.t / wall);
+    const long steps = sim.total_steps();
+    if (adaptive)
+      std::fprintf(summary,
+                   "simulated %.4g s in %ld steps of %.4g us mean (%.4g-%.4g us): %.3g s wall, %.1f us/step, "
+                   "real-time factor %.3g; %ld omega_max estimates, %.1f %% of the wall time\n",
+                   d.t, steps, d.t / double(std::max(1L, steps)) * 1e6, sim.dt_min_used() * 1e6, sim.dt_max_used() * 1e6,
+                   wall, wall / double(std::max(1L, steps)) * 1e6, d.t / wall, sim.estimates(),
+                   100 * sim.estimate_seconds() / wall);
+    else
+      std::fprintf(summary, "simulated %.4g s in %ld steps of %.4g us: %.3g s wall, %.1f us/step, real-time factor %.3g\n",
+                   d.t, total, dt * 1e6, wall, wall / double(std::max(1L, total)) * 1e6, d.t / wall);
     std::fprintf(summary,
                  "final centroid (%.6g, %.6g, %.6g) mm, min gap over run %.6g mm, max contacts %d, max KE %.3g J, final KE %.3g J\n",
                  d.centroid[0] * 1e3, d.centroid[1] * 1e3, d.centroid[2] * 1e3, min_gap * 1e3, max_contact, max_ke, d.ke);

@@ -48,8 +48,13 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   ImGui::TextDisabled("%d nodes, %d tets, %d surface tris", st.nnode, st.ntet, st.ntri);
 
   if (ImGui::CollapsingHeader("Time step", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Text("dt = %.3f us   dt_cr = %.3f us", st.ts.dt * 1e6, st.ts.dt_cr * 1e6);
-    ImGui::TextDisabled("dt_cr = min(Le/c %.3f, eigen %.3f) us", st.ts.dt_le * 1e6, st.ts.dt_eigen * 1e6);
+    if (st.ts.dt_live > 0) {  // time.dt = "adaptive": the step follows the live state
+      ImGui::Text("dt = %.3f us   dt_cr = %.3f us (live)", st.ts.dt * 1e6, st.ts.dt_live * 1e6);
+      ImGui::TextDisabled("adaptive: dt = lambda x 2/omega_max(now); at rest %.3f us", st.ts.dt_eigen * 1e6);
+    } else {
+      ImGui::Text("dt = %.3f us   dt_cr = %.3f us", st.ts.dt * 1e6, st.ts.dt_cr * 1e6);
+      ImGui::TextDisabled("dt_cr = min(Le/c %.3f, eigen %.3f) us", st.ts.dt_le * 1e6, st.ts.dt_eigen * 1e6);
+    }
     if (ImGui::Checkbox("dt = lambda x dt_cr", &s.lock_lambda)) a.params = true;
     if (s.lock_lambda) {
       if (ImGui::SliderFloat("lambda", &s.lambda, 0.05f, 1.0f, "%.2f")) a.params = true;

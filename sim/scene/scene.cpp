@@ -346,12 +346,16 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     const toml::node* dt = r.get("time.dt");
     if (!dt || (dt->as_string() && dt->as_string()->get() == "auto")) {
       s.dt_auto = true;
+    } else if (dt->as_string() && dt->as_string()->get() == "adaptive") {
+      s.dt_auto = false;
+      s.dt_adaptive = true;
     } else {
       s.dt_auto = false;
       s.dt = r.num("time.dt", 0, 0, INFINITY, true);
     }
   }
   s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
+  s.dt_max = r.num("time.dt_max", s.dt_max, 0, INFINITY, true);
   s.allow_unstable = r.boolean("time.allow_unstable", false);
   s.duration = r.num("time.duration", s.duration, 0, kMaxDuration);
   s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);

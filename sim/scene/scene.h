@@ -62,8 +62,10 @@ struct Scene {
 
   // [time]
   bool dt_auto = true;
-  double dt = 0;        // [s] when not auto
-  double lambda = 0.5;  // dt = lambda * dt_cr for auto
+  bool dt_adaptive = false;  // time.dt = "adaptive": dt = lambda * 2 / omega_max(live state)
+  double dt = 0;        // [s] when neither auto nor adaptive
+  double dt_max = 1e300;  // [s] cap of the adaptive step
+  double lambda = 0.5;  // dt = lambda * dt_cr for auto and adaptive
   bool allow_unstable = false;  // run a fixed dt above dt_cr (the watchdog still stops divergence)
   double duration = 0.2;
   double output_every = 1e-3;

@@ -1,6 +1,7 @@
 #include "sim/scene/simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -46,6 +47,8 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.mu = scene_.mu;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
   params_.dt_auto = scene_.dt_auto;
+  params_.dt_adaptive = scene_.dt_adaptive;
+  params_.dt_max = scene_.dt_max;
   params_.lambda = scene_.lambda;
   {
     PhysicsParams p = params_;
@@ -90,7 +93,24 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   ts_.dt_cr = rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
   std::string warning;
   if (!(q.lambda > 0 && q.lambda <= 1)) throw InputError("lambda must lie in (0, 1]");
-  if (q.dt_auto) {
+  if (!(q.dt_max > 0)) throw InputError("dt_max must be positive");
+  const double dt_old = params_.dt;
+  bool estimate_now = false;
+  if (q.dt_adaptive) {
+    // The step follows the live state: 2/omega_max (not Le/c, README "Adaptive step"); the
+    // rest value starts it and sets the ladder, the live estimates move it.
+    q.dt_auto = false;
+    ladder_ref_ = ts_.dt_eigen;
+    if (!(dt_old > 0)) {
+      rung_ = ladder_rung(std::min(q.lambda * rayleigh_stable_step(ts_.dt_eigen, q.beta), q.dt_max));
+      q.dt = ladder(rung_);
+    } else {
+      q.dt = std::min(dt_old, q.dt_max);
+      rung_ = ladder_rung(q.dt);
+      estimate_now = true;  // the material or lambda may have changed: follow at once
+    }
+    ts_.dt_cr = rayleigh_stable_step(ts_.dt_eigen, q.beta);
+  } else if (q.dt_auto) {
     q.dt = q.lambda * ts_.dt_cr;
   } else if (q.dt > ts_.dt_cr) {
     char buf[200];
@@ -107,14 +127,11 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     last_good_offset_ += double(last_good_steps_) * params_.dt;
     last_good_steps_ = 0;
   }
-  if (params_.dt > 0 && q.dt != params_.dt) {
-    // The increment state du is a displacement per step: rescale it so the velocity
-    // du / dt carries over to the new step, in the live state and in the saved one.
-    HostState s = state();
-    for (double& v : s.du) v *= q.dt / params_.dt;
-    solver_->set_state(s);
-    for (double& v : last_good_.du) v *= q.dt / params_.dt;
-  }
+  // The increment state du is a displacement per step: rescaled so the velocity du / dt
+  // carries over to the new step, in the saved state here and in the live one by the
+  // solver (change_step, below).
+  if (dt_old > 0 && q.dt != dt_old)
+    for (double& v : last_good_.du) v *= q.dt / dt_old;
   std::vector<PlaneMotion> motion(q.planes.size());
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
     if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
@@ -126,8 +143,75 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
+  if (dt_old > 0 && q.dt != dt_old) solver_->change_step(q.dt / dt_old, 0.5 * (dt_old + q.dt));
   state_changed();
+  if (estimate_now) adapt_step(5 * AdaptiveStep::kIterations, false);
   return warning;
+}
+
+double Simulation::ladder(int rung) const {
+  return ladder_ref_ * std::exp2(double(rung) / AdaptiveStep::kRungsPerOctave);
+}
+
+int Simulation::ladder_rung(double dt) const {
+  int k = int(std::floor(AdaptiveStep::kRungsPerOctave * std::log2(dt / ladder_ref_)));
+  while (ladder(k) > dt) --k;  // rounding of log2 and exp2
+  while (ladder(k + 1) <= dt) ++k;
+  return k;
+}
+
+void Simulation::change_dt(double dt_new) {
+  const double dt_old = params_.dt;
+  if (dt_new == dt_old) return;
+  t_offset_ = time();
+  nsteps_ = 0;
+  last_good_offset_ += double(last_good_steps_) * dt_old;
+  last_good_steps_ = 0;
+  for (double& v : last_good_.du) v *= dt_new / dt_old;
+  params_.dt = dt_new;
+  ts_.dt = dt_new;
+  solver_->set_params(params_);
+  solver_->change_step(dt_new / dt_old, 0.5 * (dt_old + dt_new));
+  state_changed();
+}
+
+void Simulation::adapt_step(int iterations, bool restart, bool apply) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // Perturbation amplitude: small against the smallest element (linearisation), large
+  // against float's rounding of u (the quotient uses the step actually taken).
+  const double a = (scene_.precision == Precision::kFloat ? 1e-3 : 1e-6) * ts_.min_Le;
+  const double w = solver_->estimate_omega_max(iterations, a, restart);
+  since_estimate_ = 0;
+  ++estimates_;
+  estimate_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!(w > 0) || !std::isfinite(w)) return;  // nothing free to estimate: keep the step
+  if (omega_prev_ > 0 && w > 1.02 * omega_prev_)
+    estimate_every_ = std::max<long>(AdaptiveStep::kEveryMin, estimate_every_ / 2);
+  else
+    estimate_every_ = std::min<long>(AdaptiveStep::kEvery, 2 * estimate_every_);
+  omega_prev_ = w;
+  ts_.dt_live = rayleigh_stable_step(2.0 / w, params_.beta);
+  ts_.dt_cr = ts_.dt_live;
+  const double target = std::min(params_.lambda * lambda_scale_ * ts_.dt_live, params_.dt_max);
+  const int k = ladder_rung(target);
+  const int rung = k < rung_ ? k : std::min(k, rung_ + 1);  // down at once, up one rung at a time
+  if (!apply) {
+    rung_ = k;
+    return;
+  }
+  if (rung != rung_ || ladder(rung) != params_.dt) {
+    rung_ = rung;
+    change_dt(ladder(rung));
+  }
+}
+
+void Simulation::advance_to(double t_end) {
+  while (time() < t_end - 0.5 * params_.dt) {
+    long k = std::max(1L, std::lround((t_end - time()) / params_.dt));
+    if (params_.dt_adaptive) k = std::min(k, std::max(1L, estimate_every_ - since_estimate_));
+    step(k);
+  }
+  check_health();
 }
 
 void Simulation::apply_initial_state() {
@@ -140,6 +224,20 @@ void Simulation::apply_initial_state() {
   // starts unstressed (no internal force) and without user forces. With du = v0 dt alone
   // the start, and so the whole run, would be first order (a free fall runs ahead by
   // g t dt / 2). Fixed nodes do not move.
+  if (params_.dt_adaptive) {
+    // The first step from an estimate at the start state (u only: du does not enter it),
+    // converged from the fixed start vector; du below then spans that step.
+    solver_->set_state(s);
+    failures_ = 0;
+    lambda_scale_ = 1;
+    omega_prev_ = 0;
+    adapt_step(AdaptiveStep::kWarmup, true, false);
+    const double dt0 = ladder(rung_);
+    if (dt0 != params_.dt) {
+      params_.dt = ts_.dt = dt0;
+      solver_->set_params(params_);
+    }
+  }
   const double dt = params_.dt;
   for (int k = 0; k < 3; ++k) {
     const double a0 = params_.g[k] - params_.alpha * scene_.velocity[k];
@@ -150,6 +248,10 @@ void Simulation::apply_initial_state() {
   state_changed();
   nsteps_ = 0;
   t_offset_ = 0;
+  total_steps_ = last_good_total_ = 0;
+  dt_lo_ = dt_hi_ = params_.dt;
+  since_estimate_ = 0;
+  estimate_every_ = AdaptiveStep::kEvery;
   last_good_ = s;
   last_good_steps_ = 0;
   last_good_offset_ = 0;
@@ -190,6 +292,7 @@ void Simulation::set_state(const HostState& s) {
   last_good_ = s;
   last_good_steps_ = nsteps_;
   last_good_offset_ = t_offset_;
+  last_good_total_ = total_steps_;
   last_good_work_ = work_;
   work_u_ = s.u;
   const Diagnostics d = diagnostics_of(s);
@@ -221,25 +324,49 @@ void Simulation::check_health() {
     const double t_bad = time();
     nsteps_ = last_good_steps_;
     t_offset_ = last_good_offset_;
+    total_steps_ = last_good_total_;
     work_ = last_good_work_;
     work_u_ = last_good_.u;
-    SimulationDiverged e(watchdog_message(*f, t_bad, time(), params_.dt, ts_.dt_cr));
+    const std::string msg = watchdog_message(*f, t_bad, time(), params_.dt, ts_.dt_cr);
+    if (params_.dt_adaptive && failures_ < AdaptiveStep::kMaxFailures) {
+      // Last line of defence of the adaptive step: halve lambda for a while and go on
+      // from the saved state (a fresh estimate there: the warm vector saw the blow-up).
+      ++failures_;
+      lambda_scale_ *= 0.5;
+      relax_at_ = time() + 200.0 * params_.dt;
+      adapt_step(AdaptiveStep::kWarmup, true);
+      std::fprintf(stderr, "adaptive step: %s\n  continuing with lambda x %.3g (dt = %.4g us), trip %d of %d\n",
+                   msg.c_str(), lambda_scale_, params_.dt * 1e6, failures_, AdaptiveStep::kMaxFailures);
+      return;
+    }
+    SimulationDiverged e(msg);
     e.element = f->element;
     throw e;
+  }
+  if (lambda_scale_ < 1 && time() >= relax_at_) {  // a healthy stretch: lambda back, step by step
+    lambda_scale_ = std::min(1.0, 2 * lambda_scale_);
+    relax_at_ = time() + 200.0 * params_.dt;
   }
   last_good_ = s;
   last_good_steps_ = nsteps_;
   last_good_offset_ = t_offset_;
+  last_good_total_ = total_steps_;
   last_good_work_ = work_;
 }
 
 void Simulation::step(long n) {
   for (long done = 0; done < n;) {
-    const long k = move_planes(n - done);
+    long k = move_planes(n - done);
+    if (params_.dt_adaptive) k = std::min(k, std::max(1L, estimate_every_ - since_estimate_));
     solver_->step(k);
     nsteps_ += k;
+    total_steps_ += k;
     done += k;
+    dt_lo_ = std::min(dt_lo_, params_.dt);
+    dt_hi_ = std::max(dt_hi_, params_.dt);
     state_changed();
+    if (params_.dt_adaptive && (since_estimate_ += k) >= estimate_every_)
+      adapt_step(AdaptiveStep::kIterations, false);
   }
 }
 

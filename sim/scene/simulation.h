@@ -23,8 +23,23 @@ struct TimeStepInfo {
   double min_Le = 0;    // smallest element characteristic length [m]
   double dt_le = 0;     // min_Le / c (eq. 9) [s]
   double dt_eigen = 0;  // 2 / omega_max of M^-1 K at rest, by power iteration [s]
-  double dt_cr = 0;     // min of the two: the bound we enforce [s]
+  double dt_cr = 0;     // min of the two: the bound we enforce [s] (adaptive: dt_live)
   double dt = 0;        // step in use [s]
+  // Adaptive step: 2 / omega_max of the live state (with beta), from the last estimate [s]
+  double dt_live = 0;
+};
+
+// The adaptive step's controller (time.dt = "adaptive"; README, "Adaptive step").
+struct AdaptiveStep {
+  // Steps between two live omega_max estimates: kEvery, halved (down to kEveryMin) while
+  // omega_max rises by more than 2 % from one estimate to the next (an impact), and
+  // doubled back while it does not.
+  static constexpr int kEvery = 50;
+  static constexpr int kEveryMin = 6;
+  static constexpr int kIterations = 2;      // power-iteration products per estimate
+  static constexpr int kWarmup = 40;         // ... at the start and after a rollback
+  static constexpr int kRungsPerOctave = 16;  // dt on a ladder dt_ref 2^(k/16): 4.4 % rungs
+  static constexpr int kMaxFailures = 3;     // watchdog trips survived (lambda halved each)
 };
 
 // Thrown by Simulation::advance when the watchdog stops a run; the state has been rolled
@@ -80,7 +95,18 @@ class Simulation {
   // User forces per node [N], 3 x nnode SoA; empty to clear (the viewer's drag spring).
   void set_external_forces(const std::vector<double>& f);
   double time() const { return double(nsteps_) * params_.dt + t_offset_; }
-  long steps() const { return nsteps_; }
+  long steps() const { return nsteps_; }  // since the last change of dt
+  long total_steps() const { return total_steps_; }  // since the start (net of rollbacks)
+  // Shortest and longest step taken so far [s] (equal for a fixed step).
+  double dt_min_used() const { return dt_lo_; }
+  double dt_max_used() const { return dt_hi_; }
+  // Adaptive step: estimates made and their wall time [s] (cost: against the run's wall time).
+  long estimates() const { return estimates_; }
+  double estimate_seconds() const { return estimate_seconds_; }
+  int watchdog_trips() const { return failures_; }  // adaptive: trips survived so far
+  // Steps until time() reaches t_end (within half a step), then one watchdog check, as
+  // advance(): for a changing step (time.dt = "adaptive"), where a step count is unknown.
+  void advance_to(double t_end);
   Diagnostics diagnostics();  // of state(), computed once per step count
 
   // Render hand-off (sim/fem/surface_render.h): kRenderFloatsPerVertex floats per boundary
@@ -104,6 +130,15 @@ class Simulation {
   // may run before the next move.
   long move_planes(long max_steps);
   void account_work();  // adds the work fext_ did since work_u_
+  // Adaptive step: a live omega_max estimate (iterations products; restart from the fixed
+  // start vector), then dt = lambda * dt_live on the ladder, one rung up at most per
+  // estimate, any number down. apply: change dt now (else only ts_ is updated).
+  void adapt_step(int iterations, bool restart, bool apply = true);
+  // Changes dt between two steps: time bookkeeping, du of the live and the saved state
+  // rescaled, the next step a midpoint step (Solver::change_step).
+  void change_dt(double dt_new);
+  double ladder(int rung) const;
+  int ladder_rung(double dt) const;  // the highest rung <= dt
 
   Scene scene_;
   TetMesh mesh_;
@@ -132,6 +167,21 @@ class Simulation {
   double work_ = 0;
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
   int eigen_model_ = -1;
+  long total_steps_ = 0, last_good_total_ = 0;
+  double dt_lo_ = 0, dt_hi_ = 0;
+  // Adaptive step: steps since the last estimate, the ladder's reference step (2/omega_max
+  // at rest for the scene's E, nu), the current rung, the watchdog's lambda factor, trips
+  // survived and when lambda is restored.
+  long since_estimate_ = 0;
+  long estimate_every_ = AdaptiveStep::kEvery;
+  double omega_prev_ = 0;
+  double ladder_ref_ = 0;
+  int rung_ = 0;
+  double lambda_scale_ = 1;
+  int failures_ = 0;
+  double relax_at_ = 0;
+  long estimates_ = 0;
+  double estimate_seconds_ = 0;
 };
 
 }  // namespace softtled

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sim/fem/neo_hookean.h"
+#include "sim/fem/stiffness_probe.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/mesh/surface_topology.h"
@@ -50,6 +51,7 @@ class CpuSolver final : public Solver {
 
   void set_params(const PhysicsParams& p) override {
     const T old_beta_dt = cfg_.step.beta_dt;
+    params_ = p;
     cfg_ = step_config_from<T>(p);
     if (cfg_.step.beta_dt != old_beta_dt || (cfg_.step.beta_dt > 0) != !ub_.empty()) refresh_ub();
   }
@@ -60,11 +62,62 @@ class CpuSolver final : public Solver {
     const StepConfig<T> c = cfg_;
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
     const T* ue = element_displacement(b);
+    // The first step after a change of dt spans the midpoint step (change_step).
+    const StepParams<T> first = dt_mid_ > 0 ? step_params_from<T>(params_, dt_mid_) : c.step;
+    if (nsteps > 0) dt_mid_ = 0;
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
       cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
-      cpu_node_stage(m, b, c.step);
+      cpu_node_stage(m, b, s == 0 ? first : c.step);
     }
+  }
+
+  void change_step(double scale, double dt_mid) override {
+    for (T& v : du_) v *= T(scale);
+    refresh_ub();
+    dt_mid_ = dt_mid;
+  }
+
+  double estimate_omega_max(int iterations, double a, bool restart) override {
+    const int n = rest_.nnode;
+    const std::size_t n3 = 3 * std::size_t(n);
+    if (probe_v_.size() != n3 || restart) {
+      probe_v_.resize(n3);
+      for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < n; ++i)
+          probe_v_[k * n + i] = rest_.inv_mass[i] > 0 ? T(probe_start(unsigned(k * n + i))) : T(0);
+    }
+    probe_f0_.resize(n3);
+    probe_w_.resize(n3);
+    probe_up_.resize(n3);
+    internal_forces(u_.data(), probe_f0_.data());
+    const T ta = T(a), inv_a = T(1) / ta;
+    double lambda = 0;
+    for (int it = 0; it < iterations; ++it) {
+      for (std::size_t j = 0; j < n3; ++j) probe_displacement(u_[j], probe_v_[j], ta, probe_up_[j], probe_v_[j]);
+      internal_forces(probe_up_.data(), probe_w_.data());
+      double num = 0, den = 0, wmax = 0;  // fixed order: the same bits for any thread count
+      for (int i = 0; i < n; ++i) {
+        T f1[3], f0[3], w[3];
+        for (int k = 0; k < 3; ++k) {
+          f1[k] = probe_w_[k * n + i];
+          f0[k] = probe_f0_[k * n + i];
+        }
+        probe_response(f1, f0, rest_.inv_mass[i], inv_a, w);
+        for (int k = 0; k < 3; ++k) {
+          probe_w_[k * n + i] = w[k];
+          const double v = double(probe_v_[k * n + i]);
+          num += rest_.mass[i] * double(w[k]) * double(w[k]);
+          den += rest_.mass[i] * v * v;
+          wmax = std::max(wmax, std::fabs(double(w[k])));
+        }
+      }
+      if (!(den > 0) || !(wmax > 0)) return 0;
+      lambda = std::sqrt(num / den);
+      const T s = T(1.0 / wmax);
+      for (std::size_t j = 0; j < n3; ++j) probe_v_[j] = probe_w_[j] * s;
+    }
+    return std::sqrt(lambda);
   }
 
   void get_state(HostState& s) const override {
@@ -79,6 +132,7 @@ class CpuSolver final : public Solver {
     std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
     if (s.contact.size() == contact_.size()) contact_ = s.contact;
     refresh_ub();
+    dt_mid_ = 0;
   }
 
   double strain_energy() const override {
@@ -105,6 +159,26 @@ class CpuSolver final : public Solver {
   }
 
  private:
+  // Summed internal force per node (3 x nnode) at displacement u: the step's element
+  // stage and gather. Uses fcorner_ and the T4ANP scratch, which the next step rewrites.
+  void internal_forces(const T* u, T* f) {
+    const TetMeshView<T> m = mesh_;
+    const StepConfig<T> c = cfg_;
+    const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
+    T* fc = fcorner_.data();
+    const int n = m.nnode, stride = 4 * m.ntet;
+#pragma omp parallel num_threads(threads_)
+    {
+      cpu_element_stage(m, c.mat, c.element, u, anp, fc);
+#pragma omp for schedule(static)
+      for (int i = 0; i < n; ++i) {
+        T fi[3];
+        gather_node_force(m.gather_start, m.gather_slot, fc, stride, i, fi);
+        for (int k = 0; k < 3; ++k) f[k * n + i] = fi[k];
+      }
+    }
+  }
+
   // ub = u + (beta / dt) du from the live state (rayleigh_displacement, as the node stage
   // writes it), or no ub when beta = 0: after a new state, beta or dt.
   void refresh_ub() {
@@ -134,6 +208,10 @@ class CpuSolver final : public Solver {
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty
+  // estimate_omega_max: the warm vector v (max-norm 1), f(u), M^-1 K v, u + a v (3 x nnode)
+  std::vector<T> probe_v_, probe_f0_, probe_w_, probe_up_;
+  PhysicsParams params_;
+  double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
   mutable std::vector<double> energy_;  // strain_energy's per-element (and per-node) terms
   mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes

@@ -37,7 +37,11 @@ struct PhysicsParams {
   double beta = 0;             // stiffness-proportional damping [s] (0: off)
   double dt = 1e-5;            // time step [s] (ignored when dt_auto)
   bool dt_auto = true;         // dt = lambda * dt_cr, recomputed when the material changes
-  double lambda = 0.5;         // Courant-like factor for dt_auto
+  // dt follows the live state: lambda * 2 / omega_max(u), omega_max estimated while the
+  // simulation runs (Simulation, stiffness_probe.h); dt_auto is then false
+  bool dt_adaptive = false;
+  double dt_max = 1e300;       // cap of the adaptive step [s] (accuracy)
+  double lambda = 0.5;         // Courant-like factor for dt_auto and dt_adaptive
   double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
   std::vector<PlaneSpec> planes;
   ContactMode contact_mode = kSliding;
@@ -73,6 +77,17 @@ class Solver {
   // buffer) when render_buffer_on_device() is true.
   virtual bool render_buffer_on_device() const = 0;
   virtual void write_render_vertices(float* dst) = 0;
+
+  // ---- variable step (central_difference.h, make_step_params) ----
+  // After set_params with a new dt: du *= scale (= dt_new / dt_old, so du / dt keeps the
+  // velocity), and the next step's velocity update spans dt_mid = (dt_old + dt_new) / 2
+  // (one step; set_state cancels it).
+  virtual void change_step(double scale, double dt_mid) = 0;
+  // omega_max of M^-1 K(u) at the live state, from below (stiffness_probe.h): `iterations`
+  // power-iteration products from the vector the last call left (warm start), at
+  // perturbation amplitude a [m] (max-norm of the perturbation); restart: from the fixed
+  // start vector instead (after a rollback the warm vector may be garbage). 0: no free node.
+  virtual double estimate_omega_max(int iterations, double a, bool restart = false) = 0;
 
   // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
   virtual void set_cpu_threads(int /*threads*/) {}

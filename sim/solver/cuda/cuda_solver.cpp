@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -193,6 +194,7 @@ class CudaSolver final : public CudaSolverApi {
 
   void set_params(const PhysicsParams& p) override {
     const T old_beta_dt = cfg_.step.beta_dt;
+    params_ = p;
     cfg_ = step_config_from<T>(p);
     clear_graphs();  // the parameters are baked into the captured kernel nodes
     if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
@@ -216,6 +218,17 @@ class CudaSolver final : public CudaSolverApi {
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
+    if (dt_mid_ > 0) {  // the first step after a change of dt: its own coefficients, launched directly
+      const StepArgs<T> a = args(step_params_from<T>(params_, dt_mid_));
+      dt_mid_ = 0;
+      if (run_mode() == ExecMode::kFused) {
+        enqueue_fused_step(a, 0, false);
+        copy_back_fused(a);
+      } else {
+        enqueue_step(a, false);
+      }
+      if (--nsteps == 0) return;
+    }
     // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
     const int K = std::max(1, opt_.steps_per_graph);
     long left = nsteps;
@@ -314,7 +327,62 @@ class CudaSolver final : public CudaSolverApi {
       SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
     }
     refresh_ub();
+    dt_mid_ = 0;
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host vectors die here
+  }
+
+  void change_step(double scale, double dt_mid) override {
+    const int n3 = 3 * n_;
+    SOFTTLED_CUDA_CHECK(launch_scale<T>(stream_, shape_for(n3, nsm_, false), n3, T(scale), live_.du.data()));
+    refresh_ub();
+    dt_mid_ = dt_mid;
+  }
+
+  // The CPU backend's estimate_omega_max as kernels (tled_probe.cu): the step's element
+  // stage on u + a v, a per-node gather and product, deterministic sums; one download.
+  double estimate_omega_max(int iterations, double a, bool restart) override {
+    const int n3 = 3 * n_;
+    const LaunchShape s3 = shape_for(n3, nsm_, false), sn = shape_for(n_, nsm_, false);
+    if (probe_.v.size() != std::size_t(n3)) {
+      probe_.v.resize(n3);
+      probe_.f0.resize(n3);
+      probe_.w.resize(n3);
+      probe_.up.resize(n3);
+      probe_.terms.resize(2 * std::size_t(std::max(n_, 1)));
+      probe_.sums.resize(3);
+      std::vector<int> old(perm_.node_old.begin(), perm_.node_old.end());
+      probe_.node_old.upload(old);
+      std::vector<double> m(n_);
+      for (int i = 0; i < n_; ++i) m[i] = mass_[perm_.node_old[i]];
+      probe_.mass.upload(m);
+      restart = true;
+    }
+    if (restart)
+      SOFTTLED_CUDA_CHECK(launch_probe_start<T>(stream_, s3, n_, rest_.view.inv_mass, probe_.node_old.data(), probe_.v.data()));
+    StepArgs<T> at = args(cfg_.step);
+    at.b.ub = nullptr;  // forces at the displacement itself
+    const T ta = T(a), inv_a = T(1) / ta;
+    // f0 = f(u)
+    at.b.u = live_.u.data();
+    SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
+    SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(), probe_.f0.data(), nullptr,
+                                               nullptr, nullptr, inv_a, nullptr, nullptr));
+    at.b.u = probe_.up.data();
+    for (int it = 0; it < iterations; ++it) {
+      SOFTTLED_CUDA_CHECK(launch_probe_displace<T>(stream_, s3, n3, live_.u.data(), probe_.v.data(), ta, probe_.up.data()));
+      SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
+      SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(), nullptr, probe_.f0.data(),
+                                                 probe_.v.data(), probe_.mass.data(), inv_a, probe_.w.data(),
+                                                 probe_.terms.data()));
+      SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data(), n_, partials_.data(), probe_.sums.data()));
+      SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data() + n_, n_, partials_.data(), probe_.sums.data() + 1));
+      SOFTTLED_CUDA_CHECK(launch_probe_normalize<T>(stream_, s3, n3, probe_.w.data(), probe_.sums.data() + 2, probe_.v.data()));
+    }
+    double h[3] = {0, 0, 0};
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h, probe_.sums.data(), sizeof h, cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    if (!(h[1] > 0) || !(h[2] > 0)) return 0;
+    return std::sqrt(std::sqrt(h[0] / h[1]));
   }
 
   double strain_energy() const override {
@@ -460,6 +528,14 @@ class CudaSolver final : public CudaSolverApi {
                                              beta ? ub[p] : u[p], beta ? ub[1 - p] : nullptr));
   }
 
+  // After an odd number of fused steps: the state from (u2, du2, ub2) back to (u, du, ub).
+  void copy_back_fused(const StepArgs<T>& a) {
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), live_.u2.data(), live_.u.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), live_.du2.data(), live_.du.bytes(), cudaMemcpyDeviceToDevice, stream_));
+    if (a.b.ub)
+      SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.ub.data(), live_.ub2.data(), live_.ub.bytes(), cudaMemcpyDeviceToDevice, stream_));
+  }
+
   // Element stage: one kernel for T4, three for T4ANP (anp.h).
   cudaError_t launch_element_stage(const StepArgs<T>& a, bool pdl) {
     if (a.anp) return launch_anp_stages<T>(stream_, element_shape(pdl), pressure_shape(pdl), a);
@@ -507,12 +583,7 @@ class CudaSolver final : public CudaSolverApi {
           return;
         }
         for (int s = 0; s < k; ++s) enqueue_fused_step(a, s, pdl);
-        if (k & 1) {  // every graph starts and ends with the state in (u, du)
-          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), live_.u2.data(), live_.u.bytes(), cudaMemcpyDeviceToDevice, stream_));
-          SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.du.data(), live_.du2.data(), live_.du.bytes(), cudaMemcpyDeviceToDevice, stream_));
-          if (a.b.ub)
-            SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.ub.data(), live_.ub2.data(), live_.ub.bytes(), cudaMemcpyDeviceToDevice, stream_));
-        }
+        if (k & 1) copy_back_fused(a);  // every graph starts and ends with the state in (u, du)
       });
     } catch (const CudaError& e) {
       if (!pdl) throw;
@@ -588,6 +659,16 @@ class CudaSolver final : public CudaSolverApi {
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
   bool fext_active_ = false;
   StepConfig<T> cfg_;
+  PhysicsParams params_;
+  double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
+  // estimate_omega_max: warm vector v, f(u), M^-1 K v, u + a v (3 x nnode, T), the
+  // per-node terms (2 x nnode) and their sums (num, den, max |w|), masses in double and
+  // the original node order (start vector)
+  struct Probe {
+    DeviceBuffer<T> v, f0, w, up;
+    DeviceBuffer<double> terms, sums, mass;
+    DeviceBuffer<int> node_old;
+  } probe_;
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   bool fused_pdl_ = true;

@@ -118,6 +118,26 @@ template <class T>
 cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, const T* du,
                                          T beta_dt, T* ub);
 
+// ---- the live omega_max estimate (tled_probe.cu, stiffness_probe.h) ----
+// One power-iteration product: launch_probe_displace (up = u + a v, v = the step taken),
+// the step's element stage on up, launch_probe_gather (w = M^-1 (f(up) - f0) / a, the
+// terms m|w|^2 and m|v|^2 into terms[0, n) and terms[n, 2n)), launch_sum of each, and
+// launch_probe_normalize (v = w / max|w|). With f0_out set, launch_probe_gather stores the
+// summed force instead (f0 = f(u)). ls: one thread per entry (3 x nnode) or per node.
+// launch_probe_start: the deterministic start vector (0 on fixed nodes), in the original
+// node order node_old. launch_scale: x *= scale (du on a change of dt).
+template <class T>
+cudaError_t launch_probe_start(cudaStream_t s, const LaunchShape& ls, int n, const T* inv_mass, const int* node_old, T* v);
+template <class T>
+cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, T* v, T a, T* up);
+template <class T>
+cudaError_t launch_probe_gather(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const T* fcorner,
+                                T* f0_out, const T* f0, const T* v, const double* mass, T inv_a, T* w, double* terms);
+template <class T>
+cudaError_t launch_probe_normalize(cudaStream_t s, const LaunchShape& ls, int n3, const T* w, double* wmax, T* v);
+template <class T>
+cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale, T* x);
+
 // ---- outside the step (tled_output.cu) ----
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
