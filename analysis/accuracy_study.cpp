@@ -47,7 +47,7 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
   };
   record();
   for (int s = 0; s < 2; ++s)
-    if (snap_step[s] == 0) sim.solver().get_state(r.at[s]);
+    if (snap_step[s] == 0) r.at[s] = sim.state();
   long done = 0;
   for (long k = 1; done < total; ++k) {
     const long next_output = std::min(total, std::lround(k * 1e-3 / r.dt));
@@ -60,7 +60,7 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
       r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
       done = target;
       for (int s = 0; s < 2; ++s)
-        if (snap_step[s] == done) sim.solver().get_state(r.at[s]);
+        if (snap_step[s] == done) r.at[s] = sim.state();
     }
     record();
   }

@@ -27,6 +27,7 @@
 #include "sim/solver/step_params.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
+#include "sim/scene/solver_access.h"
 #include "sim/mesh/surface_mesh.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
@@ -92,10 +93,9 @@ double step_bytes(long ntet, long nnode, long ncontact, int real) {
 // the run's step parameters (step_config_from, as Solver::set_params).
 template <class T>
 StageRow cpu_stages(Simulation& sim, int threads, int reps) {
-  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.solver().node_flags());
+  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.node_flags());
   const TetMeshView<T> m = r.view();
-  HostState hs;
-  sim.solver().get_state(hs);
+  const HostState& hs = sim.state();
   std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
   std::vector<T> vol_now(r.ntet), p_node(r.nnode);
   std::vector<std::uint8_t> contact(hs.contact);
@@ -135,7 +135,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
-  s.render = time_loop([&] { sim.solver().write_render_vertices(buf.data()); });
+  s.render = time_loop([&] { sim.write_render_vertices(buf.data()); });
   s.valid = true;
   return s;
 }
@@ -157,7 +157,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   Result r;
   r.label = label;
   Simulation sim(sc, o.backend);
-  Solver& solver = sim.solver();
+  Solver& solver = SolverAccess::of(sim);
   r.backend = o.backend;
   r.precision = precision_name(sc.precision);
   r.ntet = sim.mesh().ntet();
@@ -166,7 +166,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.dt = sim.time_step().dt;
   r.device = "CPU";
   long ncontact = 0;
-  for (auto f : solver.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
+  for (auto f : sim.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
   r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == Precision::kFloat ? 4 : 8);
 
 #if defined(SOFTTLED_HAVE_CUDA)
@@ -262,11 +262,10 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       opt.reorder = false;
       opt.mode = gpu->exec_mode();
       opt.node_lanes = gpu->node_lanes();
-      auto plain = make_cuda_solver(sim.mesh(), sc.rho, solver.node_flags(), sc.precision, opt);
+      auto plain = make_cuda_solver(sim.mesh(), sc.rho, sim.node_flags(), sc.precision, opt);
       plain->set_params(sim.params());
       sim.reset();
-      HostState st;
-      sim.solver().get_state(st);
+      HostState st = sim.state();
       plain->set_state(st);
       r.modes.emplace_back(std::string(cuda::exec_mode_name(opt.mode)) + ",lanes=" + std::to_string(opt.node_lanes) + ",tetgen-order",
                            timed_samples(dynamic_cast<cuda::CudaSolverApi*>(plain.get())));

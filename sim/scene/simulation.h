@@ -115,12 +115,12 @@ class Simulation {
   bool render_buffer_on_device() const { return solver_->render_buffer_on_device(); }
   void write_render_vertices(float* dst) { solver_->write_render_vertices(dst); }
 
-  // Backend hatch for benchmarks and backend-level tests only (bench, tests/solver,
-  // analysis): execution modes, thread counts, the raw solver state. app/ and render/ never
-  // use it. Writes through it bypass the cached state() and the watchdog.
-  Solver& solver() { return *solver_; }
+  // Rest-state node flags (kNodeContact, kNodeFixed), nnode.
+  const std::vector<std::uint8_t>& node_flags() const { return solver_->node_flags(); }
 
  private:
+  friend class SolverAccess;  // the bench's and backend tests' hatch (solver_access.h)
+
   void apply_initial_state();
   void check_health();
   // Diagnostics of a state already on the host (the solver supplies only strain energy).

@@ -88,6 +88,8 @@ class Solver {
   // perturbation amplitude a [m] (max-norm of the perturbation); restart: from the fixed
   // start vector instead (after a rollback the warm vector may be garbage). 0: no free node.
   virtual double estimate_omega_max(int iterations, double a, bool restart = false) = 0;
+  // Waits for every enqueued step (asynchronous backends; the CPU steps synchronously).
+  virtual void synchronize() {}
 
   // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
   virtual void set_cpu_threads(int /*threads*/) {}

@@ -31,8 +31,7 @@ void compare_with_dynamic_relaxation(const std::string& element, const std::stri
                                                    element == "T4ANP" ? 1 : 0);
   EXPECT_LT(st.newton_iterations, 30);
   sim.advance(std::lround(0.15 / sim.time_step().dt), 1000);
-  HostState dr;
-  sim.solver().get_state(dr);
+  HostState dr = sim.state();
   double umax = 0, dmax = 0;
   for (int j = 0; j < 3 * n; ++j) {
     umax = std::max(umax, std::fabs(st.u[j]));
@@ -61,8 +60,7 @@ TEST(StaticCheck, CantileverFirstFrequencyNearBeamTheory) {
     std::vector<std::uint8_t> fixed(n, 0);
     for (int i = 0; i < n; ++i) fixed[i] = m.X[3 * i] < -20e-3 + 1e-9;
     const double g[3] = {0, -9.81, 0};
-    HostState s;
-    sim.solver().get_state(s);
+    HostState s = sim.state();
     s.u = solve_static_equilibrium(m, E, 0.3, rho, g, fixed).u;
     sim.set_state(s);
     const int tip = sim.tracked_nodes()[0];
@@ -72,7 +70,7 @@ TEST(StaticCheck, CantileverFirstFrequencyNearBeamTheory) {
     HostState st;
     while (sim.time() < 0.16) {
       sim.advance(5, 1000000);
-      sim.solver().get_state(st);
+      st = sim.state();
       const double y = st.u[n + tip];
       if (prev < 0 && y >= 0) {  // upward zero crossing (linear interpolation)
         const double tc = sim.time() - 5 * sim.time_step().dt * y / (y - prev);

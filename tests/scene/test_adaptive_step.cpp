@@ -15,6 +15,7 @@
 #include "scene_helpers.h"
 #include "sim/mesh/surface_mesh.h"
 #include "sim/scene/simulation.h"
+#include "sim/scene/solver_access.h"
 
 using namespace softtled;
 using namespace softtled::test;
@@ -263,7 +264,7 @@ TEST_P(AdaptiveRun, WatchdogTripRollsBackHalvesLambdaAndGoesOn) {
   // A one-off corruption behind the watchdog's back (the backend hatch): NaN at one node.
   HostState bad = sim.state();
   bad.u[0] = std::numeric_limits<double>::quiet_NaN();
-  sim.solver().set_state(bad);
+  SolverAccess::of(sim).set_state(bad);
   sim.advance_to(0.006);  // trips, rolls back to 0.005 s, goes on at half lambda
   EXPECT_LT(sim.time_step().dt, 0.75 * dt_before);
   run_to(sim, 0.05, 0.001);

@@ -9,6 +9,7 @@
 
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
+#include "sim/scene/solver_access.h"
 #include "sim/solver/stable_step.h"
 #if defined(SOFTTLED_HAVE_CUDA)
 #include "sim/solver/cuda/device_info.h"
@@ -52,23 +53,22 @@ TEST(EnergyConservation, UndampedOscillatingBeamDriftsUnderOnePercent) {
       "beam");
   Simulation sim(s);
   const int n = sim.mesh().nnode();
-  HostState st;
-  sim.solver().get_state(st);
+  HostState st = sim.state();
   const double dt = sim.time_step().dt;
   for (int i = 0; i < n; ++i) {
     const double x = sim.mesh().X[3 * i] / 0.02;  // -1 .. 1
     st.du[n + i] = 0.05 * (x * x - 1.0 / 3.0) * dt;  // bending, no net momentum
   }
-  sim.solver().set_state(st);
+  sim.set_state(st);
   // Energy at step n with the centred velocity (u(n+1) - u(n-1)) / 2dt, which is the
   // central difference's own velocity; the half-step du alone is off by O(w dt).
-  const auto& m = sim.solver().lumped_mass();
+  const auto& m = sim.lumped_mass();
   HostState before, after;
   auto total = [&] {
-    sim.solver().get_state(before);
-    const double se = sim.solver().strain_energy();
+    before = sim.state();
+    const double se = SolverAccess::of(sim).strain_energy();
     sim.step(1);
-    sim.solver().get_state(after);
+    after = sim.state();
     double ke = 0;
     for (int k = 0; k < 3; ++k)
       for (int i = 0; i < n; ++i) {
@@ -188,7 +188,7 @@ TEST(RayleighBeta, ZeroIsBitwiseTheRunWithoutTheKey) {
   for (const char* extra : {"", "[damping]\nbeta = 0.0\n"}) {
     Simulation sim(incline_scene(20, "coulomb", 0.3, extra));
     sim.step(3000);
-    sim.solver().get_state(*extra ? b : a);
+    (*extra ? b : a) = sim.state();
   }
   EXPECT_TRUE(a.u == b.u && a.du == b.du && a.contact == b.contact);
 }
@@ -222,13 +222,12 @@ TEST(RayleighBeta, StableStepFollowsTheDampedBound) {
     Simulation sim(beam(buf));
     EXPECT_NEAR(sim.time_step().dt_cr, dt_b, 1e-9 * dt_b);
     const int n = sim.mesh().nnode();
-    HostState st;
-    sim.solver().get_state(st);
+    HostState st = sim.state();
     for (int i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k) st.du[k * n + i] = 1e-9 * ((i * 7 + k * 3) % 5 - 2);  // rough: all modes
-    sim.solver().set_state(st);
+    sim.set_state(st);
     auto amp = [&] {
-      sim.solver().get_state(st);
+      st = sim.state();
       double a = 0;
       for (double v : st.du) a = std::max(a, std::fabs(v));
       return a;
@@ -255,8 +254,8 @@ TEST(RayleighBeta, FloatFollowsDouble) {
   ASSERT_EQ(f.time_step().dt, d.time_step().dt);
   auto max_diff = [](Simulation& a, Simulation& b) {
     HostState sa, sb;
-    a.solver().get_state(sa);
-    b.solver().get_state(sb);
+    sa = a.state();
+    sb = b.state();
     double w = 0;
     for (std::size_t j = 0; j < sa.u.size(); ++j) w = std::max(w, std::fabs(sa.u[j] - sb.u[j]));
     return w;
@@ -299,8 +298,8 @@ TEST(RayleighBeta, ElementDisplacementFollowsSetStateAndStepChanges) {
   a.step(2000);
   b.step(2000);
   HostState sa, sb;
-  a.solver().get_state(sa);
-  b.solver().get_state(sb);
+  sa = a.state();
+  sb = b.state();
   EXPECT_GT(a.diagnostics().n_contact, 0);
   EXPECT_TRUE(sa.u == sb.u && sa.du == sb.du);
 }
@@ -325,15 +324,14 @@ TEST(FloatTranslation, OneMetreOfTravelIsForceFree) {
                               {"solver.precision=float", "floor.enabled=false", "gravity.g=[0, 0, 0]", "damping.alpha=0"}),
                    backend);
     const int n = sim.mesh().nnode();
-    const auto& m = sim.solver().lumped_mass();
+    const auto& m = sim.lumped_mass();
     double weight = 0;
     for (double mi : m) weight += mi * 9.81;
-    HostState st;
-    sim.solver().get_state(st);
+    HostState st = sim.state();
     for (int i = 0; i < n; ++i) st.u[0 * n + i] = 0.6, st.u[1 * n + i] = -0.8, st.du[i] = st.du[n + i] = st.du[2 * n + i] = 0;
-    sim.solver().set_state(st);
+    sim.set_state(st);
     sim.step(1);
-    sim.solver().get_state(st);
+    st = sim.state();
     const double dt = sim.time_step().dt, gamma1 = dt * dt;  // 2 dt^2 / (alpha dt + 2), alpha = 0
     double worst = 0;
     for (int i = 0; i < n; ++i)
@@ -355,10 +353,10 @@ TEST(Determinism, BitwiseIdenticalForOneAndTwoThreads) {
     double se[2] = {0, 0};
     for (int threads : {1, 2}) {
       Simulation sim(s);
-      sim.solver().set_cpu_threads(threads);
+      SolverAccess::of(sim).set_cpu_threads(threads);
       sim.step(4000);  // through first contact (the torus touches the floor after ~3600 steps)
-      sim.solver().get_state(threads == 1 ? a : b);
-      se[threads - 1] = sim.solver().strain_energy();
+      (threads == 1 ? a : b) = sim.state();
+      se[threads - 1] = SolverAccess::of(sim).strain_energy();
       if (threads == 2) EXPECT_GT(sim.diagnostics().n_contact, 0);
     }
     ASSERT_EQ(a.u.size(), b.u.size());

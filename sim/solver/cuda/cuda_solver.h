@@ -60,7 +60,6 @@ class CudaSolverApi : public Solver {
   virtual ExecMode exec_mode() const = 0;  // the mode in use (kAuto resolved)
   virtual void set_node_lanes(int lanes) = 0;  // 1, 4, 8; 0 = by mesh size
   virtual int node_lanes() const = 0;          // in use
-  virtual void synchronize() = 0;          // wait for all enqueued steps
   // Device-timed (events) n steps from the current state; returns microseconds.
   virtual double time_steps_us(long n) = 0;
   // Per-stage times; restores the live state afterwards.

@@ -16,6 +16,7 @@
 #include "sim/solver/cuda/cuda_solver.h"
 #include "sim/solver/cuda/device_info.h"
 #include "sim/scene/simulation.h"
+#include "sim/scene/solver_access.h"
 
 #define SKIP_WITHOUT_GPU()                                                              \
   do {                                                                                  \
@@ -27,14 +28,14 @@ namespace softtled::test {
 
 inline std::unique_ptr<Simulation> make_sim(const Scene& s, const std::string& backend) {
   auto sim = std::make_unique<Simulation>(s, backend);
-  if (backend == "cpu") sim->solver().set_cpu_threads(std::min(8, omp_get_max_threads()));
+  if (backend == "cpu") SolverAccess::of(*sim).set_cpu_threads(std::min(8, omp_get_max_threads()));
   return sim;
 }
 
 // A CUDA simulation in the given execution mode.
 inline std::unique_ptr<Simulation> make_gpu(const Scene& s, cuda::ExecMode m) {
   auto sim = make_sim(s, "cuda");
-  auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
+  auto* api = dynamic_cast<cuda::CudaSolverApi*>(&SolverAccess::of(*sim));
   if (!api) throw std::runtime_error("not the CUDA backend");
   api->set_exec_mode(m);
   return sim;
@@ -43,8 +44,8 @@ inline std::unique_ptr<Simulation> make_gpu(const Scene& s, cuda::ExecMode m) {
 // Largest node position difference [m].
 inline double max_diff(Simulation& a, Simulation& b) {
   HostState sa, sb;
-  a.solver().get_state(sa);
-  b.solver().get_state(sb);
+  sa = a.state();
+  sb = b.state();
   const int n = a.mesh().nnode();
   double worst = 0;
   for (int i = 0; i < n; ++i) {
@@ -77,7 +78,7 @@ void expect_modes_bitwise_identical(const Scene& s, long steps, const std::strin
     for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
                              cuda::ExecMode::kFused, cuda::ExecMode::kAuto}) {
       auto sim = make_sim(s, "cuda");
-      auto* api = dynamic_cast<cuda::CudaSolverApi*>(&sim->solver());
+      auto* api = dynamic_cast<cuda::CudaSolverApi*>(&SolverAccess::of(*sim));
       ASSERT_NE(api, nullptr);
       api->set_exec_mode(m);
       api->set_node_lanes(lanes);
@@ -88,8 +89,7 @@ void expect_modes_bitwise_identical(const Scene& s, long steps, const std::strin
         sim->step(n);
         done += n;
       }
-      HostState st;
-      sim->solver().get_state(st);
+      HostState st = sim->state();
       if (!have_ref) {
         ref = st;
         have_ref = true;

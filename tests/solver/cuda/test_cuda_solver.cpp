@@ -17,6 +17,7 @@
 #include "cuda_test_helpers.h"
 #include "sim/contact/plane_contact.h"
 #include "sim/scene/simulation.h"
+#include "sim/scene/solver_access.h"
 #include "sim/fem/surface_render.h"
 
 using namespace softtled;
@@ -45,7 +46,7 @@ void expect_torus_drop_matches_cpu(const std::vector<std::string>& extra) {
     const char* name = cuda::exec_mode_name(m);
     auto gpu_f = make_gpu(torus("float"), m);
     auto gpu_d = make_gpu(torus("double"), m);
-    ASSERT_EQ(gpu_f->solver().backend(), "cuda");
+    ASSERT_EQ(gpu_f->backend(), "cuda");
     const double dt = cpu_f->time_step().dt;
     ASSERT_EQ(dt, gpu_f->time_step().dt);
     if (cpu_f->steps() > 0) {  // second mode: the CPU runs again from the start
@@ -166,31 +167,29 @@ TEST(CudaSolver, RenderBufferEnergyAndMassesMatchCpu) {
   auto cpu = make_sim(torus("float"), "cpu");
   auto gpu = make_sim(torus("float"), "cuda");
   cpu->step(4500);  // in contact
-  HostState st;
-  cpu->solver().get_state(st);
-  gpu->solver().set_state(st);
-  HostState back;
-  gpu->solver().get_state(back);
+  HostState st = cpu->state();
+  gpu->set_state(st);
+  HostState back = gpu->state();
   ASSERT_TRUE(bitwise_equal(st, back)) << "set_state / get_state must round-trip through the permutation";
 
-  const auto& mc = cpu->solver().lumped_mass();
-  const auto& mg = gpu->solver().lumped_mass();
+  const auto& mc = cpu->lumped_mass();
+  const auto& mg = gpu->lumped_mass();
   ASSERT_EQ(mc.size(), mg.size());
   for (std::size_t i = 0; i < mc.size(); ++i) ASSERT_NEAR(mg[i], mc[i], 1e-12 * mc[i]) << "node " << i;
 
-  const double ec = cpu->solver().strain_energy(), eg = gpu->solver().strain_energy();
+  const double ec = SolverAccess::of(*cpu).strain_energy(), eg = SolverAccess::of(*gpu).strain_energy();
   EXPECT_NEAR(eg, ec, 1e-5 * std::abs(ec) + 1e-15);
-  EXPECT_EQ(eg, gpu->solver().strain_energy()) << "the reduction must be deterministic";
+  EXPECT_EQ(eg, SolverAccess::of(*gpu).strain_energy()) << "the reduction must be deterministic";
 
-  ASSERT_TRUE(gpu->solver().render_buffer_on_device());
+  ASSERT_TRUE(gpu->render_buffer_on_device());
   const std::size_t nv = cpu->mesh().surface_nodes.size();
   const std::size_t nf = nv * kRenderFloatsPerVertex;
   std::vector<float> hc(nf, -7.f), hg(nf, -7.f);
-  cpu->solver().write_render_vertices(hc.data());
+  cpu->write_render_vertices(hc.data());
   float* d = nullptr;
   ASSERT_EQ(cudaMalloc(reinterpret_cast<void**>(&d), nf * sizeof(float)), cudaSuccess);
   ASSERT_EQ(cudaMemset(d, 0xff, nf * sizeof(float)), cudaSuccess);  // NaN poison: every float must be written
-  gpu->solver().write_render_vertices(d);
+  gpu->write_render_vertices(d);
   ASSERT_EQ(cudaMemcpy(hg.data(), d, nf * sizeof(float), cudaMemcpyDeviceToHost), cudaSuccess);
   ASSERT_EQ(cudaFree(d), cudaSuccess);
   double dpos = 0, dnrm = 0, du = 0;
@@ -222,20 +221,20 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   f[0 * n + pulled] = 2e-4;                        // 0.2 mN sideways
   f[1 * n + pulled] = 5e-4;                        // 0.5 mN up
   for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), missed.get()}) {
-    s->solver().set_external_forces(f);
+    s->set_external_forces(f);
     s->step(1500);
   }
   // Sliding contact under the pull: the backends differ only by rounding.
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-12);
   for (Simulation* s : {cpu.get(), gpu.get(), fused.get()}) {
-    s->solver().set_external_forces({});
+    s->set_external_forces({});
     PhysicsParams p = s->params();
     p.alpha = 30;                 // a live edit: the graphs must be rebuilt
     p.contact_mode = kStatic;
     s->set_params(p);
     s->step(3000);
   }
-  missed->solver().set_external_forces({});
+  missed->set_external_forces({});
   missed->step(3000);
   // Static contact is a branch on the sign of the gap (plane_contact.h), and nodes resting
   // on the floor sit at a gap of rounding size, so in double a 1e-17 difference can flip
@@ -246,7 +245,6 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   EXPECT_GT(max_diff(*cpu, *missed), 1e-5) << "the live edit must change the run";
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-7);
   EXPECT_EQ(max_diff(*gpu, *fused), 0.0) << "fused and graph-pdl modes must be bitwise identical";
-  HostState a;
-  gpu->solver().get_state(a);
+  HostState a = gpu->state();
   EXPECT_GT(std::abs(a.u[0 * n + pulled]), 1e-7) << "the sideways pull must have moved the node";
 }
