@@ -12,8 +12,8 @@
 #include <limits>
 
 #include "backends.h"
+#include "extreme_helpers.h"
 #include "scene_helpers.h"
-#include "sim/mesh/surface_mesh.h"
 #include "sim/scene/simulation.h"
 #include "sim/scene/solver_access.h"
 
@@ -29,21 +29,7 @@ double damped_fall(double g, double alpha, double t) {
   return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha);
 }
 
-// A 10 mm box of 2x2x2 cells whose bottom is `gap` mm above a floor (test_extremes.cpp).
-Scene box_on_floor(const std::string& extra, double gap = 1.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "[floor]\nenabled = true\npoint = [0, %.12g, 0]\n", -5.0 - gap);
-  return parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n" +
-                         std::string(buf) + extra,
-                     "extreme");
-}
 
-void expect_sane(Simulation& sim, const std::string& what) {
-  for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << what;
-  const Diagnostics d = sim.diagnostics();
-  EXPECT_GT(d.min_gap, -1e-9) << what << ": a node is below a plane";
-  EXPECT_TRUE(std::isfinite(d.ke) && std::isfinite(d.se)) << what;
-}
 
 // advance_to in output intervals of `every` s; returns the most nodes in contact.
 int run_to(Simulation& sim, double t_end, double every) {
@@ -55,21 +41,6 @@ int run_to(Simulation& sim, double t_end, double every) {
   return most;
 }
 
-double min_J(Simulation& sim) {
-  const HostState& st = sim.state();
-  const TetMesh& m = sim.mesh();
-  const int n = m.nnode();
-  double jmin = 1e300;
-  for (int e = 0; e < m.ntet(); ++e) {
-    double x[4][3];
-    for (int a = 0; a < 4; ++a)
-      for (int k = 0; k < 3; ++k) x[a][k] = m.X[3 * m.tet[4 * e + a] + k] + st.u[k * n + m.tet[4 * e + a]];
-    const double* X[4] = {&m.X[3 * m.tet[4 * e]], &m.X[3 * m.tet[4 * e + 1]], &m.X[3 * m.tet[4 * e + 2]],
-                          &m.X[3 * m.tet[4 * e + 3]]};
-    jmin = std::min(jmin, tet_signed_volume(x[0], x[1], x[2], x[3]) / tet_signed_volume(X[0], X[1], X[2], X[3]));
-  }
-  return jmin;
-}
 
 }  // namespace
 
