@@ -39,6 +39,20 @@ int main(int argc, char** argv) {
   commands["render"] = add_render_command(app);
   commands["view"] = add_view_command(app);
 #endif
+  // CLI11 reports a misspelt command only as "A subcommand is required": name it.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-v" || a == "--verbose") continue;
+    if (a.empty() || a[0] == '-') break;  // --help, --version, or CLI11's own usage error
+    if (!commands.count(a)) {
+      std::string known;
+      for (const auto& c : commands) known += (known.empty() ? "" : ", ") + c.first;
+      std::fprintf(stderr, "softtled: error: unknown command '%s' (commands: %s)\nRun with --help for more information.\n",
+                   a.c_str(), known.c_str());
+      return kExitInput;
+    }
+    break;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
