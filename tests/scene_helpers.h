@@ -1,5 +1,6 @@
 #pragma once
 // Small scenes for tests, written as TOML so they exercise the same path as users.
+#include <cmath>
 #include <string>
 
 #include "sim/scene/scene.h"
@@ -12,6 +13,11 @@ inline Scene box_scene(const std::string& extra = "", double lx = 10, double ly 
                            std::to_string(ly) + ", " + std::to_string(lz) + "]\ndivisions = [2, 2, 2]\n" +
                            "[floor]\nenabled = false\n" + extra;
   return parse_scene(toml, "test");
+}
+
+// Centroid drop from rest under gravity g with mass-proportional damping alpha, at time t.
+inline double damped_fall(double g, double alpha, double t) {
+  return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha);
 }
 
 inline std::string assets_dir() {

@@ -37,15 +37,6 @@ std::uint64_t payload_checksum(const std::vector<double>& X, const std::vector<i
   return fnv1a(tet.data(), tet.size() * sizeof(int), h);
 }
 
-double tet_mesh_volume(const TetMesh& m) {
-  double v = 0;
-  for (int e = 0; e < m.ntet(); ++e) {
-    const int* t = &m.tet[4 * e];
-    v += tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
-  }
-  return v;
-}
-
 // The cached mesh for this surface, or false when the entry is missing, not a regular
 // file, or does not verify. Never throws for a bad entry.
 bool read_entry(const std::string& path, const SurfaceMesh& s, long max_tets, TetMesh& out) {

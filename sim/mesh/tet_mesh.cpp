@@ -22,6 +22,15 @@ double tet_signed_volume(const double* a, const double* b, const double* c, cons
           u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
 }
 
+double tet_mesh_volume(const TetMesh& m) {
+  double v = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    v += tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
+  }
+  return v;
+}
+
 // Faces of tet (0,1,2,3) oriented outward (counter-clockwise seen from outside) when the
 // tet is positive, i.e. (X1-X0) x (X2-X0) . (X3-X0) > 0: face opposite corner a.
 static const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};

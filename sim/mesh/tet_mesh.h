@@ -20,6 +20,8 @@ struct TetMesh {
 TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet);
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
+// Sum of the signed element volumes [m^3].
+double tet_mesh_volume(const TetMesh& m);
 
 // Counts in the form of the paper's Table I.
 struct MeshCounts {

@@ -42,15 +42,6 @@ void write_file(const std::string& path, const std::string& content) {
   o << content;
 }
 
-double mesh_volume(const TetMesh& m) {
-  double v = 0;
-  for (int e = 0; e < m.ntet(); ++e) {
-    const int* t = &m.tet[4 * e];
-    v += tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
-  }
-  return v;
-}
-
 double polygon_area_2d(const std::vector<double>& xyz, const std::vector<int>& tri) {  // z = 0 plane, signed
   double a = 0;
   for (std::size_t t = 0; t < tri.size(); t += 3) {
@@ -133,7 +124,7 @@ TEST(SurfaceFiles, ConcavePolygonFacesKeepTheirShape) {
     EXPECT_EQ(s.ntri(), 2 * 4 + 6 * 2) << f;  // two hexagons (4 triangles each), six quads
     EXPECT_NEAR(enclosed_volume(s), 3.0, 1e-12) << f;
     const TetMesh m = tetrahedralize_surface(s, TetgenOptions{});
-    EXPECT_NEAR(mesh_volume(m), 3.0, 1e-9) << f;
+    EXPECT_NEAR(tet_mesh_volume(m), 3.0, 1e-9) << f;
   }
 }
 

@@ -32,15 +32,6 @@ TetgenOptions with_switches(const std::string& s) {
   return o;
 }
 
-double mesh_volume(const TetMesh& m) {
-  double v = 0;
-  for (int e = 0; e < m.ntet(); ++e) {
-    const int* t = &m.tet[4 * e];
-    v += tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
-  }
-  return v;
-}
-
 const SurfaceMesh& small_box() {
   static const SurfaceMesh b = make_box(0.01, 0.01, 0.01, 2, 2, 2);
   return b;
@@ -119,7 +110,7 @@ TEST(TetgenOptions, NumbersAreBoundedInsideTheMesher) {
   off.radius_edge = 0;  // 0 disables -q
   EXPECT_EQ(tetgen_switches(off), "pzQ");
   const TetMesh m = tetrahedralize_surface(small_box(), off);
-  EXPECT_NEAR(mesh_volume(m), 1e-6, 1e-15);
+  EXPECT_NEAR(tet_mesh_volume(m), 1e-6, 1e-15);
 }
 
 namespace {
@@ -181,8 +172,8 @@ TEST(TetgenGeometry, ExtremePlacementsAreRefusedBeforeTetGen) {
   for (const auto& f : fine) {
     ASSERT_NO_THROW(check_surface_for_meshing(f.s));
     const TetMesh m = tetrahedralize_surface(f.s, TetgenOptions{});
-    const double v = mesh_volume(ref) * f.scale * f.scale * f.scale;
-    EXPECT_NEAR(mesh_volume(m), v, 1e-6 * v) << "scale " << f.scale;
+    const double v = tet_mesh_volume(ref) * f.scale * f.scale * f.scale;
+    EXPECT_NEAR(tet_mesh_volume(m), v, 1e-6 * v) << "scale " << f.scale;
     EXPECT_NEAR(enclosed_volume(f.s), v, 1e-6 * v) << "scale " << f.scale;  // far from the origin too
   }
 }
@@ -201,7 +192,7 @@ TEST(TetgenGeometry, TinyFeaturesAreRefused) {
   expect_input_error([&] { tetrahedralize_surface(split_tetrahedron(0.005, 1e-10), TetgenOptions{}); },
                      {"surface to mesh", "sliver"}, "point 1e-10 off an edge");
   const TetMesh m = tetrahedralize_surface(split_tetrahedron(0.003, 0.002), TetgenOptions{});
-  EXPECT_NEAR(mesh_volume(m), 1e-6 / 6, 1e-18);
+  EXPECT_NEAR(tet_mesh_volume(m), 1e-6 / 6, 1e-18);
   // Indices out of range or an open surface never reach TetGen either.
   SurfaceMesh bad = split_tetrahedron(0.003, 0.002);
   bad.tri[0] = 99;
@@ -277,13 +268,13 @@ TEST(TetgenIsolation, TetgenCrashIsAnErrorNotAnAbort) {
   o.max_volume = 2e-8;
   try {
     const TetMesh m = tetrahedralize_surface(box, o);
-    EXPECT_NEAR(mesh_volume(m), 1e-6, 1e-12);  // a TetGen without the bug meshes it
+    EXPECT_NEAR(tet_mesh_volume(m), 1e-6, 1e-12);  // a TetGen without the bug meshes it
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("TetGen (-pq2a20zQ) crashed on this surface (signal 6"), std::string::npos)
         << e.what();
   }
   // The process and TetGen still work afterwards.
-  EXPECT_NEAR(mesh_volume(tetrahedralize_surface(small_box(), TetgenOptions{})), 1e-6, 1e-15);
+  EXPECT_NEAR(tet_mesh_volume(tetrahedralize_surface(small_box(), TetgenOptions{})), 1e-6, 1e-15);
 }
 
 TEST(TetgenIsolation, TimeLimitStopsTetgen) {

@@ -24,13 +24,6 @@ namespace {
 
 const std::string kAdaptive = "[time]\ndt = \"adaptive\"\n";
 
-// Centroid drop under gravity g with mass-proportional damping alpha from rest.
-double damped_fall(double g, double alpha, double t) {
-  return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha);
-}
-
-
-
 // advance_to in output intervals of `every` s; returns the most nodes in contact.
 int run_to(Simulation& sim, double t_end, double every) {
   int most = 0;
@@ -40,7 +33,6 @@ int run_to(Simulation& sim, double t_end, double every) {
   }
   return most;
 }
-
 
 }  // namespace
 

@@ -19,7 +19,6 @@ using namespace softtled::test;
 
 namespace {
 
-
 // Advances in chunks and returns the largest number of nodes in contact at any check.
 int advance_counting_contacts(Simulation& sim, double t_end, long check_every) {
   int most = 0;
@@ -29,8 +28,6 @@ int advance_counting_contacts(Simulation& sim, double t_end, long check_every) {
   }
   return most;
 }
-
-
 
 }  // namespace
 

@@ -17,7 +17,6 @@ using namespace softtled;
 using namespace softtled::test;
 
 namespace {
-double damped_fall(double g, double alpha, double t) { return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha); }
 
 double node_extent(Simulation& sim, int axis) {
   const HostState& st = sim.state();

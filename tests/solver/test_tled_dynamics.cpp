@@ -18,14 +18,6 @@
 using namespace softtled;
 using namespace softtled::test;
 
-namespace {
-// Centroid drop under gravity g with mass-proportional damping alpha from rest:
-//   y(t) = y0 - (g/alpha) (t - (1 - exp(-alpha t)) / alpha)
-double damped_fall(double g, double alpha, double t) {
-  return (g / alpha) * (t - (1 - std::exp(-alpha * t)) / alpha);
-}
-}  // namespace
-
 class DampedFreeFall : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(DampedFreeFall, CentroidFollowsAnalyticSolution) {
