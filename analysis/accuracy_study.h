@@ -15,8 +15,9 @@ namespace softtled {
 struct AccuracyRun {
   std::string level, precision, element;
   double lambda = 0;
+  bool adaptive = false;  // time.dt = "adaptive" (else "auto": dt = lambda dt_cr, fixed)
   int ntet = 0;
-  double dt = 0;
+  double dt = 0;          // adaptive: the mean step
   long steps = 0;
   double wall_s = 0, us_per_step = 0;   // stepping only (diagnostics excluded)
   std::vector<std::vector<double>> cen; // centroid xyz every 1 ms from t = 0 [m]
@@ -32,10 +33,12 @@ struct AccuracyErrors {
 };
 
 // level: torus grid "NUxNV" (overrides body.segments), optionally "@qRHO" for the TetGen
-// radius-edge bound (mesh.radius_edge). Throws SimulationDiverged.
+// radius-edge bound (mesh.radius_edge). adaptive: the live stable step with safety factor
+// lambda instead of lambda times the rest-state one. Throws SimulationDiverged.
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
                                  const std::string& precision, double lambda, const std::string& element, double t_end,
-                                 double t1, double t2, const std::vector<std::string>& extra_overrides = {});
+                                 double t1, double t2, const std::vector<std::string>& extra_overrides = {},
+                                 bool adaptive = false);
 
 AccuracyErrors compare_runs(const AccuracyRun& v, const AccuracyRun& ref, const FieldSampler& ref_sampler, double t_rms);
 

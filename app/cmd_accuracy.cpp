@@ -75,7 +75,7 @@ std::string default_out_dir() {
 Command add_accuracy_command(CLI::App& app) {
   struct Opts {
     std::string scene = "assets/scenes/torus_drop.toml", out, backend = "auto";
-    std::string levels = "45x9,91x19,182x38", ref = "273x57", lambdas = "0.1,0.25,0.5,1.0";
+    std::string levels = "45x9,91x19,182x38", ref = "273x57", lambdas = "0.1,0.25,0.5,1.0", adaptive_lambdas;
     std::string precisions = "float,double", elements = "T4,T4ANP";
     double t_end = 0.2, ref_lambda = 0.25;
   };
@@ -89,24 +89,31 @@ Command add_accuracy_command(CLI::App& app) {
   c->add_option("--ref", o->ref, "reference grid (finest)")->capture_default_str();
   c->add_option("--ref-lambda", o->ref_lambda, "lambda of the reference")->check(finite_range(1e-3, 1))->capture_default_str();
   c->add_option("--lambdas", o->lambdas, "lambda = dt/dt_cr values, each in (0, 1]")->capture_default_str();
+  c->add_option("--adaptive-lambdas", o->adaptive_lambdas,
+                "also runs with time.dt = \"adaptive\" at these safety factors, each in (0, 1] (default: none)");
   c->add_option("--precisions", o->precisions, "float,double")->capture_default_str();
   c->add_option("--elements", o->elements, "T4,T4ANP")->capture_default_str();
   c->add_option("--t-end", o->t_end, "simulated time per run [s]")->check(finite_range(1e-3, 10))->capture_default_str();
   return [o]() {
     // ---- every argument first: the reference run takes hours on a CPU ----
-    std::vector<double> lambdas;
-    for (const auto& ls : split(o->lambdas)) {
-      double v = 0;
-      std::size_t used = 0;
-      try {
-        v = std::stod(ls, &used);
-      } catch (const std::exception&) {
-        used = 0;
+    auto parse_lambdas = [](const std::string& flag, const std::string& list) {
+      std::vector<double> out;
+      for (const auto& ls : split(list)) {
+        double v = 0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(ls, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != ls.size() || !std::isfinite(v) || !(v >= 1e-3 && v <= 1))
+          throw InputError(flag + " '" + list + "': '" + ls + "' is not a number in [0.001, 1]");
+        out.push_back(v);
       }
-      if (used != ls.size() || !std::isfinite(v) || !(v >= 1e-3 && v <= 1))
-        throw InputError("--lambdas '" + o->lambdas + "': '" + ls + "' is not a number in [0.001, 1]");
-      lambdas.push_back(v);
-    }
+      return out;
+    };
+    const std::vector<double> lambdas = parse_lambdas("--lambdas", o->lambdas);
+    const std::vector<double> adaptive_lambdas = parse_lambdas("--adaptive-lambdas", o->adaptive_lambdas);
     const std::vector<std::string> levels = split(o->levels), precs = split(o->precisions), elements = split(o->elements);
     if (lambdas.empty() || levels.empty() || precs.empty() || elements.empty())
       throw InputError("--levels, --lambdas, --precisions and --elements each need at least one value");
@@ -133,7 +140,7 @@ Command add_accuracy_command(CLI::App& app) {
     const double t1 = std::min(0.05, o->t_end), t2 = std::min(0.1, o->t_end);
     const std::string header =
         "level,ntet,precision,element,lambda,dt_us,steps,us_per_step,wall_s,centroid_rms_mm,max_err_mm_t1,mean_err_mm_t1,"
-        "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm";
+        "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm,dt_mode";
     OutputFile csv(csv_path);
     csv.write(header + "\n");
     csv.flush();
@@ -164,10 +171,10 @@ Command add_accuracy_command(CLI::App& app) {
     };
     auto emit = [&](const AccuracyRun& r, const AccuracyErrors& e) {
       char buf[512];
-      std::snprintf(buf, sizeof buf, "%s,%d,%s,%s,%.3g,%.4g,%ld,%.4g,%.4g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g", r.level.c_str(),
+      std::snprintf(buf, sizeof buf, "%s,%d,%s,%s,%.3g,%.4g,%ld,%.4g,%.4g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%s", r.level.c_str(),
                     r.ntet, r.precision.c_str(), r.element.c_str(), r.lambda, r.dt * 1e6, r.steps, r.us_per_step, r.wall_s,
                     e.centroid_rms * 1e3, e.max_err[0] * 1e3, e.mean_err[0] * 1e3, e.max_err[1] * 1e3, e.mean_err[1] * 1e3,
-                    e.rest * 1e3);
+                    e.rest * 1e3, r.adaptive ? "adaptive" : "auto");
       add_row(buf);
     };
 
@@ -175,12 +182,17 @@ Command add_accuracy_command(CLI::App& app) {
     struct Job {
       std::string level, prec, element;
       double lambda;
+      bool adaptive = false;
     };
     std::vector<Job> jobs = {{o->ref, "double", "T4ANP", o->ref_lambda}, {o->ref, "double", "T4", o->ref_lambda}};
     for (const auto& level : levels)
       for (const auto& el : elements)
         for (const auto& prec : precs)
           for (double l : lambdas) jobs.push_back({level, prec, el, l});
+    for (const auto& level : levels)
+      for (const auto& el : elements)
+        for (const auto& prec : precs)
+          for (double l : adaptive_lambdas) jobs.push_back({level, prec, el, l, true});
     double units_left = 0, units_done = 0, wall_done = 0;
     for (const auto& j : jobs) units_left += cost_units(j.level, j.prec, j.lambda);
     const auto start = std::chrono::steady_clock::now();
@@ -215,13 +227,15 @@ Command add_accuracy_command(CLI::App& app) {
       const Job& j = jobs[i];
       t0 = begin_job(j);
       try {
-        const AccuracyRun r = run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end, t1, t2);
+        const AccuracyRun r =
+            run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end, t1, t2, {}, j.adaptive);
         emit(r, compare_runs(r, ref, sampler, t2));
       } catch (const SimulationDiverged& e) {
         std::fprintf(stderr, "%s %s %s lambda %g: %s\n", j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, e.what());
         char lam[32];
         std::snprintf(lam, sizeof lam, "%.3g", j.lambda);
-        add_row(j.level + ",," + j.prec + "," + j.element + "," + lam + ",diverged,,,,,,,,,");
+        add_row(j.level + ",," + j.prec + "," + j.element + "," + lam + ",diverged,,,,,,,,,," +
+                (j.adaptive ? "adaptive" : "auto"));
       }
       end_job(j, t0);
     }

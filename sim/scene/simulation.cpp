@@ -170,7 +170,7 @@ void Simulation::change_dt(double dt_new) {
   for (double& v : last_good_.du) v *= dt_new / dt_old;
   params_.dt = dt_new;
   ts_.dt = dt_new;
-  solver_->set_params(params_);
+  solver_->set_dt(params_);
   solver_->change_step(dt_new / dt_old, 0.5 * (dt_old + dt_new));
   state_changed();
 }

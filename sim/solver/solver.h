@@ -83,6 +83,9 @@ class Solver {
   // velocity), and the next step's velocity update spans dt_mid = (dt_old + dt_new) / 2
   // (one step; set_state cancels it).
   virtual void change_step(double scale, double dt_mid) = 0;
+  // set_params with parameters that differ from the last ones in dt only (the adaptive
+  // step's ladder moving): a backend may keep what it built per dt (the CUDA graphs).
+  virtual void set_dt(const PhysicsParams& p) { set_params(p); }
   // omega_max of M^-1 K(u) at the live state, from below (stiffness_probe.h): `iterations`
   // power-iteration products from the vector the last call left (warm start), at
   // perturbation amplitude a [m] (max-norm of the perturbation); restart: from the fixed

@@ -205,6 +205,16 @@ class CudaSolver final : public CudaSolverApi {
     if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
   }
 
+  // The step graphs are kept per dt (graph_key): the adaptive step moves between a few
+  // ladder rungs, and recapturing and instantiating a graph costs more than the dozens of
+  // steps between two changes (~0.1 ms).
+  void set_dt(const PhysicsParams& p) override {
+    const T old_beta_dt = cfg_.step.beta_dt;
+    params_ = p;
+    cfg_ = step_config_from<T>(p);
+    if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
+  }
+
   void set_exec_mode(ExecMode m) override {
     if (m == ExecMode::kAuto) m = auto_mode();
     if (m != mode_) clear_graphs();
@@ -380,25 +390,43 @@ class CudaSolver final : public CudaSolverApi {
     }
     if (restart)
       SOFTTLED_CUDA_CHECK(launch_probe_start<T>(stream_, s3, n_, rest_.view.inv_mass, probe_.node_old.data(), probe_.v.data()));
-    StepArgs<T> at = args(cfg_.step);
-    at.b.ub = nullptr;  // forces at the displacement itself
-    const T ta = T(a), inv_a = T(1) / ta;
-    // f0 = f(u)
-    at.b.u = live_.u.data();
-    SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
-    SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(), probe_.f0.data(), nullptr,
-                                               nullptr, nullptr, inv_a, nullptr, nullptr));
-    at.b.u = probe_.up.data();
-    for (int it = 0; it < iterations; ++it) {
-      SOFTTLED_CUDA_CHECK(launch_probe_displace<T>(stream_, s3, n3, live_.u.data(), probe_.v.data(), ta, probe_.up.data()));
-      SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
-      SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(), nullptr, probe_.f0.data(),
-                                                 probe_.v.data(), probe_.mass.data(), inv_a, probe_.w.data(),
-                                                 probe_.terms.data()));
-      SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data(), n_, partials_.data(), probe_.sums.data()));
-      SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data() + n_, n_, partials_.data(), probe_.sums.data() + 1));
-      SOFTTLED_CUDA_CHECK(launch_probe_normalize<T>(stream_, s3, n3, probe_.w.data(), probe_.sums.data() + 2, probe_.v.data()));
+    // One graph per iteration count: a dozen short kernels per product, launched one by
+    // one, cost ~0.15 ms of host launches per estimate.
+    if (a != probe_a_) {
+      for (auto& g : probe_graphs_) cudaGraphExecDestroy(g.second);
+      probe_graphs_.clear();
+      probe_a_ = a;
     }
+    auto it = probe_graphs_.find(iterations);
+    if (it == probe_graphs_.end()) {
+      StepArgs<T> at = args(cfg_.step);
+      at.b.ub = nullptr;  // forces at the displacement itself
+      const T ta = T(a), inv_a = T(1) / ta;
+      it = probe_graphs_.emplace(iterations, capture([&] {
+                          // f0 = f(u)
+                          at.b.u = live_.u.data();
+                          SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
+                          SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(),
+                                                                     probe_.f0.data(), nullptr, nullptr, nullptr,
+                                                                     inv_a, nullptr, nullptr));
+                          at.b.u = probe_.up.data();
+                          for (int k = 0; k < iterations; ++k) {
+                            SOFTTLED_CUDA_CHECK(launch_probe_displace<T>(stream_, s3, n3, live_.u.data(),
+                                                                         probe_.v.data(), ta, probe_.up.data()));
+                            SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
+                            SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(
+                                stream_, sn, rest_.view, live_.fcorner.data(), nullptr, probe_.f0.data(),
+                                probe_.v.data(), probe_.mass.data(), inv_a, probe_.w.data(), probe_.terms.data()));
+                            SOFTTLED_CUDA_CHECK(
+                                launch_sum(stream_, probe_.terms.data(), n_, partials_.data(), probe_.sums.data()));
+                            SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data() + n_, n_, partials_.data(),
+                                                           probe_.sums.data() + 1));
+                            SOFTTLED_CUDA_CHECK(launch_probe_normalize<T>(stream_, s3, n3, probe_.w.data(),
+                                                                          probe_.sums.data() + 2, probe_.v.data()));
+                          }
+                        })).first;
+    }
+    SOFTTLED_CUDA_CHECK(cudaGraphLaunch(it->second, stream_));
     double h[3] = {0, 0, 0};
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h, probe_.sums.data(), sizeof h, cudaMemcpyDeviceToHost, stream_));
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
@@ -652,8 +680,10 @@ class CudaSolver final : public CudaSolverApi {
   }
 
   cudaGraphExec_t graph(int k) {
-    auto it = graphs_.find(k);
+    const GraphKey key{double(cfg_.step.dt), k};
+    auto it = graphs_.find(key);
     if (it != graphs_.end()) return it->second;
+    if (graphs_.size() >= kMaxGraphs) clear_graphs();
     const StepArgs<T> a = args(cfg_.step);
     const bool fused = run_mode() == ExecMode::kFused;
     const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
@@ -681,14 +711,16 @@ class CudaSolver final : public CudaSolverApi {
       mode_ = ExecMode::kGraph;
       return graph(k);
     }
-    graphs_[k] = exec;
+    graphs_[key] = exec;
     return exec;
   }
 
   void clear_graphs() {
-    if (!graphs_.empty() && stream_) cudaStreamSynchronize(stream_);
+    if ((!graphs_.empty() || !probe_graphs_.empty()) && stream_) cudaStreamSynchronize(stream_);
     for (auto& g : graphs_) cudaGraphExecDestroy(g.second);
     graphs_.clear();
+    for (auto& g : probe_graphs_) cudaGraphExecDestroy(g.second);
+    probe_graphs_.clear();
   }
 
   // Median device time of a graph of `reps` launches of one kernel, in microseconds.
@@ -754,7 +786,13 @@ class CudaSolver final : public CudaSolverApi {
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   bool fused_pdl_ = true;
-  std::map<int, cudaGraphExec_t> graphs_;
+  // Step graphs of k steps at one dt (set_dt keeps them), at most kMaxGraphs of them.
+  using GraphKey = std::pair<double, int>;
+  static constexpr std::size_t kMaxGraphs = 96;
+  std::map<GraphKey, cudaGraphExec_t> graphs_;
+  // estimate_omega_max's kernels per iteration count, for the amplitude probe_a_.
+  std::map<int, cudaGraphExec_t> probe_graphs_;
+  double probe_a_ = 0;
 };
 
 }  // namespace
