@@ -29,7 +29,6 @@ namespace cuda {
 const char* exec_mode_name(ExecMode m) {
   switch (m) {
     case ExecMode::kAuto: return "auto";
-    case ExecMode::kCluster: return "cluster";
     case ExecMode::kFused: return "fused";
     case ExecMode::kGraphPdl: return "graph-pdl";
     case ExecMode::kGraph: return "graph";
@@ -38,9 +37,9 @@ const char* exec_mode_name(ExecMode m) {
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kCluster, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, cluster, fused, graph-pdl or graph)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, fused, graph-pdl or graph)");
 }
 
 Options options_from_env() {
@@ -50,7 +49,6 @@ Options options_from_env() {
   if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
   if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
   if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
-  if (const char* c = std::getenv("SOFTTLED_CUDA_CLUSTER")) o.cluster_blocks = std::atoi(c);
   return o;
 }
 
@@ -65,8 +63,6 @@ struct DeviceRest {
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
-  DeviceBuffer<int> c_eblock, c_nblock, c_node_loc, c_corner_loc;  // cluster step (ClusterTables)
-  ClusterTables cluster;  // nblocks == 0: the mesh does not fit one cluster
   TetMeshView<T> view;
   SurfaceView surface;
 };
@@ -143,7 +139,6 @@ class CudaSolver final : public CudaSolverApi {
     v.gather_slot = rest_.gather_slot.data();
     v.flags = rest_.flags.data();
     build_fused_blocks(r.gather_start);
-    build_cluster_tables(r, info.cc_major);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -220,8 +215,7 @@ class CudaSolver final : public CudaSolverApi {
     if (m != mode_) clear_graphs();
     mode_ = m;
   }
-  // The mode that runs: kFused with T4ANP runs as graph-pdl, kCluster on a mesh that does
-  // not fit one cluster as auto's other choice (and exec_mode says so).
+  // The fused step is T4 only: with T4ANP, kFused runs as graph-pdl (and says so here).
   ExecMode exec_mode() const override { return run_mode(); }
 
   void set_node_lanes(int lanes) override {
@@ -234,21 +228,6 @@ class CudaSolver final : public CudaSolverApi {
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
-    if (run_mode() == ExecMode::kCluster) {
-      // The first step after a change of dt with its own coefficients, then the rest in
-      // launches of at most kClusterLaunchSteps (a launch never runs for long).
-      if (dt_mid_ > 0) {
-        SOFTTLED_CUDA_CHECK(launch_cluster_steps<T>(stream_, cluster_threads(), args(step_params_from<T>(params_, dt_mid_)),
-                                                    rest_.cluster, 1));
-        dt_mid_ = 0;
-        --nsteps;
-      }
-      const StepArgs<T> a = args(cfg_.step);
-      for (long left = nsteps; left > 0; left -= kClusterLaunchSteps)
-        SOFTTLED_CUDA_CHECK(launch_cluster_steps<T>(stream_, cluster_threads(), a, rest_.cluster,
-                                                    std::min(left, kClusterLaunchSteps)));
-      return;
-    }
     if (dt_mid_ > 0) {  // the first step after a change of dt: its own coefficients, launched directly
       const StepArgs<T> a = args(step_params_from<T>(params_, dt_mid_));
       dt_mid_ = 0;
@@ -291,7 +270,7 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(du0.data(), live_.du.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
 
-    const bool pdl = run_mode() != ExecMode::kGraph;
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
     const StepArgs<T> a = args(cfg_.step);
     StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
@@ -507,71 +486,10 @@ class CudaSolver final : public CudaSolverApi {
   // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
   // (fewer idle lanes, better coalescing per warp). With T4ANP fused runs as graph-pdl
   // (run_mode).
-  // (cluster is not auto's: slower than fused and graph-pdl on the H100, bench/NOTES.md)
-  ExecMode auto_mode() const { return per_step_mode(); }
-  ExecMode per_step_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
+  ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
   ExecMode run_mode() const {
-    ExecMode m = mode_;
-    if (m == ExecMode::kCluster && rest_.cluster.nblocks == 0) m = per_step_mode();
-    return m == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : m;
+    return mode_ == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : mode_;
   }
-
-  // Cluster step: elements and nodes (Morton order) split evenly over the cluster's
-  // blocks, one element per thread. Tables as ClusterTables describes; nblocks stays 0
-  // (the mode is unavailable) before Hopper, when a block would hold more than
-  // kClusterMaxThreads elements, or when the device cannot place the cluster.
-  static constexpr long kClusterLaunchSteps = 4096;
-  void build_cluster_tables(const RestArrays<T>& r, int cc_major) {
-    if (cc_major < 9 || ne_ == 0) return;
-    int C = opt_.cluster_blocks > 0 ? std::min(opt_.cluster_blocks, kClusterMaxBlocks) : kClusterMaxBlocks;
-    for (; C >= 1; C /= 2) {
-      std::vector<int> eb(C + 1), nb(C + 1);
-      for (int b = 0; b <= C; ++b) {
-        eb[b] = int(std::int64_t(b) * ne_ / C);
-        nb[b] = int(std::int64_t(b) * n_ / C);
-      }
-      int ne_cap = 0, nn_cap = 0;
-      for (int b = 0; b < C; ++b) {
-        ne_cap = std::max(ne_cap, eb[b + 1] - eb[b]);
-        nn_cap = std::max(nn_cap, nb[b + 1] - nb[b]);
-      }
-      if (ne_cap > kClusterMaxThreads) return;  // fewer blocks would only hold more
-      std::vector<int> node_loc(n_), corner_loc(r.gather_slot.size());
-      for (int b = 0; b < C; ++b) {
-        for (int i = nb[b]; i < nb[b + 1]; ++i) node_loc[i] = (b << ClusterTables::kRankShift) | (i - nb[b]);
-      }
-      ClusterTables t;
-      t.nblocks = C;
-      t.ne_cap = ne_cap;
-      t.nn_cap = nn_cap;
-      const int threads = cluster_threads_for(t, 8);
-      if (max_active_clusters<T>(t, threads, true) < 1) continue;  // try a smaller cluster
-      std::vector<int> owner(ne_);
-      for (int b = 0; b < C; ++b)
-        for (int e = eb[b]; e < eb[b + 1]; ++e) owner[e] = b;
-      for (std::size_t j = 0; j < r.gather_slot.size(); ++j) {
-        const int s = r.gather_slot[j], a = s / ne_, e = s - a * ne_, b = owner[e];
-        corner_loc[j] = (b << ClusterTables::kRankShift) | (a * ne_cap + (e - eb[b]));
-      }
-      rest_.c_eblock.upload(eb);
-      rest_.c_nblock.upload(nb);
-      rest_.c_node_loc.upload(node_loc);
-      rest_.c_corner_loc.upload(corner_loc);
-      t.eblock = rest_.c_eblock.data();
-      t.nblock = rest_.c_nblock.data();
-      t.node_loc = rest_.c_node_loc.data();
-      t.corner_loc = rest_.c_corner_loc.data();
-      rest_.cluster = t;
-      return;
-    }
-  }
-  // Threads per block: one per element, and enough for one pass of the node stage's
-  // lanes where that fits.
-  static int cluster_threads_for(const ClusterTables& t, int lanes) {
-    const int want = std::max(t.ne_cap, std::min(t.nn_cap * lanes, kClusterMaxThreads));
-    return std::min(kClusterMaxThreads, (want + 31) / 32 * 32);
-  }
-  int cluster_threads() const { return cluster_threads_for(rest_.cluster, lanes_); }
 
   // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
   // (a node with more entries gets a block of its own; the kernel loops over them).

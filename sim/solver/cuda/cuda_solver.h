@@ -2,17 +2,12 @@
 // CUDA backend of Solver. Plain C++ header: no CUDA types, so the factory, the bench and
 // the tests include it with the ordinary compiler.
 //
-// How the steps reach the GPU is the ExecMode; `auto` picks one of the first three:
-//   cluster     many steps per launch (tled_cluster.cu): the body on one thread-block
-//               cluster of up to 16 SMs, its state in their shared memory, cluster
-//               barriers between the stages, each element computed once. auto where the
-//               mesh fits (Hopper; at most 1024 elements per block: ~16k tets); T4 and
-//               T4ANP
+// How the steps reach the GPU is the ExecMode; `auto` picks one of the first two:
 //   fused       the GPU step (tled_step.cu): one kernel per step, node blocks each
 //               computing the corner forces of their nodes' elements (every element 4
 //               times) into shared memory, then the node stage; two displacement buffers
 //               alternate; graphs of K steps with programmatic dependent launch (PDL).
-//               auto on meshes up to 256 tets per SM that do not fit a cluster; T4 only (with T4ANP it runs as
+//               auto on meshes up to 256 tets per SM; T4 only (with T4ANP it runs as
 //               graph-pdl)
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
@@ -32,9 +27,9 @@
 namespace softtled {
 namespace cuda {
 
-enum class ExecMode { kAuto, kCluster, kFused, kGraphPdl, kGraph };
+enum class ExecMode { kAuto, kFused, kGraphPdl, kGraph };
 const char* exec_mode_name(ExecMode m);
-ExecMode parse_exec_mode(const std::string& s);  // "auto", "cluster", "fused", "graph-pdl", "graph"
+ExecMode parse_exec_mode(const std::string& s);  // "auto", "fused", "graph-pdl", "graph"
 
 struct Options {
   ExecMode mode = ExecMode::kAuto;
@@ -44,11 +39,8 @@ struct Options {
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
   int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
                              // (256 measured fastest: bench/NOTES.md)
-  int cluster_blocks = 0;    // cluster mode: blocks (SMs) per cluster, 0 = 16 where the
-                             // device can place that, else 8, 4, ...
 };
-// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK /
-// _CLUSTER applied.
+// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches

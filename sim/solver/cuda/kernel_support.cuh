@@ -39,41 +39,25 @@ __device__ __forceinline__ T lane_sum(T v) {
   return v;
 }
 
-// The shape of a launch without attributes (launch adds them; the occupancy query of
-// tled_cluster.cu uses it alone).
-inline cudaLaunchConfig_t launch_config(cudaStream_t s, const LaunchShape& ls) {
-  cudaLaunchConfig_t cfg = {};
-  cfg.gridDim = dim3(unsigned(ls.grid));
-  cfg.blockDim = dim3(unsigned(ls.block));
-  cfg.dynamicSmemBytes = ls.smem_bytes;
-  cfg.stream = s;
-  return cfg;
-}
-
 // Every launch goes through here: the shape, the dynamic shared memory (raising the
 // kernel's limit when it needs more than the default 48 KiB) and, with ls.pdl, the
-// programmatic-stream-serialization attribute; with ls.cluster, the cluster size.
+// programmatic-stream-serialization attribute.
 template <class Kernel, class... Args>
 cudaError_t launch(cudaStream_t s, const LaunchShape& ls, Kernel k, Args... args) {
   if (ls.smem_bytes > 48 * 1024) {
     const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(ls.smem_bytes));
     if (e != cudaSuccess) return e;
   }
-  cudaLaunchConfig_t cfg = launch_config(s, ls);
-  cudaLaunchAttribute attr[2];
-  int na = 0;
-  if (ls.pdl) {
-    attr[na].id = cudaLaunchAttributeProgrammaticStreamSerialization;
-    attr[na++].val.programmaticStreamSerializationAllowed = 1;
-  }
-  if (ls.cluster > 0) {
-    attr[na].id = cudaLaunchAttributeClusterDimension;
-    attr[na].val.clusterDim.x = unsigned(ls.cluster);
-    attr[na].val.clusterDim.y = 1;
-    attr[na++].val.clusterDim.z = 1;
-  }
-  cfg.attrs = na ? attr : nullptr;
-  cfg.numAttrs = unsigned(na);
+  cudaLaunchConfig_t cfg = {};
+  cfg.gridDim = dim3(unsigned(ls.grid));
+  cfg.blockDim = dim3(unsigned(ls.block));
+  cfg.dynamicSmemBytes = ls.smem_bytes;
+  cfg.stream = s;
+  cudaLaunchAttribute attr[1];
+  attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+  attr[0].val.programmaticStreamSerializationAllowed = 1;
+  cfg.attrs = ls.pdl ? attr : nullptr;
+  cfg.numAttrs = ls.pdl ? 1 : 0;
   return cudaLaunchKernelEx(&cfg, k, args...);
 }
 

@@ -3,8 +3,6 @@
 // solver's host code compiles with the ordinary C++ compiler). Where each lives:
 //   tled_step.cu    THE GPU STEP: fused_step_kernel, one kernel per step (launch_fused_step;
 //                   `auto` on meshes up to 256 tets per SM, T4)
-//   tled_cluster.cu many steps per launch on one thread-block cluster (launch_cluster_steps;
-//                   `auto` where the mesh fits, T4 and T4ANP)
 //   tled_stages.cu  the two-kernel step (graphs, with or without PDL; larger meshes and
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
@@ -63,7 +61,6 @@ struct LaunchShape {
   // the whole grid is one small wave; costs instructions on large meshes).
   bool prefetch = false;
   std::size_t smem_bytes = 0;  // dynamic shared memory per block
-  int cluster = 0;             // > 0: thread-block clusters of this many blocks (sm_90)
 };
 
 // Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
@@ -100,39 +97,6 @@ constexpr int kFusedMaxThreads = 256;
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next);
-
-// ---- many steps per launch on one thread-block cluster (tled_cluster.cu) ----
-// Block b of the cluster owns elements [eblock[b], eblock[b + 1]) (one per thread) and
-// nodes [nblock[b], nblock[b + 1]); both in the solver's (Morton) order. A node's
-// displacement lives in its owner's shared memory at node_loc[i] = (rank << kRankShift) |
-// local index; gather entry j (corner a of element e, gather-table order) at
-// corner_loc[j] = (rank of e << kRankShift) | (a * ne_cap + local index of e).
-struct ClusterTables {
-  static constexpr int kRankShift = 20;
-  const int* eblock = nullptr;
-  const int* nblock = nullptr;
-  const int* node_loc = nullptr;
-  const int* corner_loc = nullptr;
-  int nblocks = 0;           // blocks in the cluster (= the grid)
-  int ne_cap = 0, nn_cap = 0;  // most elements / nodes of any block (shared-memory layout)
-};
-constexpr int kClusterMaxBlocks = 16;   // H100/H200, non-portable cluster size
-// Threads per block: 1024 holds ~16k tets on 16 SMs but caps registers at 64 (ptxas
-// spills a little of the element stage); overridable for the bench's A/B.
-#ifndef SOFTTLED_CLUSTER_MAX_THREADS
-#define SOFTTLED_CLUSTER_MAX_THREADS 1024
-#endif
-constexpr int kClusterMaxThreads = SOFTTLED_CLUSTER_MAX_THREADS;
-// nsteps steps of a.p from (a.b.u, a.b.du, a.b.ub), written back there at the end;
-// a.b.contact holds the last step's contact states, a.b.fext is read. threads per block:
-// a multiple of 32, >= t.ne_cap. T4 or T4ANP (a.anp), a.lanes lanes per node.
-template <class T>
-cudaError_t launch_cluster_steps(cudaStream_t s, int threads, const StepArgs<T>& a, const ClusterTables& t, long nsteps);
-// Dynamic shared memory of one block, and how many such clusters the device can hold at
-// once (0: it cannot launch one, e.g. too much shared memory or no cluster support).
-std::size_t cluster_smem_bytes(const ClusterTables& t, bool beta, std::size_t scalar_bytes);
-template <class T>
-int max_active_clusters(const ClusterTables& t, int threads, bool beta);
 
 // ---- the two-kernel step (tled_stages.cu) ----
 // T4: element_corner_forces (ls: one thread per element).

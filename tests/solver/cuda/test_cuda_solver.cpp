@@ -38,11 +38,11 @@ void expect_torus_drop_matches_cpu(const std::vector<std::string>& extra) {
   auto torus = [&](const std::string& precision) { return ::torus(precision, extra); };
   // Float on both backends, and double on both as the reference: the GPU's float error
   // against the double trajectory must be of the size of the CPU's own float error.
-  // The two-kernel step (graph-pdl), the fused one-kernel step and the multi-step cluster
-  // launch (auto's choice on small meshes), each in float and double.
+  // The two-kernel step (graph-pdl) and the fused one-kernel step (auto's choice on small
+  // meshes), each in float and double.
   auto cpu_f = make_sim(torus("float"), "cpu");
   auto cpu_d = make_sim(torus("double"), "cpu");
-  for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kFused, cuda::ExecMode::kCluster}) {
+  for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kFused}) {
     const char* name = cuda::exec_mode_name(m);
     auto gpu_f = make_gpu(torus("float"), m);
     auto gpu_d = make_gpu(torus("double"), m);
@@ -128,7 +128,7 @@ TEST(CudaSolver, RayleighBetaFollowsSetStateAndStepChangesLikeCpu) {
   SKIP_WITHOUT_GPU();
   // After a live dt change and a set_state, ub is rebuilt from the state on both backends
   // (a refresh kernel on the GPU): in double the runs agree to rounding, in every mode.
-  for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kFused, cuda::ExecMode::kCluster}) {
+  for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kFused}) {
     auto cpu = make_sim(torus("double", {"damping.beta=2e-6"}), "cpu");
     auto gpu = make_gpu(torus("double", {"damping.beta=2e-6"}), m);
     const long n = std::lround(0.045 / cpu->time_step().dt);
@@ -214,20 +214,19 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   auto cpu = make_sim(torus("double"), "cpu");
   auto gpu = make_gpu(torus("double"), cuda::ExecMode::kGraphPdl);
   auto fused = make_gpu(torus("double"), cuda::ExecMode::kFused);
-  auto cluster = make_gpu(torus("double"), cuda::ExecMode::kCluster);
   auto missed = make_sim(torus("double"), "cpu");  // the same run without the live edit
   const int n = cpu->mesh().nnode();
   std::vector<double> f(3 * n, 0.0);
   const int pulled = cpu->tracked_nodes().at(2);  // the top of the torus
   f[0 * n + pulled] = 2e-4;                        // 0.2 mN sideways
   f[1 * n + pulled] = 5e-4;                        // 0.5 mN up
-  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), cluster.get(), missed.get()}) {
+  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), missed.get()}) {
     s->set_external_forces(f);
     s->step(1500);
   }
   // Sliding contact under the pull: the backends differ only by rounding.
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-12);
-  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), cluster.get()}) {
+  for (Simulation* s : {cpu.get(), gpu.get(), fused.get()}) {
     s->set_external_forces({});
     PhysicsParams p = s->params();
     p.alpha = 30;                 // a live edit: the graphs must be rebuilt
@@ -246,7 +245,6 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   EXPECT_GT(max_diff(*cpu, *missed), 1e-5) << "the live edit must change the run";
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-7);
   EXPECT_EQ(max_diff(*gpu, *fused), 0.0) << "fused and graph-pdl modes must be bitwise identical";
-  EXPECT_EQ(max_diff(*gpu, *cluster), 0.0) << "cluster and graph-pdl modes must be bitwise identical";
   HostState a = gpu->state();
   EXPECT_GT(std::abs(a.u[0 * n + pulled]), 1e-7) << "the sideways pull must have moved the node";
 }
