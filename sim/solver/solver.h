@@ -93,6 +93,8 @@ class Solver {
 
   // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
   virtual void set_cpu_threads(int /*threads*/) {}
+  // The CPU backend's SIMD stages (default) or its scalar reference stages; others ignore it.
+  virtual void set_cpu_simd(bool /*on*/) {}
 };
 
 // flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic:

@@ -1,0 +1,65 @@
+#pragma once
+// The CPU backend's element data in AoSoA blocks for its SIMD stages (cpu_simd.cpp): the
+// rest state of kBlockLanes consecutive elements, field by field, so one vector load reads
+// one field of up to 16 elements (a whole block with AVX-512 in float, half of it with
+// AVX2 or in double). Element e is lane e % kBlockLanes of block e / kBlockLanes: the
+// element order is the mesh's (Morton-reordered) order, only the storage changes. The
+// last block is padded with elements of zero volume and zero dh/dX on node 0, whose
+// corner forces are exactly zero and which no gather entry names.
+//
+// Built once from the rest state (RestArrays), like it never changes.
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+#include "sim/core/body_view.h"
+
+namespace softtled {
+
+constexpr int kBlockLanes = 16;
+constexpr int kBlockRestFields = 13;  // dh_a/dX_k at field a * 3 + k (12), V0 (field 12)
+constexpr int kBlockForceFields = 12; // corner force component k of corner a at a * 3 + k
+constexpr int kBlockFFields = 9;      // T4ANP: F(i, j) at field i * 3 + j
+
+template <class T>
+struct CpuBlocks {
+  // Node indices as integers of T's width: what a SIMD gather of T takes as indices.
+  using Index = std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>;
+  int ntet = 0, nnode = 0, nblock = 0;
+  std::vector<T> rest;      // nblock x 13 x 16: field c of lane l at [(b * 13 + c) * 16 + l]
+  std::vector<Index> node;  // nblock x 4 x 16: corner a's node at [(b * 4 + a) * 16 + l]
+  // 4 x ntet, RestArrays::gather_slot's entries in its order (so a node's corners are
+  // summed in the same order), each naming where corner a of element e lies in the
+  // blocked corner forces: ((b * 12) + a * 3) * 16 + l, component k 16 further per k.
+  std::vector<int> gather_slot;
+
+  std::size_t padded() const { return std::size_t(nblock) * kBlockLanes; }  // elements incl. padding
+  std::size_t force_size() const { return padded() * kBlockForceFields; }   // blocked corner forces
+};
+
+// Blocks from the struct-of-arrays rest view (rest_state.h).
+template <class T>
+CpuBlocks<T> build_cpu_blocks(const TetMeshView<T>& m) {
+  CpuBlocks<T> k;
+  k.ntet = m.ntet;
+  k.nnode = m.nnode;
+  k.nblock = (m.ntet + kBlockLanes - 1) / kBlockLanes;
+  k.rest.assign(std::size_t(k.nblock) * kBlockRestFields * kBlockLanes, T(0));
+  k.node.assign(std::size_t(k.nblock) * 4 * kBlockLanes, 0);
+  for (int e = 0; e < m.ntet; ++e) {
+    const std::size_t b = e / kBlockLanes, l = e % kBlockLanes;
+    for (int c = 0; c < 12; ++c) k.rest[(b * kBlockRestFields + c) * kBlockLanes + l] = m.dhdX[std::size_t(c) * m.ntet + e];
+    k.rest[(b * kBlockRestFields + 12) * kBlockLanes + l] = m.vol[e];
+    for (int a = 0; a < 4; ++a) k.node[(b * 4 + a) * kBlockLanes + l] = m.tet[std::size_t(a) * m.ntet + e];
+  }
+  const int nslot = m.gather_start[m.nnode];
+  k.gather_slot.resize(nslot);
+  for (int j = 0; j < nslot; ++j) {
+    const int s = m.gather_slot[j], a = s / m.ntet, e = s % m.ntet;
+    const int b = e / kBlockLanes, l = e % kBlockLanes;
+    k.gather_slot[j] = (b * kBlockForceFields + a * 3) * kBlockLanes + l;
+  }
+  return k;
+}
+
+}  // namespace softtled
