@@ -18,7 +18,6 @@ namespace softtled {
 
 constexpr int kBlockLanes = 16;
 constexpr int kBlockRestFields = 13;  // dh_a/dX_k at field a * 3 + k (12), V0 (field 12)
-constexpr int kBlockForceFields = 12; // corner force component k of corner a at a * 3 + k
 constexpr int kBlockFFields = 9;      // T4ANP: F(i, j) at field i * 3 + j
 
 template <class T>
@@ -28,13 +27,16 @@ struct CpuBlocks {
   int ntet = 0, nnode = 0, nblock = 0;
   std::vector<T> rest;      // nblock x 13 x 16: field c of lane l at [(b * 13 + c) * 16 + l]
   std::vector<Index> node;  // nblock x 4 x 16: corner a's node at [(b * 4 + a) * 16 + l]
-  // 4 x ntet, RestArrays::gather_slot's entries in its order (so a node's corners are
-  // summed in the same order), each naming where corner a of element e lies in the
-  // blocked corner forces: ((b * 12) + a * 3) * 16 + l, component k 16 further per k.
+  // The blocked corner forces: corner a of the element in lane l of block b at slot
+  // (b * 4 + a) * 16 + l, its x, y, z interleaved at 3 * slot (one 16-byte load reads a
+  // corner). 4 x ntet: RestArrays::gather_slot's entries in its order, each the index
+  // 3 * slot of that corner.
   std::vector<int> gather_slot;
 
   std::size_t padded() const { return std::size_t(nblock) * kBlockLanes; }  // elements incl. padding
-  std::size_t force_size() const { return padded() * kBlockForceFields; }   // blocked corner forces
+  // Blocked corner forces (3 x 4 per element), plus one value so that a 4-wide load of the
+  // last corner stays inside.
+  std::size_t force_size() const { return padded() * 12 + 1; }
 };
 
 // Blocks from the struct-of-arrays rest view (rest_state.h).
@@ -57,7 +59,7 @@ CpuBlocks<T> build_cpu_blocks(const TetMeshView<T>& m) {
   for (int j = 0; j < nslot; ++j) {
     const int s = m.gather_slot[j], a = s / m.ntet, e = s % m.ntet;
     const int b = e / kBlockLanes, l = e % kBlockLanes;
-    k.gather_slot[j] = (b * kBlockForceFields + a * 3) * kBlockLanes + l;
+    k.gather_slot[j] = 3 * ((b * 4 + a) * kBlockLanes + l);
   }
   return k;
 }

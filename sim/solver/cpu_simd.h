@@ -39,10 +39,18 @@ template <class T>
 void cpu_simd_node_stage(const TetMeshView<T>& m, const CpuBlocks<T>& k, const BodyStateView<T>& b,
                          const StepParams<T>& p);
 
-// Node i's internal force from the blocked corner forces, in gather-table order.
+// Node i's internal force from the blocked corner forces (cpu_blocks.h): its gather
+// entries summed in four interleaved partial sums (entries j, j + 4, ... into sum j % 4),
+// then (s0 + s1) + (s2 + s3). One fixed order, so the same bits for any thread count; four
+// chains instead of one because a node's sum is a chain of dependent adds whose latency,
+// not the loads, bounded the node stage. The node stage computes this order with vectors.
 template <class T>
 inline void cpu_simd_gather(const TetMeshView<T>& m, const CpuBlocks<T>& k, const T* fblk, int i, T f[3]) {
-  gather_node_force(m.gather_start, k.gather_slot.data(), fblk, kBlockLanes, i, f);
+  T s[4][3] = {};
+  const int j0 = m.gather_start[i], j1 = m.gather_start[i + 1];
+  for (int j = j0; j < j1; ++j)
+    for (int c = 0; c < 3; ++c) s[(j - j0) & 3][c] += fblk[k.gather_slot[j] + c];
+  for (int c = 0; c < 3; ++c) f[c] = (s[0][c] + s[1][c]) + (s[2][c] + s[3][c]);
 }
 
 // The SIMD target the stages run on here, e.g. "AVX3" or "AVX2" (Highway's name).

@@ -6,10 +6,15 @@
 // or its own nodes, and the gather sums in a fixed order, so results are bitwise
 // identical for any thread count.
 #include <omp.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <set>
+#include <string>
+#include <utility>
 #include <stdexcept>
 
 #include "sim/fem/neo_hookean.h"
@@ -44,7 +49,7 @@ class CpuSolver final : public Solver {
     mesh_ = rest_.view();
     blocks_ = build_cpu_blocks(mesh_);
     fblk_.assign(blocks_.force_size(), T(0));
-    vol_blk_.assign(blocks_.padded(), T(0));
+    vol_blk_.assign(blocks_.padded(), T(0));  // fblk_'s last value stays 0 (cpu_blocks.h)
     F_blk_.assign(blocks_.padded() * kBlockFFields, T(0));
     const char* env = std::getenv("SOFTTLED_CPU_SIMD");
     simd_ = !(env && std::string(env) == "0");
@@ -263,12 +268,31 @@ class CpuSolver final : public Solver {
 
 }  // namespace
 
+static int physical_cores() {
+  // Distinct (package, core) pairs among the CPUs this process may run on: SMT siblings
+  // share a core's SIMD units, so a second thread per core only adds barrier time.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return omp_get_num_procs();
+  std::set<std::pair<int, int>> cores;
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (!CPU_ISSET(cpu, &set)) continue;
+    int id[2] = {-1, -1};
+    const char* names[2] = {"physical_package_id", "core_id"};
+    for (int k = 0; k < 2; ++k) {
+      std::ifstream f("/sys/devices/system/cpu/cpu" + std::to_string(cpu) + "/topology/" + names[k]);
+      if (!(f >> id[k])) return std::max(1, CPU_COUNT(&set));
+    }
+    cores.insert({id[0], id[1]});
+  }
+  return std::max<int>(1, int(cores.size()));
+}
+
 int auto_cpu_threads(int ntet) {
-  const int cores = omp_get_max_threads();
-  int idle = cores;
-  double load[1];
-  if (getloadavg(load, 1) == 1) idle = cores - int(std::lround(load[0]));
-  return std::clamp(std::min(ntet / kTetsPerThread, idle), 1, cores);
+  static const int cores = physical_cores();
+  // omp_get_max_threads(): OMP_NUM_THREADS, when set, caps it (callgrind runs use 1).
+  const int cap = std::min(cores, omp_get_max_threads());
+  return std::clamp(ntet / kTetsPerThread, 1, std::max(1, cap));
 }
 
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,

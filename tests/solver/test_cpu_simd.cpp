@@ -52,6 +52,11 @@ std::vector<T> test_displacement(const TetMesh& m, double crush) {
   return u;
 }
 
+// Where component c of corner a of element e lies in the blocked corner forces (cpu_blocks.h).
+std::size_t blocked(int e, int a, int c) {
+  return 3 * ((std::size_t(e / kBlockLanes) * 4 + a) * kBlockLanes + e % kBlockLanes) + c;
+}
+
 struct Worst {
   double rel = 0;  // max over elements of |f_simd - f_scalar| / (largest corner force of the element)
   int inverted = 0, guarded = 0;
@@ -78,11 +83,10 @@ Worst compare_element_stage(const NeoHookean<T>& mat, int element, const std::ve
     w.inverted += J < 0;
     w.guarded += J < mat.J_floor;
     double fmax = 0, dmax = 0;
-    const int b = e / kBlockLanes, l = e % kBlockLanes;
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c) {
         const double fs = fc[c * 4 * ne + a * ne + e];
-        const double fv = fb[(b * kBlockForceFields + a * 3 + c) * kBlockLanes + l];
+        const double fv = fb[blocked(e, a, c)];
         fmax = std::max(fmax, std::fabs(fs));
         dmax = std::max(dmax, std::fabs(fv - fs));
       }
@@ -91,7 +95,8 @@ Worst compare_element_stage(const NeoHookean<T>& mat, int element, const std::ve
   }
   // The padding lanes of the last block carry exactly zero force.
   for (std::size_t e = ne; e < k.padded(); ++e)
-    for (int c = 0; c < 12; ++c) EXPECT_EQ(fb[((e / kBlockLanes) * kBlockForceFields + c) * kBlockLanes + e % kBlockLanes], T(0));
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(fb[blocked(int(e), a, c)], T(0));
   return w;
 }
 
@@ -157,7 +162,7 @@ void node_stage_agrees(int mode) {
   for (int e = 0; e < m.ntet; ++e)
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c)
-        fb[((e / kBlockLanes) * kBlockForceFields + a * 3 + c) * kBlockLanes + e % kBlockLanes] = fc[c * 4 * m.ntet + a * m.ntet + e];
+        fb[blocked(e, a, c)] = fc[c * 4 * m.ntet + a * m.ntet + e];
   auto run = [&](bool simd, std::vector<T>& uo, std::vector<T>& duo, std::vector<T>& ubo, std::vector<std::uint8_t>& co) {
     uo = u;
     duo = du;
