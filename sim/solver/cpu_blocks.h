@@ -9,7 +9,6 @@
 //
 // Built once from the rest state (RestArrays), like it never changes.
 #include <cstdint>
-#include <type_traits>
 #include <vector>
 
 #include "sim/core/body_view.h"
@@ -22,8 +21,7 @@ constexpr int kBlockFFields = 9;      // T4ANP: F(i, j) at field i * 3 + j
 
 template <class T>
 struct CpuBlocks {
-  // Node indices as integers of T's width: what a SIMD gather of T takes as indices.
-  using Index = std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>;
+  using Index = std::int32_t;
   int ntet = 0, nnode = 0, nblock = 0;
   std::vector<T> rest;      // nblock x 13 x 16: field c of lane l at [(b * 13 + c) * 16 + l]
   std::vector<Index> node;  // nblock x 4 x 16: corner a's node at [(b * 4 + a) * 16 + l]
@@ -32,6 +30,11 @@ struct CpuBlocks {
   // corner). 4 x ntet: RestArrays::gather_slot's entries in its order, each the index
   // 3 * slot of that corner.
   std::vector<int> gather_slot;
+  // T4ANP's nodal volumes (anp.h, gather_node_volume): the element of each gather entry
+  // (RestArrays::gather_slot % ntet, without the division per entry), and each node's
+  // rest volume sum_e V0_e, summed in that order once (it never changes).
+  std::vector<int> gather_elem;  // 4 x ntet
+  std::vector<T> node_vol0;      // nnode
 
   std::size_t padded() const { return std::size_t(nblock) * kBlockLanes; }  // elements incl. padding
   // Blocked corner forces (3 x 4 per element), plus one value so that a 4-wide load of the
@@ -56,10 +59,18 @@ CpuBlocks<T> build_cpu_blocks(const TetMeshView<T>& m) {
   }
   const int nslot = m.gather_start[m.nnode];
   k.gather_slot.resize(nslot);
+  k.gather_elem.resize(nslot);
+  k.node_vol0.assign(m.nnode, T(0));
+  for (int i = 0; i < m.nnode; ++i) {
+    T v0 = T(0);
+    for (int j = m.gather_start[i]; j < m.gather_start[i + 1]; ++j) v0 += m.vol[m.gather_slot[j] % m.ntet];
+    k.node_vol0[i] = v0;
+  }
   for (int j = 0; j < nslot; ++j) {
     const int s = m.gather_slot[j], a = s / m.ntet, e = s % m.ntet;
     const int b = e / kBlockLanes, l = e % kBlockLanes;
     k.gather_slot[j] = 3 * ((b * 4 + a) * kBlockLanes + l);
+    k.gather_elem[j] = e;
   }
   return k;
 }

@@ -65,7 +65,6 @@ template <ElementPass kPass, class T>
 HWY_INLINE void element_blocks(const ElementArgs<T>& A, int b0, int b1) {
   using DT = hn::CappedTag<T, L>;
   const DT d;
-  const hn::RebindToSigned<DT> di;
   using V = hn::Vec<DT>;
   const int N = int(hn::Lanes(d));
   for (int b = b0; b < b1; ++b) {
@@ -103,8 +102,11 @@ HWY_INLINE void element_blocks(const ElementArgs<T>& A, int b0, int b1) {
       VMat3<DT> P;
       if constexpr (kPass == ElementPass::kAnpForces) {
         // anp_corner_forces: p_e = (sum of the 4 nodal pressures) / 4, summed in corner order
-        V p = hn::GatherIndex(d, A.p_node, hn::LoadU(di, node + j));
-        for (int a = 1; a < 4; ++a) p = hn::Add(p, hn::GatherIndex(d, A.p_node, hn::LoadU(di, node + a * L + j)));
+        alignas(64) T ps[4][L];
+        for (int l = 0; l < N; ++l)
+          for (int a = 0; a < 4; ++a) ps[a][l] = A.p_node[node[a * L + j + l]];
+        V p = hn::Load(d, ps[0]);
+        for (int a = 1; a < 4; ++a) p = hn::Add(p, hn::Load(d, ps[a]));
         P = anp_stress(d, A.mat, F, hn::Mul(p, hn::Set(d, T(0.25))));
       } else {
         P = neo_hookean_pk1(d, A.mat, F);
@@ -317,8 +319,14 @@ void cpu_simd_element_stage(const TetMeshView<T>& m, const CpuBlocks<T>& k, cons
   const ElementArgs<T> A{k.rest.data(), k.node.data(), u, k.nnode, mat, fblk, anp.vol_now, anp.F, anp.p_node};
   if (element == kT4ANP) {
     for_chunks(k.nblock, kElementChunk, [&](int b0, int b1) { Dispatch<T>::vol(A, b0, b1); });
+    // anp_node_pressure with the rest volumes summed once (CpuBlocks::node_vol0) and the
+    // current ones in the same gather order: the same bits as the scalar stage.
 #pragma omp for schedule(static)
-    for (int i = 0; i < m.nnode; ++i) anp_node_pressure(m, mat, anp.vol_now, anp.p_node, i);
+    for (int i = 0; i < m.nnode; ++i) {
+      T v = T(0);
+      for (int j = m.gather_start[i]; j < m.gather_start[i + 1]; ++j) v += anp.vol_now[k.gather_elem[j]];
+      anp.p_node[i] = anp_pressure(mat, v, k.node_vol0[i]);
+    }
     for_chunks(k.nblock, kElementChunk, [&](int b0, int b1) { Dispatch<T>::anp(A, b0, b1); });
     return;
   }
