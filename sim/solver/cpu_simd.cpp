@@ -5,14 +5,15 @@
 //
 // Per block of kBlockLanes elements, N lanes at a time (N = 16 floats with AVX-512, 8
 // with AVX2; half that in double): load dh/dX and V0 (contiguous), gather the corner
-// displacements through the node indices, then the value functions of
-// sim/fem/tet_forces_simd-inl.h, and store the corner forces contiguously. The node stage
-// sums each node's corners in table order (scalar: the sum is a gather), then integrates
-// up to 16 nodes per vector with sim/fem/central_difference_simd-inl.h.
+// displacements through the node indices (scalar loads into a staging block), then the
+// value functions of sim/fem/tet_forces_simd-inl.h, and store each corner's force with x,
+// y, z together. The node stage sums each node's corners (gather_xyz: four partial sums,
+// one 4-wide load per corner), then integrates up to 16 nodes per vector with
+// sim/fem/central_difference_simd-inl.h. Measurements behind these choices: bench/NOTES.md,
+// "CPU backend".
 #include <omp.h>
 
 #include <algorithm>
-#include <cstring>
 
 #include "sim/fem/anp.h"
 #include "sim/solver/cpu_simd.h"

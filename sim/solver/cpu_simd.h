@@ -10,7 +10,8 @@
 // (the element stage reads element_displacement, the node stage writes ub), user forces,
 // fixed nodes, contact-tested nodes and every contact mode (the projection itself is the
 // scalar project_to_planes on the few lanes that reach a plane). T4ANP's nodal pressure
-// stage is the scalar anp_node_pressure loop (one gather and one division per node).
+// stage stays a scalar loop per node (a sum of ~13 element volumes and anp_pressure; the
+// rest volumes summed once in CpuBlocks), with the same bits as anp_node_pressure.
 // CpuSolver keeps the scalar stages of cpu_step.h as the reference path
 // (SOFTTLED_CPU_SIMD=0, `softtled bench --cpu-path scalar`).
 #include "sim/core/body_view.h"

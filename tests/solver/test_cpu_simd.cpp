@@ -9,6 +9,7 @@
 //    float path is;
 //  - bitwise identical results for 1 and 2 threads with every option on.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -269,6 +270,21 @@ TEST(CpuSimd, BitwiseIdenticalForOneAndTwoThreadsWithAllOptions) {
     EXPECT_TRUE(st[0].du == st[1].du) << element;
     EXPECT_TRUE(st[0].contact == st[1].contact) << element;
   }
+}
+
+// The automatic thread count depends on the mesh and the machine only (no load average):
+// one thread below kTetsPerThread tets, never more than OMP_NUM_THREADS (callgrind runs
+// rely on it) or the CPUs, and the same answer every time.
+TEST(CpuThreads, AutomaticCountIsDeterministicAndCapped) {
+  EXPECT_EQ(auto_cpu_threads(100), 1);
+  const int big = auto_cpu_threads(kTetsPerThread * 1024);
+  EXPECT_GE(big, 1);
+  EXPECT_LE(big, omp_get_num_procs());
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(auto_cpu_threads(kTetsPerThread * 1024), big);
+  const int keep = omp_get_max_threads();
+  omp_set_num_threads(1);
+  EXPECT_EQ(auto_cpu_threads(kTetsPerThread * 1024), 1);
+  omp_set_num_threads(keep);
 }
 
 }  // namespace
