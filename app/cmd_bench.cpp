@@ -22,6 +22,7 @@
 #include "app/cli_support.h"
 #include "commands.h"
 #include "sim/io/output_file.h"
+#include "sim/solver/cpu_simd.h"
 #include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/step_params.h"
@@ -90,11 +91,14 @@ double step_bytes(long ntet, long nnode, long ncontact, int real) {
 // The CPU backend's stages (sim/solver/cpu_step.h: the functions CpuSolver::step runs
 // inside one parallel region), each timed alone in a region of its own, on the rest state
 // the run uses: build_rest_state with the run's node flags (contact-tested and fixed) and
-// the run's step parameters (step_config_from, as Solver::set_params).
+// the run's step parameters (step_config_from, as Solver::set_params). simd: the SIMD
+// stages (cpu_simd.h) on the element blocks the solver builds, else the scalar ones.
 template <class T>
-StageRow cpu_stages(Simulation& sim, int threads, int reps) {
+StageRow cpu_stages(Simulation& sim, int threads, int reps, bool simd) {
   const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.node_flags());
   const TetMeshView<T> m = r.view();
+  const CpuBlocks<T> blk = build_cpu_blocks(m);
+  std::vector<T> fblk(blk.force_size()), vol_blk(blk.padded()), F_blk(blk.padded() * kBlockFFields);
   const HostState& hs = sim.state();
   std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
   std::vector<T> vol_now(r.ntet), p_node(r.nnode);
@@ -106,6 +110,9 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
   b.contact = contact.data();
   const StepConfig<T> c = step_config_from<T>(sim.params());
   const AnpScratch<T> anp{vol_now.data(), p_node.data()};
+  const SimdAnpScratch<T> sanp{vol_blk.data(), p_node.data(), F_blk.data()};
+  BodyStateView<T> bb = b;
+  bb.fcorner = fblk.data();
   StepParams<T> sp_free = c.step;
   sp_free.contact.nplanes = 0;
   const std::vector<T> u0 = u, du0 = du;
@@ -123,15 +130,24 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
   StageRow s;
   s.forces = time_loop([&] {
 #pragma omp parallel num_threads(threads)
-    cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
+    if (simd)
+      cpu_simd_element_stage(m, blk, c.mat, c.element, b.u, sanp, bb.fcorner);
+    else
+      cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
   });
   s.update = time_loop([&] {
 #pragma omp parallel num_threads(threads)
-    cpu_node_stage(m, b, sp_free);
+    if (simd)
+      cpu_simd_node_stage(m, blk, bb, sp_free);
+    else
+      cpu_node_stage(m, b, sp_free);
   });
   const double with_contact = time_loop([&] {
 #pragma omp parallel num_threads(threads)
-    cpu_node_stage(m, b, c.step);
+    if (simd)
+      cpu_simd_node_stage(m, blk, bb, c.step);
+    else
+      cpu_node_stage(m, b, c.step);
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
@@ -141,7 +157,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps) {
 }
 
 struct Opts {
-  std::string scene, backend = "auto", json, precision = "float", mode = "auto";
+  std::string scene, backend = "auto", json, precision = "float", mode = "auto", cpu_path = "simd";
   std::vector<std::string> set;
   long steps = 8000;
   int samples = 15, threads = 0, stage_reps = 200;
@@ -192,7 +208,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (!gpu) {
     r.threads = cpu_threads_for(sim, o.threads);
     solver.set_cpu_threads(r.threads);
-    r.mode = "openmp x" + std::to_string(r.threads);
+    solver.set_cpu_simd(o.cpu_path == "simd");
+    r.mode = "openmp x" + std::to_string(r.threads) + ", " + (o.cpu_path == "simd" ? cpu_simd_target() : "scalar");
   }
 
   // Warm-up (module load, graph instantiation, caches), then the chunk size.
@@ -276,7 +293,9 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (!full) return r;
   if (!gpu) {
     const int reps = std::max(1, int(std::min<long>(o.stage_reps, 200000 / std::max(1, r.ntet / 100 + 1))));
-    r.stages = sc.precision == Precision::kFloat ? cpu_stages<float>(sim, r.threads, reps) : cpu_stages<double>(sim, r.threads, reps);
+    const bool simd = o.cpu_path == "simd";
+    r.stages = sc.precision == Precision::kFloat ? cpu_stages<float>(sim, r.threads, reps, simd)
+                                                 : cpu_stages<double>(sim, r.threads, reps, simd);
   }
   return r;
 }
@@ -348,6 +367,8 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph")
       ->check(CLI::IsMember({"auto", "fused", "graph-pdl", "graph"}))->capture_default_str();
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
+  c->add_option("--cpu-path", o->cpu_path, "CPU stages: simd (the product) or scalar (the reference they are tested against)")
+      ->check(CLI::IsMember({"simd", "scalar"}))->capture_default_str();
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(int_range(3, 1000))->capture_default_str();
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();

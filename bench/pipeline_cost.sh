@@ -3,6 +3,10 @@
 # the stages a scene enables: contact on/off, boundary vs all nodes, damping on/off,
 # T4 vs T4ANP, float vs double. Per-step cost = (I(N2) - I(N1)) / (N2 - N1), so meshing
 # and set-up cancel. Usage: bench/pipeline_cost.sh [build/softtled]
+# The CPU step's SIMD stages run under valgrind on its AVX2 target (valgrind has no
+# AVX-512). Where the CPU does not advertise RDTSCP (this repository's 2-core VM), libhwy's
+# load-time constructor stops valgrind (SIGILL): count a build configured with
+# -DSOFTTLED_SIMD_STATIC_AVX2=ON (AVX2 only, no libhwy), e.g. build-cg/softtled.
 set -euo pipefail
 BIN=${1:-build/softtled}
 SCENE=assets/scenes/torus_drop.toml

@@ -6,7 +6,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${SOFTTLED_BUILD_DIR:-$ROOT/build}
 
 source "$ROOT/scripts/packages.sh"
-ensure_packages cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-dev libeigen3-dev \
+ensure_packages cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-dev libeigen3-dev libhwy-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
   libgl-dev libegl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglew-dev libimgui-dev libstb-dev \
   xvfb xauth xdotool imagemagick

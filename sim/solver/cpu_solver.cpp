@@ -1,12 +1,20 @@
-// CPU backend: OpenMP loops (cpu_step.h) over the same SIM_HD functions the CUDA backend
-// launches. Each loop iteration writes only its own element's corners or its own node,
-// and the gather sums in a fixed order, so results are bitwise identical for any thread
-// count.
+// CPU backend: OpenMP loops over the element and node stages. By default the SIMD stages
+// (cpu_simd.h: element blocks, Highway vectors, the target chosen at run time); with
+// SOFTTLED_CPU_SIMD=0 in the environment or set_cpu_simd(false) the scalar loops of
+// cpu_step.h over the same SIM_HD functions the CUDA backend launches (the reference the
+// SIMD path is tested against). Each loop iteration writes only its own elements' corners
+// or its own nodes, and the gather sums in a fixed order, so results are bitwise
+// identical for any thread count.
 #include <omp.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <set>
+#include <string>
+#include <utility>
 #include <stdexcept>
 
 #include "sim/fem/neo_hookean.h"
@@ -14,7 +22,9 @@
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/mesh/surface_topology.h"
+#include "sim/solver/cpu_blocks.h"
 #include "sim/solver/cpu_energy.h"
+#include "sim/solver/cpu_simd.h"
 #include "sim/solver/cpu_step.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/solver.h"
@@ -37,9 +47,19 @@ class CpuSolver final : public Solver {
     p_node_.assign(n, T(0));
     contact_.assign(n, 0);
     mesh_ = rest_.view();
+    blocks_ = build_cpu_blocks(mesh_);
+    fblk_.assign(blocks_.force_size(), T(0));
+    vol_blk_.assign(blocks_.padded(), T(0));  // fblk_'s last value stays 0 (cpu_blocks.h)
+    F_blk_.assign(blocks_.padded() * kBlockFFields, T(0));
+    const char* env = std::getenv("SOFTTLED_CPU_SIMD");
+    simd_ = !(env && std::string(env) == "0");
   }
 
-  std::string backend() const override { return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s)" : ")"); }
+  std::string backend() const override {
+    return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s, " : ", ") +
+           (simd_ ? cpu_simd_target() : "scalar") + ")";
+  }
+  void set_cpu_simd(bool on) override { simd_ = on; }
   void set_cpu_threads(int threads) override {
     if (threads > 0) {
       threads_ = threads;
@@ -65,6 +85,18 @@ class CpuSolver final : public Solver {
     // The first step after a change of dt spans the midpoint step (change_step).
     const StepParams<T> first = dt_mid_ > 0 ? step_params_from<T>(params_, dt_mid_) : c.step;
     if (nsteps > 0) dt_mid_ = 0;
+    if (simd_) {
+      const CpuBlocks<T>& k = blocks_;
+      const SimdAnpScratch<T> sa = simd_scratch();
+      BodyStateView<T> bb = b;
+      bb.fcorner = fblk_.data();
+#pragma omp parallel num_threads(threads_)
+      for (long s = 0; s < nsteps; ++s) {
+        cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
+        cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
+      }
+      return;
+    }
 #pragma omp parallel num_threads(threads_)
     for (long s = 0; s < nsteps; ++s) {
       cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
@@ -165,19 +197,30 @@ class CpuSolver final : public Solver {
     const TetMeshView<T> m = mesh_;
     const StepConfig<T> c = cfg_;
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
-    T* fc = fcorner_.data();
+    T* fc = simd_ ? fblk_.data() : fcorner_.data();
     const int n = m.nnode, stride = 4 * m.ntet;
+    const bool simd = simd_;
+    const CpuBlocks<T>& blk = blocks_;
+    const SimdAnpScratch<T> sa = simd_scratch();
 #pragma omp parallel num_threads(threads_)
     {
-      cpu_element_stage(m, c.mat, c.element, u, anp, fc);
+      if (simd)
+        cpu_simd_element_stage(m, blk, c.mat, c.element, u, sa, fc);
+      else
+        cpu_element_stage(m, c.mat, c.element, u, anp, fc);
 #pragma omp for schedule(static)
       for (int i = 0; i < n; ++i) {
         T fi[3];
-        gather_node_force(m.gather_start, m.gather_slot, fc, stride, i, fi);
+        if (simd)
+          cpu_simd_gather(m, blk, fc, i, fi);
+        else
+          gather_node_force(m.gather_start, m.gather_slot, fc, stride, i, fi);
         for (int k = 0; k < 3; ++k) f[k * n + i] = fi[k];
       }
     }
   }
+
+  SimdAnpScratch<T> simd_scratch() { return {vol_blk_.data(), p_node_.data(), F_blk_.data()}; }
 
   // ub = u + (beta / dt) du from the live state (rayleigh_displacement, as the node stage
   // writes it), or no ub when beta = 0: after a new state, beta or dt.
@@ -203,6 +246,7 @@ class CpuSolver final : public Solver {
   }
 
   int threads_ = 1;
+  bool simd_ = true;  // the SIMD stages (cpu_simd.h), else the scalar ones (cpu_step.h)
   RestArrays<T> rest_;
   SurfaceTopology surf_;
   TetMeshView<T> mesh_;
@@ -213,6 +257,9 @@ class CpuSolver final : public Solver {
   PhysicsParams params_;
   double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures
+  CpuBlocks<T> blocks_;              // the rest state in element blocks (SIMD stages)
+  std::vector<T> fblk_;              // blocked corner forces (CpuBlocks::force_size)
+  std::vector<T> vol_blk_, F_blk_;   // SIMD T4ANP: element volumes (padded), F per block
   mutable std::vector<double> energy_;  // strain_energy's per-element (and per-node) terms
   mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes
   std::vector<std::uint8_t> contact_;
@@ -221,12 +268,31 @@ class CpuSolver final : public Solver {
 
 }  // namespace
 
+static int physical_cores() {
+  // Distinct (package, core) pairs among the CPUs this process may run on: SMT siblings
+  // share a core's SIMD units, so a second thread per core only adds barrier time.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return omp_get_num_procs();
+  std::set<std::pair<int, int>> cores;
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (!CPU_ISSET(cpu, &set)) continue;
+    int id[2] = {-1, -1};
+    const char* names[2] = {"physical_package_id", "core_id"};
+    for (int k = 0; k < 2; ++k) {
+      std::ifstream f("/sys/devices/system/cpu/cpu" + std::to_string(cpu) + "/topology/" + names[k]);
+      if (!(f >> id[k])) return std::max(1, CPU_COUNT(&set));
+    }
+    cores.insert({id[0], id[1]});
+  }
+  return std::max<int>(1, int(cores.size()));
+}
+
 int auto_cpu_threads(int ntet) {
-  const int cores = omp_get_max_threads();
-  int idle = cores;
-  double load[1];
-  if (getloadavg(load, 1) == 1) idle = cores - int(std::lround(load[0]));
-  return std::clamp(std::min(ntet / kTetsPerThread, idle), 1, cores);
+  static const int cores = physical_cores();
+  // omp_get_max_threads(): OMP_NUM_THREADS, when set, caps it (callgrind runs use 1).
+  const int cap = std::min(cores, omp_get_max_threads());
+  return std::clamp(ntet / kTetsPerThread, 1, std::max(1, cap));
 }
 
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,

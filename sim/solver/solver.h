@@ -96,14 +96,18 @@ class Solver {
 
   // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
   virtual void set_cpu_threads(int /*threads*/) {}
+  // The CPU backend's SIMD stages (default) or its scalar reference stages; others ignore it.
+  virtual void set_cpu_simd(bool /*on*/) {}
 };
 
 // flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic:
-// one thread per kTetsPerThread elements (below that, two barriers per step cost more than
-// the work they split), and no more than the cores the 1-minute load average leaves idle:
-// a step has two barriers, and a thread that has to wait for a busy core turns each into
-// a scheduler time slice (measured here: 1 ms/step on one thread became 8 ms/step on two
-// with a compiler running on the other core).
+// every physical core (not SMT siblings; capped by OMP_NUM_THREADS when set), but one
+// thread per kTetsPerThread elements at most, since below that the two barriers per step
+// cost more than the work they split (measured on 2 cores with the SIMD stages: see
+// bench/NOTES.md, CPU). Deterministic: the same machine and mesh give the same count,
+// whatever else runs (the load average chose it before, so one command took 264 or 501
+// us/step). A core busy with other work makes each barrier wait for a time slice; pass
+// --threads / solver.threads to choose.
 constexpr int kTetsPerThread = 2048;
 int auto_cpu_threads(int ntet);
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,
