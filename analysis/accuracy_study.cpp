@@ -56,34 +56,32 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
     }
     r.steps = sim.total_steps();
     r.dt = sim.time() / double(std::max(1L, r.steps));
-    r.rest_height = r.cen.back()[1];
-    r.us_per_step = r.wall_s / std::max(1L, r.steps) * 1e6;
-    return r;
-  }
-  // Every sample lands on the step nearest its time (k ms for the centroid, t1 and t2 for
-  // the fields), so runs with different dt are compared at the same physical times.
-  const long total = std::lround(t_end / r.dt);
-  const long snap_step[2] = {std::lround(t1 / r.dt), std::lround(t2 / r.dt)};
-  record();
-  for (int s = 0; s < 2; ++s)
-    if (snap_step[s] == 0) r.at[s] = sim.state();
-  long done = 0;
-  for (long k = 1; done < total; ++k) {
-    const long next_output = std::min(total, std::lround(k * 1e-3 / r.dt));
-    while (done < next_output) {
-      long target = next_output;
-      for (long ss : snap_step)
-        if (ss > done && ss < target) target = ss;
-      const auto a = std::chrono::steady_clock::now();
-      sim.advance(target - done, target - done);  // the watchdog guards every sweep point
-      r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
-      done = target;
-      for (int s = 0; s < 2; ++s)
-        if (snap_step[s] == done) r.at[s] = sim.state();
-    }
+  } else {
+    // Every sample lands on the step nearest its time (k ms for the centroid, t1 and t2
+    // for the fields), so runs with different dt are compared at the same physical times.
+    const long total = std::lround(t_end / r.dt);
+    const long snap_step[2] = {std::lround(t1 / r.dt), std::lround(t2 / r.dt)};
     record();
+    for (int s = 0; s < 2; ++s)
+      if (snap_step[s] == 0) r.at[s] = sim.state();
+    long done = 0;
+    for (long k = 1; done < total; ++k) {
+      const long next_output = std::min(total, std::lround(k * 1e-3 / r.dt));
+      while (done < next_output) {
+        long target = next_output;
+        for (long ss : snap_step)
+          if (ss > done && ss < target) target = ss;
+        const auto a = std::chrono::steady_clock::now();
+        sim.advance(target - done, target - done);  // the watchdog guards every sweep point
+        r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+        done = target;
+        for (int s = 0; s < 2; ++s)
+          if (snap_step[s] == done) r.at[s] = sim.state();
+      }
+      record();
+    }
+    r.steps = done;
   }
-  r.steps = done;
   r.rest_height = r.cen.back()[1];
   r.us_per_step = r.wall_s / std::max(1L, r.steps) * 1e6;
   return r;

@@ -193,14 +193,11 @@ class CudaSolver final : public CudaSolverApi {
   int render_vertex_count() const override { return rest_.surface.nvert; }
 
   void set_params(const PhysicsParams& p) override {
-    const T old_beta_dt = cfg_.step.beta_dt;
-    params_ = p;
-    cfg_ = step_config_from<T>(p);
+    set_dt(p);
     clear_graphs();  // the parameters are baked into the captured kernel nodes
-    if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
   }
 
-  // The step graphs are kept per dt (graph_key): the adaptive step moves between a few
+  // The step graphs are kept per dt (GraphKey): the adaptive step moves between a few
   // ladder rungs, and recapturing and instantiating a graph costs more than the dozens of
   // steps between two changes (~0.1 ms).
   void set_dt(const PhysicsParams& p) override {
@@ -372,8 +369,7 @@ class CudaSolver final : public CudaSolverApi {
     // One graph per iteration count: a dozen short kernels per product, launched one by
     // one, cost ~0.15 ms of host launches per estimate.
     if (a != probe_a_) {
-      for (auto& g : probe_graphs_) cudaGraphExecDestroy(g.second);
-      probe_graphs_.clear();
+      destroy_probe_graphs();
       probe_a_ = a;
     }
     auto it = probe_graphs_.find(iterations);
@@ -637,6 +633,9 @@ class CudaSolver final : public CudaSolverApi {
     if ((!graphs_.empty() || !probe_graphs_.empty()) && stream_) cudaStreamSynchronize(stream_);
     for (auto& g : graphs_) cudaGraphExecDestroy(g.second);
     graphs_.clear();
+    destroy_probe_graphs();
+  }
+  void destroy_probe_graphs() {
     for (auto& g : probe_graphs_) cudaGraphExecDestroy(g.second);
     probe_graphs_.clear();
   }
