@@ -106,6 +106,11 @@ class Viewer {
     auto window_t0 = Clock::now();
     long window_frames = 0, window_steps = 0;
     double window_sim = 0;
+    // Whole-run rates from the first drawn frame on, logged every 2 s and at close, so a
+    // window measurement (FPS, steps/s, real-time factor) comes from the viewer itself.
+    Clock::time_point run_t0;
+    Rates run{}, logged{};
+    double last_rates_log = 0;
     bool first = true;
     while (!glfwWindowShouldClose(win_)) {
       glfwPollEvents();
@@ -164,6 +169,17 @@ class Viewer {
       if (first) {
         log("first frame drawn");
         first = false;
+        run_t0 = Clock::now();
+      } else {
+        run.frames += 1;
+        run.steps += steps;
+        run.sim += std::max(0.0, sim_->time() - t_before);
+        run.wall = since(run_t0);
+        if (run.wall - last_rates_log >= 2.0) {
+          log_rates("rates (last 2 s)", run - logged);
+          logged = run;
+          last_rates_log = run.wall;
+        }
       }
 
       // Rates over half-second windows.
@@ -184,11 +200,24 @@ class Viewer {
         glfwSetWindowShouldClose(win_, 1);
       }
     }
+    if (run.frames > 0) log_rates("rates (whole run)", run);
     log("closed at t = %.4f s after %ld steps", sim_->time(), sim_->steps());
     return 0;
   }
 
  private:
+  struct Rates {
+    long frames = 0, steps = 0;
+    double sim = 0, wall = 0;  // simulated and wall seconds
+    Rates operator-(const Rates& o) const { return {frames - o.frames, steps - o.steps, sim - o.sim, wall - o.wall}; }
+  };
+  void log_rates(const char* what, const Rates& r) {
+    if (r.wall <= 0) return;
+    log("%s: %.1f fps, %.0f steps/s, real-time factor %.3f, wall %.1f us per step, dt mean %.3f us", what, r.frames / r.wall,
+        r.steps / r.wall, r.sim / r.wall, r.steps > 0 ? 1e6 * r.wall / r.steps : 0.0,
+        r.steps > 0 ? 1e6 * r.sim / r.steps : 0.0);
+  }
+
   template <class... A>
   void log(const char* fmt, A... a) {
     std::printf("view: ");
