@@ -75,6 +75,7 @@ struct Result {
   double bytes = 0;         // per step, compulsory (see step_bytes)
   StageRow stages;
   std::vector<std::pair<std::string, Stats>> modes;  // CUDA execution modes compared
+  Stats estimate_us;        // one live omega_max estimate (time.dt = "adaptive"), synchronous
 };
 
 // Bytes one step must move through DRAM in this two-stage algorithm (each array read or
@@ -234,6 +235,21 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.us = stats_of(per_step);
   std::fprintf(stderr, "  %-5s %8d tets: %.3f us/step median (%s, %s)\n", label.c_str(), r.ntet, r.us.median, r.device.c_str(),
                r.mode.c_str());
+
+  if (full) {
+    // The adaptive step's estimate as Simulation::adapt_step runs it (AdaptiveStep::kIterations
+    // products, warm, the result waited for), on the state the timed steps left.
+    const double a = (sc.precision == Precision::kFloat ? 1e-3 : 1e-6) * sim.time_step().min_Le;
+    solver.estimate_omega_max(AdaptiveStep::kIterations, a, true);  // graphs, warm vector
+    std::vector<double> est;
+    for (int s = 0; s < o.samples; ++s) {
+      sync();
+      const auto t0 = Clock::now();
+      for (int k = 0; k < 10; ++k) solver.estimate_omega_max(AdaptiveStep::kIterations, a);
+      est.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / 10);
+    }
+    r.estimate_us = stats_of(est);
+  }
 
 #if defined(SOFTTLED_HAVE_CUDA)
   if (gpu) {
@@ -409,6 +425,11 @@ Command add_bench_command(CLI::App& app) {
                   main.stages.forces, main.stages.forces * 8, main.stages.update, main.stages.update * 8, main.stages.contact,
                   main.stages.contact * 8, main.stages.render, main.stages.render * 8);
     }
+    std::printf("  omega_max estimate (%d products, waited for): median %.1f us (min %.1f) = %.1f steps; every %d steps "
+                "at most: %.1f %% of the step time\n",
+                AdaptiveStep::kIterations, main.estimate_us.median, main.estimate_us.min,
+                main.estimate_us.median / main.us.median, AdaptiveStep::kEvery,
+                100 * main.estimate_us.median / (AdaptiveStep::kEvery * main.us.median));
     for (const auto& m : main.modes)
       std::printf("  mode %-26s median %.3f us/step (min %.3f, max %.3f)\n", m.first.c_str(), m.second.median, m.second.min,
                   m.second.max);

@@ -167,7 +167,7 @@ class Viewer {
       if (act.screenshot && fb_w > 0) screenshot(fb_w, fb_h);
       ctx_->swap_buffers();
       if (first) {
-        log("first frame drawn");
+        log("first frame drawn (vertices via %s)", body_->path().c_str());  // interop | staging | host
         first = false;
         run_t0 = Clock::now();
       } else {

@@ -70,10 +70,12 @@ void DragSpring::grab(const TetMesh& m, const HostState& s, const std::vector<do
   float wsum = 0;
   for (float w : weight) wsum += w;
   grabbed_mass = 0;
+  node_mass.clear();
   for (std::size_t j = 0; j < nodes.size(); ++j) {
     weight[j] /= wsum;
     offset.push_back(position(m, s, nodes[j]) - point);
-    grabbed_mass += float(mass[nodes[j]]);
+    node_mass.push_back(float(mass[nodes[j]]));
+    grabbed_mass += node_mass.back();
   }
   target = point;
   plane_normal = normalize(view_dir);
@@ -107,8 +109,19 @@ void DragSpring::forces(const TetMesh& m, const HostState& s, double dt, std::ve
 }
 
 double DragSpring::max_hold_time() const {
-  const double w = std::sqrt(double(stiffness) / std::max(double(grabbed_mass), 1e-12));
-  return std::min(5e-4, 0.3 / w);
+  // A force held for a time h from the state at its start: a spring k_j on mass m_j stays
+  // stable for h sqrt(k_j / m_j) well below 2 (0.3 keeps the pull smooth), a damper c_j for
+  // h c_j / m_j below 2 (0.5 keeps it from overshooting). A node near the grab point can
+  // carry a large weight and a small mass: with the body's total mass instead, a light
+  // rim node's held damper overshot, rang and inverted its elements (T4ANP, E = 3 kPa).
+  const double c = std::sqrt(double(stiffness) * std::max(double(grabbed_mass), 1e-12));
+  double h = 5e-4;
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const double mj = std::max(double(node_mass[j]), 1e-12), wj = weight[j];
+    h = std::min(h, 0.3 / std::sqrt(stiffness * wj / mj));
+    h = std::min(h, 0.5 * mj / (c * wj));
+  }
+  return h;
 }
 
 }  // namespace softtled

@@ -38,6 +38,7 @@ struct DragSpring {
   float stiffness = 3.0f;       // total spring constant [N/m]
   float max_force = 0.1f;       // total force cap [N]
   float grabbed_mass = 0;       // [kg]
+  std::vector<float> node_mass; // lumped mass of each grabbed node [kg]
 
   // Grabs the boundary nodes within `radius` of `point` (at least the hit triangle's).
   void grab(const TetMesh& m, const HostState& s, const std::vector<double>& mass, const std::vector<int>& surface_nodes,
@@ -51,7 +52,9 @@ struct DragSpring {
   // 3 x nnode SoA forces for set_external_forces: spring towards target, damped with the
   // grabbed nodes' velocity (du / dt) at half the critical rate.
   void forces(const TetMesh& m, const HostState& s, double dt, std::vector<double>& f) const;
-  // Largest simulated time one force update may cover without the spring going unstable.
+  // Largest simulated time one force update may cover without the spring going unstable:
+  // per grabbed node, its share of the spring (k w_j) and of the damper (c w_j) against
+  // its own mass, since the weights follow distance, not mass.
   double max_hold_time() const;
 };
 

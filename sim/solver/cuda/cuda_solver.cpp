@@ -346,17 +346,21 @@ class CudaSolver final : public CudaSolverApi {
   }
 
   // The CPU backend's estimate_omega_max as kernels (tled_probe.cu): the step's element
-  // stage on u + a v, a per-node gather and product, deterministic sums; one download.
+  // stage on u + a v, then one kernel for the gather, the product and its deterministic
+  // sums; one graph with PDL, one download.
   double estimate_omega_max(int iterations, double a, bool restart) override {
     const int n3 = 3 * n_;
-    const LaunchShape s3 = shape_for(n3, nsm_, false), sn = shape_for(n_, nsm_, false);
+    LaunchShape s3 = shape_for(n3, nsm_, false), sn = shape_for(n_, nsm_, false);
+    s3.pdl = sn.pdl = true;
     if (probe_.v.size() != std::size_t(n3)) {
       probe_.v.resize(n3);
       probe_.f0.resize(n3);
       probe_.w.resize(n3);
       probe_.up.resize(n3);
-      probe_.terms.resize(2 * std::size_t(std::max(n_, 1)));
+      probe_.partials.resize(3 * std::size_t(probe_blocks(n_)));
       probe_.sums.resize(3);
+      probe_.ticket.resize(1);
+      SOFTTLED_CUDA_CHECK(cudaMemsetAsync(probe_.ticket.data(), 0, sizeof(unsigned), stream_));
       std::vector<int> old(perm_.node_old.begin(), perm_.node_old.end());
       probe_.node_old.upload(old);
       std::vector<double> m(n_);
@@ -364,10 +368,12 @@ class CudaSolver final : public CudaSolverApi {
       probe_.mass.upload(m);
       restart = true;
     }
-    if (restart)
-      SOFTTLED_CUDA_CHECK(launch_probe_start<T>(stream_, s3, n_, rest_.view.inv_mass, probe_.node_old.data(), probe_.v.data()));
-    // One graph per iteration count: a dozen short kernels per product, launched one by
-    // one, cost ~0.15 ms of host launches per estimate.
+    if (restart) {
+      SOFTTLED_CUDA_CHECK(launch_probe_start<T>(stream_, shape_for(n3, nsm_, false), n_, rest_.view.inv_mass,
+                                                probe_.node_old.data(), probe_.v.data()));
+      SOFTTLED_CUDA_CHECK(cudaMemsetAsync(probe_.sums.data(), 0, 3 * sizeof(double), stream_));  // keep v
+    }
+    // One graph per iteration count (a launch per kernel cost ~0.15 ms of host time).
     if (a != probe_a_) {
       destroy_probe_graphs();
       probe_a_ = a;
@@ -378,32 +384,26 @@ class CudaSolver final : public CudaSolverApi {
       at.b.ub = nullptr;  // forces at the displacement itself
       const T ta = T(a), inv_a = T(1) / ta;
       it = probe_graphs_.emplace(iterations, capture([&] {
-                          // f0 = f(u)
-                          at.b.u = live_.u.data();
-                          SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
-                          SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(stream_, sn, rest_.view, live_.fcorner.data(),
-                                                                     probe_.f0.data(), nullptr, nullptr, nullptr,
-                                                                     inv_a, nullptr, nullptr));
+                          at.b.u = live_.u.data();  // f0 = f(u)
+                          SOFTTLED_CUDA_CHECK(launch_element_stage(at, true));
+                          SOFTTLED_CUDA_CHECK(launch_probe_f0<T>(stream_, sn, rest_.view, live_.fcorner.data(),
+                                                                 probe_.f0.data()));
                           at.b.u = probe_.up.data();
                           for (int k = 0; k < iterations; ++k) {
                             SOFTTLED_CUDA_CHECK(launch_probe_displace<T>(stream_, s3, n3, live_.u.data(),
+                                                                         probe_.w.data(), probe_.sums.data(),
                                                                          probe_.v.data(), ta, probe_.up.data()));
-                            SOFTTLED_CUDA_CHECK(launch_element_stage(at, false));
-                            SOFTTLED_CUDA_CHECK(launch_probe_gather<T>(
-                                stream_, sn, rest_.view, live_.fcorner.data(), nullptr, probe_.f0.data(),
-                                probe_.v.data(), probe_.mass.data(), inv_a, probe_.w.data(), probe_.terms.data()));
-                            SOFTTLED_CUDA_CHECK(
-                                launch_sum(stream_, probe_.terms.data(), n_, partials_.data(), probe_.sums.data()));
-                            SOFTTLED_CUDA_CHECK(launch_sum(stream_, probe_.terms.data() + n_, n_, partials_.data(),
-                                                           probe_.sums.data() + 1));
-                            SOFTTLED_CUDA_CHECK(launch_probe_normalize<T>(stream_, s3, n3, probe_.w.data(),
-                                                                          probe_.sums.data() + 2, probe_.v.data()));
+                            SOFTTLED_CUDA_CHECK(launch_element_stage(at, true));
+                            SOFTTLED_CUDA_CHECK(launch_probe_product<T>(
+                                stream_, true, rest_.view, live_.fcorner.data(), probe_.f0.data(), probe_.v.data(),
+                                probe_.mass.data(), inv_a, probe_.w.data(), probe_.partials.data(),
+                                probe_.ticket.data(), probe_.sums.data()));
                           }
                         })).first;
     }
     SOFTTLED_CUDA_CHECK(cudaGraphLaunch(it->second, stream_));
-    double h[3] = {0, 0, 0};
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h, probe_.sums.data(), sizeof h, cudaMemcpyDeviceToHost, stream_));
+    double* h = probe_.result.data();
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h, probe_.sums.data(), probe_.result.bytes(), cudaMemcpyDeviceToHost, stream_));
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
     if (!(h[1] > 0) || !(h[2] > 0)) return 0;
     return std::sqrt(std::sqrt(h[0] / h[1]));
@@ -693,12 +693,14 @@ class CudaSolver final : public CudaSolverApi {
   PhysicsParams params_;
   double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
   // estimate_omega_max: warm vector v, f(u), M^-1 K v, u + a v (3 x nnode, T), the
-  // per-node terms (2 x nnode) and their sums (num, den, max |w|), masses in double and
-  // the original node order (start vector)
+  // product's per-block partials and sums (num, den, max |w|) with the last-block ticket,
+  // masses in double and the original node order (start vector)
   struct Probe {
     DeviceBuffer<T> v, f0, w, up;
-    DeviceBuffer<double> terms, sums, mass;
+    DeviceBuffer<double> partials, sums, mass;
+    DeviceBuffer<unsigned> ticket;
     DeviceBuffer<int> node_old;
+    PinnedBuffer<double> result{3};  // sums, downloaded
   } probe_;
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;

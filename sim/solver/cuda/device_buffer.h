@@ -66,4 +66,24 @@ class DeviceBuffer {
   std::size_t n_ = 0;
 };
 
+// Page-locked host memory for small device-to-host results: an async copy into it is a
+// plain DMA, where pageable memory goes through a staging copy and a wait.
+template <class T>
+class PinnedBuffer {
+ public:
+  explicit PinnedBuffer(std::size_t n) : n_(n) {
+    SOFTTLED_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&ptr_), n * sizeof(T)));
+  }
+  PinnedBuffer(const PinnedBuffer&) = delete;
+  PinnedBuffer& operator=(const PinnedBuffer&) = delete;
+  ~PinnedBuffer() { cudaFreeHost(ptr_); }
+  T* data() { return ptr_; }
+  T& operator[](std::size_t i) { return ptr_[i]; }
+  std::size_t bytes() const { return n_ * sizeof(T); }
+
+ private:
+  T* ptr_ = nullptr;
+  std::size_t n_ = 0;
+};
+
 }  // namespace softtled::cuda

@@ -14,8 +14,6 @@
 namespace softtled::cuda {
 namespace {
 
-constexpr int kMaxThreads = 256;
-
 template <class T>
 __global__ void probe_start_kernel(int n, const T* __restrict__ inv_mass, const int* __restrict__ node_old, T* v) {
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
@@ -26,67 +24,92 @@ __global__ void probe_start_kernel(int n, const T* __restrict__ inv_mass, const 
   v[j] = inv_mass[i] > T(0) ? T(probe_start(unsigned(k * n + node_old[i]))) : T(0);
 }
 
+// v = w / max|w| (the last product's result, normalised; wmax = 0: v kept, as after a
+// restart), then up = u + a v and v = the step actually taken. One thread per entry.
 template <class T>
-__global__ void probe_displace_kernel(int n3, const T* __restrict__ u, T* __restrict__ v, T a, T* __restrict__ up) {
+__global__ void probe_displace_kernel(int n3, const T* __restrict__ u, const T* __restrict__ w,
+                                      const double* __restrict__ sums, T* __restrict__ v, T a, T* __restrict__ up) {
+  pdl_launch_dependents();
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
+  pdl_wait();  // w and sums come from the previous product, u from the last step
   if (j >= n3) return;
-  T vj = v[j], uj;
+  const double wmax = sums[2];
+  T vj = wmax > 0 ? w[j] * T(1.0 / wmax) : v[j], uj;
   probe_displacement(u[j], vj, a, uj, vj);
   up[j] = uj;
   v[j] = vj;
 }
 
-// f0 != null: store the summed force (f(u)). Else w = M^-1 (f - f0) / a and the terms
-// m |w|^2 (terms[i]) and m |v|^2 (terms[n + i]).
+// f0 = the summed internal force at u (the product's reference). One thread per node.
 template <class T>
-__global__ void probe_gather_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0_out,
-                                    const T* __restrict__ f0, const T* __restrict__ v, const double* __restrict__ mass,
-                                    T inv_a, T* __restrict__ w, double* __restrict__ terms) {
+__global__ void probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0) {
+  pdl_launch_dependents();
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  const int n = m.nnode;
-  if (i >= n) return;
+  pdl_wait();  // fcorner is written by the element stage
+  if (i >= m.nnode) return;
   T f[3];
   gather_node_force(m.gather_start, m.gather_slot, fcorner, 4 * m.ntet, i, f);
-  if (f0_out) {
-    for (int k = 0; k < 3; ++k) f0_out[k * n + i] = f[k];
-    return;
-  }
-  T g[3], wi[3];
-  for (int k = 0; k < 3; ++k) g[k] = f0[k * n + i];
-  probe_response(f, g, m.inv_mass[i], inv_a, wi);
-  double sw = 0, sv = 0;
-  for (int k = 0; k < 3; ++k) {
-    w[k * n + i] = wi[k];
-    const double vk = double(v[k * n + i]);
-    sw += mass[i] * double(wi[k]) * double(wi[k]);
-    sv += mass[i] * vk * vk;
-  }
-  // The CPU adds m w_k^2 one component at a time into one running sum; here each node's
-  // three first: the sums differ by rounding only (CPU and GPU agree to float tolerance).
-  terms[i] = sw;
-  terms[n + i] = sv;
+  for (int k = 0; k < 3; ++k) f0[k * m.nnode + i] = f[k];
 }
 
-// out = max |x| over n entries, one block (max is exact: any order gives the same bits).
+// One product's node side in one kernel: w = M^-1 (f(up) - f0) / a per node, and the
+// three numbers the power iteration needs, sums = (sum m|w|^2, sum m|v|^2, max |w|).
+// Each block reduces its nodes by a fixed tree into partials[3 b ..]; the block that
+// finishes last (a ticket counter) adds the partials in block order. Which block is last
+// changes from run to run, the order of the additions does not: deterministic.
 template <class T>
-__global__ void max_abs_kernel(const T* __restrict__ x, int n, double* __restrict__ out) {
-  __shared__ double s[kMaxThreads];
-  double m = 0;
-  for (int j = threadIdx.x; j < n; j += blockDim.x) m = fmax(m, fabs(double(x[j])));
-  s[threadIdx.x] = m;
+__global__ void __launch_bounds__(kProbeThreads)
+    probe_product_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, const T* __restrict__ f0,
+                         const T* __restrict__ v, const double* __restrict__ mass, T inv_a, T* __restrict__ w,
+                         double* __restrict__ partials, unsigned* __restrict__ ticket, double* __restrict__ sums) {
+  __shared__ double sh[3][kProbeThreads];
+  __shared__ bool last;
+  pdl_launch_dependents();
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  const int n = m.nnode, t = int(threadIdx.x);
+  pdl_wait();  // fcorner is written by the element stage
+  double sw = 0, sv = 0, wm = 0;
+  if (i < n) {
+    T f[3], g[3], wi[3];
+    gather_node_force(m.gather_start, m.gather_slot, fcorner, 4 * m.ntet, i, f);
+    for (int k = 0; k < 3; ++k) g[k] = f0[k * n + i];
+    probe_response(f, g, m.inv_mass[i], inv_a, wi);
+    // The CPU adds m w_k^2 one component at a time into one running sum; here each node's
+    // three first: the sums differ by rounding only (CPU and GPU agree to float tolerance).
+    for (int k = 0; k < 3; ++k) {
+      w[k * n + i] = wi[k];
+      const double vk = double(v[k * n + i]);
+      sw += mass[i] * double(wi[k]) * double(wi[k]);
+      sv += mass[i] * vk * vk;
+      wm = fmax(wm, fabs(double(wi[k])));
+    }
+  }
+  sh[0][t] = sw, sh[1][t] = sv, sh[2][t] = wm;
   __syncthreads();
-  for (int h = blockDim.x / 2; h > 0; h /= 2) {
-    if (int(threadIdx.x) < h) s[threadIdx.x] = fmax(s[threadIdx.x], s[threadIdx.x + h]);
+  for (int h = kProbeThreads / 2; h > 0; h /= 2) {
+    if (t < h) {
+      sh[0][t] += sh[0][t + h];
+      sh[1][t] += sh[1][t + h];
+      sh[2][t] = fmax(sh[2][t], sh[2][t + h]);
+    }
     __syncthreads();
   }
-  if (threadIdx.x == 0) *out = s[0];
-}
-
-template <class T>
-__global__ void probe_normalize_kernel(int n3, const T* __restrict__ w, const double* __restrict__ wmax, T* __restrict__ v) {
-  const int j = blockIdx.x * blockDim.x + threadIdx.x;
-  if (j >= n3 || !(*wmax > 0)) return;
-  v[j] = w[j] * T(1.0 / *wmax);
+  if (t == 0) {
+    for (int c = 0; c < 3; ++c) partials[3 * blockIdx.x + c] = sh[c][0];
+    __threadfence();  // the partials are visible before the ticket says so
+    last = atomicAdd(ticket, 1u) == gridDim.x - 1;
+  }
+  __syncthreads();
+  if (!last || t != 0) return;
+  __threadfence();
+  double a = 0, b = 0, c = 0;
+  for (unsigned k = 0; k < gridDim.x; ++k) {
+    a += partials[3 * k];
+    b += partials[3 * k + 1];
+    c = fmax(c, partials[3 * k + 2]);
+  }
+  sums[0] = a, sums[1] = b, sums[2] = c;
+  *ticket = 0;  // ready for the next product
 }
 
 template <class T>
@@ -103,24 +126,25 @@ cudaError_t launch_probe_start(cudaStream_t s, const LaunchShape& ls, int n, con
 }
 
 template <class T>
-cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, T* v, T a, T* up) {
-  return launch(s, ls, probe_displace_kernel<T>, n3, u, v, a, up);
+cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, const T* w,
+                                  const double* sums, T* v, T a, T* up) {
+  return launch(s, ls, probe_displace_kernel<T>, n3, u, w, sums, v, a, up);
 }
 
 template <class T>
-cudaError_t launch_probe_gather(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const T* fcorner,
-                                T* f0_out, const T* f0, const T* v, const double* mass, T inv_a, T* w, double* terms) {
-  return launch(s, ls, probe_gather_kernel<T>, m, fcorner, f0_out, f0, v, mass, inv_a, w, terms);
+cudaError_t launch_probe_f0(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const T* fcorner, T* f0) {
+  return launch(s, ls, probe_f0_kernel<T>, m, fcorner, f0);
 }
 
 template <class T>
-cudaError_t launch_probe_normalize(cudaStream_t s, const LaunchShape& ls, int n3, const T* w, double* wmax, T* v) {
-  LaunchShape one;
-  one.grid = 1;
-  one.block = kMaxThreads;
-  const cudaError_t e = launch(s, one, max_abs_kernel<T>, w, n3, wmax);
-  if (e != cudaSuccess) return e;
-  return launch(s, ls, probe_normalize_kernel<T>, n3, w, static_cast<const double*>(wmax), v);
+cudaError_t launch_probe_product(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, const T* f0,
+                                 const T* v, const double* mass, T inv_a, T* w, double* partials, unsigned* ticket,
+                                 double* sums) {
+  LaunchShape ls;
+  ls.grid = probe_blocks(m.nnode);
+  ls.block = kProbeThreads;
+  ls.pdl = pdl;
+  return launch(s, ls, probe_product_kernel<T>, m, fcorner, f0, v, mass, inv_a, w, partials, ticket, sums);
 }
 
 template <class T>
@@ -130,10 +154,11 @@ cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale,
 
 #define SOFTTLED_INSTANTIATE(T)                                                                                        \
   template cudaError_t launch_probe_start<T>(cudaStream_t, const LaunchShape&, int, const T*, const int*, T*);        \
-  template cudaError_t launch_probe_displace<T>(cudaStream_t, const LaunchShape&, int, const T*, T*, T, T*);          \
-  template cudaError_t launch_probe_gather<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&, const T*, T*,   \
-                                              const T*, const T*, const double*, T, T*, double*);                     \
-  template cudaError_t launch_probe_normalize<T>(cudaStream_t, const LaunchShape&, int, const T*, double*, T*);       \
+  template cudaError_t launch_probe_displace<T>(cudaStream_t, const LaunchShape&, int, const T*, const T*,           \
+                                                const double*, T*, T, T*);                                            \
+  template cudaError_t launch_probe_f0<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&, const T*, T*);      \
+  template cudaError_t launch_probe_product<T>(cudaStream_t, bool, const TetMeshView<T>&, const T*, const T*,          \
+                                               const T*, const double*, T, T*, double*, unsigned*, double*);          \
   template cudaError_t launch_scale<T>(cudaStream_t, const LaunchShape&, int, T, T*);
 SOFTTLED_INSTANTIATE(float)
 SOFTTLED_INSTANTIATE(double)
