@@ -271,6 +271,7 @@ class CudaSolver final : public CudaSolverApi {
     const StepArgs<T> a = args(cfg_.step);
     StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
+    free_p.contact.nobstacles = 0;
     const StepArgs<T> a_free = args(free_p);
     const LaunchShape sn = node_shape(pdl);
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);
