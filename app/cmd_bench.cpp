@@ -116,6 +116,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps, bool simd) {
   bb.fcorner = fblk.data();
   StepParams<T> sp_free = c.step;
   sp_free.contact.nplanes = 0;
+  sp_free.contact.nobstacles = 0;
   const std::vector<T> u0 = u, du0 = du;
   auto time_loop = [&](auto&& body) {
     std::vector<double> us;

@@ -97,7 +97,8 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       const Vec3 focus{float(d.centroid[0]), float(d.centroid[1]), float(d.centroid[2])};
       if (o.follow) cam.target = cam.target + (focus - last_centroid);
       last_centroid = focus;
-      renderer.draw(cam, o.width, o.height, *body, render_planes(sim.params().planes), focus, plane_half, style);
+      renderer.draw(cam, o.width, o.height, *body, render_planes(sim.params().planes), focus, plane_half, style, {},
+                    render_obstacles(sim.params().obstacles));
       f.image = target.read();
       f.draw_s = seconds_since(t0);
 

@@ -28,6 +28,24 @@ std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes) {
   return r;
 }
 
+std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles) {
+  std::vector<RenderObstacle> r;
+  auto v3 = [](const double* p) { return Vec3{float(p[0]), float(p[1]), float(p[2])}; };
+  for (const ObstacleSpec& o : obstacles) {
+    RenderObstacle q;
+    q.shape = o.shape == kObstacleBox       ? RenderObstacle::Shape::kBox
+              : o.shape == kObstacleCapsule ? RenderObstacle::Shape::kCapsule
+                                            : RenderObstacle::Shape::kSphere;
+    q.center = v3(o.center);
+    q.b = v3(o.b);
+    q.half = v3(o.half);
+    q.radius = float(o.radius);
+    for (int k = 0; k < 9; ++k) q.R[k] = float(o.R[k]);
+    r.push_back(q);
+  }
+  return r;
+}
+
 namespace {
 void rest_bounds(const Simulation& sim, Vec3& lo, Vec3& hi) {
   const auto& X = sim.mesh().X;

@@ -1,6 +1,6 @@
 #pragma once
 // The app's bridge between a Simulation and render/ (which knows no sim type): the body's
-// vertex buffer and its per-frame fill, the planes as plain geometry, and a camera and
+// vertex buffer and its per-frame fill, the planes and obstacles as plain geometry, and a camera and
 // plane size that frame the body. The viewer and the offscreen frames share these.
 #include <memory>
 #include <vector>
@@ -22,6 +22,7 @@ std::unique_ptr<BodyVertexBuffer> make_body_buffer(const SurfaceTopology& topo);
 void write_body_vertices(Simulation& sim, BodyVertexBuffer& body);
 
 std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
+std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles);
 
 // Camera that frames the body's rest shape and the floor below it, seen slightly from above.
 Camera default_camera(const Simulation& sim);

@@ -160,7 +160,8 @@ class Viewer {
         if (set_.follow && have_centroid_ && mouse_ != Mouse::kPull) cam_.target = cam_.target + (focus - last_centroid_);
         last_centroid_ = focus;
         have_centroid_ = true;
-        renderer_->draw(cam_, fb_w, fb_h, *body_, render_planes(sim_->params().planes), focus, plane_half_, set_.style, lines);
+        renderer_->draw(cam_, fb_w, fb_h, *body_, render_planes(sim_->params().planes), focus, plane_half_, set_.style, lines,
+                        render_obstacles(sim_->params().obstacles));
       }
       ImGui::Render();
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

@@ -1,7 +1,8 @@
 #pragma once
 // Draws one frame: background gradient, contact planes with a grid, planar shadows of the
-// body on each plane (stencil-masked so they never darken twice), the lit body, and
-// optional overlay lines (the viewer's drag spring). Same code for window and offscreen.
+// body and the obstacles on each plane (stencil-masked so they never darken twice), the
+// rigid obstacles, the lit body, and optional overlay lines (the viewer's drag spring).
+// Same code for window and offscreen.
 #include <vector>
 
 #include "render/body_buffer.h"
@@ -29,6 +30,23 @@ struct RenderPlane {
   Vec3 normal;  // towards the free side (normalized when drawn)
 };
 
+// A rigid obstacle as plain geometry (the app converts its simulation's obstacles).
+struct RenderObstacle {
+  enum class Shape { kSphere, kBox, kCapsule };
+  Shape shape = Shape::kSphere;
+  Vec3 center;   // sphere, box: centre; capsule: end a [m]
+  Vec3 b;        // capsule: end b [m]
+  Vec3 half;     // box: half sides [m]
+  float radius = 0;  // sphere, capsule [m]
+  float R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box: world = R local, row-major
+};
+
+// Triangles of an obstacle's surface, 3 vertices each in the body's vertex layout
+// (kBodyFloatsPerVertex floats: position, outward normal, |u| = 0, contact = 0), appended
+// to out: a 32 x 16 UV sphere, a capsule of two such hemispheres and a cylinder, a box of
+// 12 flat triangles.
+void obstacle_triangles(const RenderObstacle& o, std::vector<float>& out);
+
 struct OverlayLine {
   Vec3 a, b;
   Vec3 color{1, 1, 1};
@@ -44,11 +62,14 @@ class SceneRenderer {
   // Draws into the currently bound framebuffer (viewport w x h). Planes are drawn as
   // squares of half side `plane_half` [m] centred where `focus` projects onto them.
   void draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body, const std::vector<RenderPlane>& planes,
-            Vec3 focus, float plane_half, const RenderStyle& style, const std::vector<OverlayLine>& lines = {});
+            Vec3 focus, float plane_half, const RenderStyle& style, const std::vector<OverlayLine>& lines = {},
+            const std::vector<RenderObstacle>& obstacles = {});
 
  private:
   ShaderProgram body_, flat_, plane_, background_, line_flat_;
   GLuint quad_vao_ = 0, quad_vbo_ = 0, empty_vao_ = 0, line_vao_ = 0, line_vbo_ = 0;
+  GLuint obstacle_vao_ = 0, obstacle_vbo_ = 0;  // this frame's obstacle triangles
+  std::vector<float> obstacle_verts_;
 };
 
 }  // namespace softtled

@@ -13,7 +13,7 @@
 // the loads and stores around integrate_node that every backend's node loop shares.
 #include <cstdint>
 
-#include "sim/contact/plane_contact.h"
+#include "sim/contact/node_contact.h"
 #include "sim/core/body_view.h"
 #include "sim/core/sim_hd.h"
 
@@ -82,7 +82,7 @@ struct NodeState {
   std::uint8_t contact;  // ContactState of this step
 };
 
-// Central difference (increment form above) and plane contact for one node.
+// Central difference (increment form above) and rigid contact (planes, obstacles) for one node.
 //   f: internal force [N]; x0: rest position [m] (read only for contact-tested nodes);
 //   u, du: the node's displacement and last increment; fext: user force [N].
 // A fixed node keeps its displacement and gets a zero increment.
@@ -100,9 +100,9 @@ SIM_HD inline NodeState<T> integrate_node(const T f[3], const T x0[3], const T u
   }
   for (int k = 0; k < 3; ++k) s.du[k] = p.gamma1 * (p.g[k] + (fext[k] - f[k]) * inv_mass) + p.c_du * du[k];
   s.contact = kFree;
-  if ((flags & kNodeContact) && p.contact.nplanes > 0) {
+  if ((flags & kNodeContact) && has_contacts(p.contact)) {
     const T x[3] = {x0[0] + u[0], x0[1] + u[1], x0[2] + u[2]};
-    s.contact = project_to_planes(p.contact, x, s.du);
+    s.contact = project_node_contacts(p.contact, x, s.du);
   }
   for (int k = 0; k < 3; ++k) s.u[k] = u[k] + s.du[k];
   return s;
@@ -120,7 +120,7 @@ SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, 
   const int n = m.nnode;
   const std::uint8_t flags = m.flags[i];
   T x0[3] = {T(0), T(0), T(0)}, u[3], du[3], fe[3];
-  const bool tested = (flags & kNodeContact) && p.contact.nplanes > 0;
+  const bool tested = (flags & kNodeContact) && has_contacts(p.contact);
   for (int k = 0; k < 3; ++k) {
     if (tested) x0[k] = m.X0[k * n + i];  // only contact-tested nodes need their position
     u[k] = u_in[k * n + i];

@@ -1,11 +1,11 @@
 // SIMD twin of integrate_node (central_difference.h) for the CPU backend's node stage
 // (sim/solver/cpu_simd.cpp): lane l holds node l. The same formula,
 //   du+ = gamma1 (g + (fext - f) / m) + c_du du,   u+ = u + du+,
-// a fixed node keeping u with a zero increment, with products contracted into FMAs. Plane
-// contact stays the scalar project_to_planes (plane_contact.h): this function only finds
-// the lanes whose predicted step may reach a plane (a filter with a margin far above the
-// rounding of the distances), and the loop projects those lanes one by one with the
-// scalar function, which decides exactly as the other backends do.
+// a fixed node keeping u with a zero increment, with products contracted into FMAs. Rigid
+// contact stays the scalar project_node_contacts (node_contact.h): these functions only
+// find the lanes whose predicted step may reach a plane or an obstacle (filters with a
+// margin far above the rounding of the distances), and the loop projects those lanes one
+// by one with the scalar function, which decides exactly as the other backends do.
 //
 // A Highway "-inl.h" header (see tet_forces_simd-inl.h).
 #if defined(SOFTTLED_FEM_CENTRAL_DIFFERENCE_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
@@ -54,6 +54,37 @@ HWY_INLINE M may_touch_planes(D d, const ContactParams<hn::TFromD<D>>& c, const 
     }
     // (NaN lanes too: the scalar function projects them, as its d0 + dn >= 0 fails)
     any = hn::Or(any, hn::Or(hn::Lt(s, hn::Mul(mag, hn::Set(d, T(1.0 / 65536)))), hn::IsNaN(s)));
+  }
+  return hn::And(any, tested);
+}
+
+// Lanes (among `tested`) whose step du from x may reach one of the obstacles. The scalar
+// project_to_obstacle projects when dist(x) + n . (du - d) < 0, and dist(x) is at least
+// |x - cb| - rb for a sphere (cb, rb) holding the obstacle (obstacle_bound), while
+// n . (du - d) >= -|du - d|: so a lane with |x - cb| - rb - |du - d| above a margin of
+// 2^-16 of those magnitudes cannot be projected. Two square roots per lane and obstacle.
+template <class D, class V = hn::Vec<D>, class M = hn::Mask<D>>
+HWY_INLINE M may_touch_obstacles(D d, const ContactParams<hn::TFromD<D>>& c, const V x[3], const V du[3], M tested) {
+  using T = hn::TFromD<D>;
+  M any = hn::FirstN(d, 0);  // none
+  for (int o = 0; o < c.nobstacles; ++o) {
+    const Obstacle<T>& O = c.obstacles[o];
+    T cb[3], rb;
+    obstacle_bound(O, cb, rb);
+    V r2 = hn::Zero(d), s2 = hn::Zero(d);
+    for (int k = 0; k < 3; ++k) {
+      const V dx = hn::Sub(x[k], hn::Set(d, cb[k]));
+      const V rel = hn::Sub(du[k], hn::Set(d, O.d[k]));
+      r2 = hn::MulAdd(dx, dx, r2);
+      s2 = hn::MulAdd(rel, rel, s2);
+    }
+    const V r = hn::Sqrt(r2), step = hn::Sqrt(s2), vrb = hn::Set(d, rb);
+    const V gap = hn::Sub(hn::Sub(r, vrb), step);
+    // (plus 2^-16 of the bound's coordinates: the scalar function rounds points such as
+    // the capsule's a + t (b - a) at the size of their coordinates, not of the distance)
+    const T far = (std::fabs(cb[0]) + std::fabs(cb[1]) + std::fabs(cb[2])) * T(1.0 / 65536);
+    const V tol = hn::MulAdd(hn::Add(hn::Add(r, vrb), step), hn::Set(d, T(1.0 / 65536)), hn::Set(d, far));
+    any = hn::Or(any, hn::Or(hn::Lt(gap, tol), hn::IsNaN(gap)));
   }
   return hn::And(any, tested);
 }

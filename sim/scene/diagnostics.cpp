@@ -16,7 +16,10 @@ Diagnostics measure_diagnostics(const TetMesh& mesh, const HostState& s, const s
   const auto& u = s.u;
   const auto& du = s.du;
   double mt = 0, c[3] = {0, 0, 0};
-  d.min_gap = p.planes.empty() ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::max();
+  d.min_gap = p.planes.empty() && p.obstacles.empty() ? std::numeric_limits<double>::infinity()
+                                                      : std::numeric_limits<double>::max();
+  std::vector<Obstacle<double>> obstacles;
+  for (const ObstacleSpec& o : p.obstacles) obstacles.push_back(obstacle_from<double>(o, 0));
   for (int i = 0; i < n; ++i) {
     double x[3], v2 = 0, u2 = 0;
     for (int k = 0; k < 3; ++k) {
@@ -31,6 +34,7 @@ Diagnostics measure_diagnostics(const TetMesh& mesh, const HostState& s, const s
     d.ke += 0.5 * m[i] * v2;
     d.max_u = std::max(d.max_u, std::sqrt(u2));
     for (const auto& pl : p.planes) d.min_gap = std::min(d.min_gap, signed_distance(pl, x));
+    for (const auto& o : obstacles) d.min_gap = std::min(d.min_gap, obstacle_surface(o, x).dist);
     if (s.contact[i] != kFree) ++d.n_contact;
     if (s.contact[i] == kStick) ++d.n_stick;
   }

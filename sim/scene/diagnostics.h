@@ -11,12 +11,13 @@ namespace softtled {
 struct Diagnostics {
   double t = 0;
   double centroid[3] = {0, 0, 0};  // mass-weighted [m]
-  double min_gap = 0;              // smallest signed node-plane distance [m] (inf: no planes)
+  double min_gap = 0;              // smallest signed node-plane or node-obstacle distance [m]
+                                   // (inf: no planes, no obstacles)
   // Kinetic, strain, gravitational energy [J]. ke uses the half-step velocity du/dt, the
   // integrator's own velocity between t - dt and t; it lags the velocity at t by a dt/2
   // (by g dt/2 in free fall).
   double ke = 0, se = 0, pe = 0;
-  int n_contact = 0, n_stick = 0;  // nodes projected this step, of which sticking
+  int n_contact = 0, n_stick = 0;  // nodes projected this step (by a plane or an obstacle), of which sticking
   double max_u = 0;                // largest displacement magnitude [m]
   std::vector<double> tracked;     // 3 per tracked node: displacement [m]
 };

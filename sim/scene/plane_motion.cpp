@@ -25,4 +25,13 @@ PlaneSpec moved(const PlaneSpec& p, const PlaneMotion& m, double tau) {
   return q;
 }
 
+ObstacleSpec moved(const ObstacleSpec& o, double tau) {
+  ObstacleSpec q = o;
+  for (int k = 0; k < 3; ++k) {
+    q.center[k] += o.velocity[k] * tau;
+    q.b[k] += o.velocity[k] * tau;
+  }
+  return q;
+}
+
 }  // namespace softtled

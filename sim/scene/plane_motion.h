@@ -1,5 +1,5 @@
 #pragma once
-// Kinematic planes: a contact plane that moves with a prescribed rigid velocity (its point
+// Kinematic planes and moving obstacles. Kinematic planes: a contact plane that moves with a prescribed rigid velocity (its point
 // at `velocity`, turning at `omega` about that point) for `duration` of simulated time,
 // then stops. It pushes the body like a moving wall: the contact projection puts the nodes
 // it meets on its pose at the end of the step, so they move with it. The Simulation moves
@@ -21,5 +21,11 @@ struct PlaneMotion {
 
 // The plane after moving with m for tau seconds (the turn by Rodrigues' formula).
 PlaneSpec moved(const PlaneSpec& p, const PlaneMotion& m, double tau);
+
+// A moving obstacle (ObstacleSpec::velocity): its pose tau seconds later, translated by
+// velocity x tau. The Simulation poses each moving obstacle at start + velocity x t from
+// its pose at t = 0 before every step (not step by step, so a rollback or a reset puts
+// it back exactly), on the host in double: every backend steps against the same poses.
+ObstacleSpec moved(const ObstacleSpec& o, double tau);
 
 }  // namespace softtled

@@ -22,6 +22,8 @@ const Names<MaterialModel> kMaterialModels = {{"neo_hookean", kTaylorNeoHookean}
 const Names<ElementType> kElements = {{"T4", kT4}, {"T4ANP", kT4ANP}};
 const Names<ContactMode> kContactModes = {{"sliding", kSliding}, {"static", kStatic}, {"coulomb", kCoulomb}};
 const Names<Precision> kPrecisions = {{"float", Precision::kFloat}, {"double", Precision::kDouble}};
+const Names<ObstacleShape> kObstacleShapes = {
+    {"sphere", kObstacleSphere}, {"box", kObstacleBox}, {"capsule", kObstacleCapsule}};
 
 // Physical ranges of the material, motion and contact keys. Each is far outside any soft
 // body a user can mean, and inside what the step and its float32 state can represent;
@@ -161,7 +163,7 @@ class Reader {
           const std::string full = key + "." + std::string(k2.str());
           if (!used_.count(full)) fail(full, "unknown key (see README, 'Scene format')");
         }
-      } else if (!used_.count(key) && !(key == "fixed" && used_.count("fixed"))) {
+      } else if (!used_.count(key)) {
         fail(key, "unknown key (see README, 'Scene format')");
       }
     }
@@ -240,6 +242,98 @@ void read_mesh_keys(Reader& r, Scene& s) {
     (void)tetgen_switches(o);
   } catch (const InputError& e) {
     throw InputError(s.source + ": " + e.what());
+  }
+}
+
+// [[obstacle]] tables: the shape's keys and no others, each checked and named
+// ("obstacle[1].radius: ..."), at most kMaxObstacles of them.
+void read_obstacles(Reader& r, Scene& s) {
+  const toml::node* node = r.get("obstacle");
+  if (!node) return;
+  auto arr = node->as_array();
+  if (!arr) r.fail("obstacle", "expected [[obstacle]] tables");
+  if (arr->size() > std::size_t(kMaxObstacles))
+    r.fail("obstacle", "at most " + std::to_string(kMaxObstacles) + " obstacles, got " + std::to_string(arr->size()));
+  const double far = kMaxCoordinate / s.length_unit;  // |coordinate| and size bound, scene units
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string key = "obstacle[" + std::to_string(i) + "]";
+    auto t = (*arr)[i].as_table();
+    if (!t) r.fail(key, "expected a table ([[obstacle]])");
+    Scene::ObstacleDesc o;
+    auto sh = (*t)["shape"].as_string();
+    if (!(*t)["shape"].node()) r.fail(key + ".shape", "required: \"sphere\", \"box\" or \"capsule\"");
+    if (!sh) r.fail(key + ".shape", "expected a string");
+    const std::string shape = sh->get();
+    if (shape == "mesh")
+      r.fail(key + ".shape", "\"mesh\" obstacles are not supported yet (use \"sphere\", \"box\" or \"capsule\")");
+    bool known = false;
+    for (const auto& [name, v] : kObstacleShapes)
+      if (shape == name) o.shape = v, known = true;
+    if (!known) r.fail(key + ".shape", "'" + shape + "' is not one of: sphere, box, capsule");
+    const std::set<std::string> keys = o.shape == kObstacleSphere ? std::set<std::string>{"shape", "center", "radius", "velocity"}
+                                       : o.shape == kObstacleBox  ? std::set<std::string>{"shape", "center", "size", "rotation_deg", "velocity"}
+                                                                  : std::set<std::string>{"shape", "a", "b", "radius", "velocity"};
+    for (const auto& [k, v] : *t) {
+      (void)v;
+      const std::string name(k.str());
+      if (!keys.count(name)) {
+        std::string list;
+        for (const auto& a : keys) list += (list.empty() ? "" : ", ") + a;
+        r.fail(key + "." + name, "unknown key (a " + shape + " obstacle takes " + list + ")");
+      }
+    }
+    // A vector key: required or not, finite, each |component| <= limit.
+    auto vec3 = [&](const char* name, bool required, double limit, std::array<double, 3>& out) {
+      const toml::node* n = (*t)[name].node();
+      const std::string full = key + "." + name;
+      if (!n) {
+        if (required) r.fail(full, std::string("required for a ") + shape + " obstacle");
+        return;
+      }
+      auto a = n->as_array();
+      if (!a || a->size() != 3) r.fail(full, "expected an array of 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        const auto v = (*a)[k].value<double>();
+        if (!v || !std::isfinite(*v)) r.fail(full, "element " + std::to_string(k) + " is not a finite number");
+        if (std::fabs(*v) > limit) {
+          std::ostringstream m;
+          m << "element " << k << " = " << *v << " is out of range [" << -limit << ", " << limit << "]";
+          r.fail(full, m.str());
+        }
+        out[k] = *v;
+      }
+    };
+    auto positive = [&](const char* name, double v) {
+      if (!(v > 0)) {
+        std::ostringstream m;
+        m << "must be positive, got " << v;
+        r.fail(key + "." + name, m.str());
+      }
+    };
+    vec3("velocity", false, kMaxSpeed, o.velocity);
+    if (o.shape == kObstacleSphere || o.shape == kObstacleCapsule) {
+      const toml::node* n = (*t)["radius"].node();
+      if (!n) r.fail(key + ".radius", std::string("required for a ") + shape + " obstacle");
+      if (auto i = n->as_integer()) o.radius = double(i->get());
+      else if (auto f = n->as_floating_point()) o.radius = f->get();
+      else r.fail(key + ".radius", "expected a number");
+      if (!std::isfinite(o.radius)) r.fail(key + ".radius", "must be finite, got " + std::to_string(o.radius));
+      positive("radius", o.radius);
+      if (o.radius > far) r.fail(key + ".radius", "larger than the coordinate range (1e4 m)");
+    }
+    if (o.shape == kObstacleSphere) {
+      vec3("center", true, far, o.center);
+    } else if (o.shape == kObstacleBox) {
+      vec3("center", true, far, o.center);
+      vec3("size", true, far, o.size);
+      for (int k = 0; k < 3; ++k)
+        if (!(o.size[k] > 0)) r.fail(key + ".size", "element " + std::to_string(k) + " must be positive");
+      vec3("rotation_deg", false, 1e6, o.rotation_deg);
+    } else {
+      vec3("a", true, far, o.a);
+      vec3("b", true, far, o.b);
+    }
+    s.obstacles.push_back(o);
   }
 }
 
@@ -338,6 +432,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
   s.slope_point = r.vec<3>("slope.point", s.floor_point, kMaxCoordinate / s.length_unit);
 
+  read_obstacles(r, s);
   s.contact_mode = r.choice("contact.mode", s.contact_mode, kContactModes);
   s.mu = r.num("contact.mu", s.mu, 0, kMaxMu);
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
@@ -386,6 +481,7 @@ const char* material_model_name(MaterialModel m) { return name_of(kMaterialModel
 const char* element_name(ElementType e) { return name_of(kElements, e); }
 const char* contact_mode_name(ContactMode m) { return name_of(kContactModes, m); }
 const char* precision_name(Precision p) { return name_of(kPrecisions, p); }
+const char* obstacle_shape_name(ObstacleShape s) { return name_of(kObstacleShapes, s); }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   // Regular files only, size-capped (a directory or FIFO is refused before it is opened).

@@ -81,6 +81,16 @@ struct Scene {
   };
   std::vector<FixedSelector> fixed;
 
+  // [[obstacle]]: rigid obstacles (at most kMaxObstacles), in scene units. Which keys a
+  // shape takes: sphere center, radius; box center, size, rotation_deg; capsule a, b,
+  // radius; each optionally velocity [m/s].
+  struct ObstacleDesc {
+    ObstacleShape shape = kObstacleSphere;
+    std::array<double, 3> center{}, size{}, rotation_deg{}, a{}, b{}, velocity{};
+    double radius = 0;
+  };
+  std::vector<ObstacleDesc> obstacles;
+
   bool mesh_cache = true;  // [mesh] cache: reuse a TetGen result for the same surface + switches
 
   // [output]
@@ -102,5 +112,6 @@ const char* material_model_name(MaterialModel m);
 const char* element_name(ElementType e);
 const char* contact_mode_name(ContactMode m);
 const char* precision_name(Precision p);
+const char* obstacle_shape_name(ObstacleShape s);
 
 }  // namespace softtled

@@ -101,6 +101,32 @@ std::vector<PlaneSpec> scene_planes(const Scene& s) {
   return planes;
 }
 
+std::vector<ObstacleSpec> scene_obstacles(const Scene& s) {
+  const double pi = 3.14159265358979323846, u = s.length_unit;
+  std::vector<ObstacleSpec> out;
+  for (const Scene::ObstacleDesc& d : s.obstacles) {
+    ObstacleSpec o;
+    o.shape = d.shape;
+    for (int k = 0; k < 3; ++k) {
+      o.center[k] = (d.shape == kObstacleCapsule ? d.a[k] : d.center[k]) * u;
+      o.b[k] = d.b[k] * u;
+      o.half[k] = 0.5 * d.size[k] * u;
+      o.velocity[k] = d.velocity[k];
+    }
+    o.radius = d.radius * u;
+    // R = Rz Ry Rx: the columns are the box's axes in the world (place_surface's order).
+    const double ax = d.rotation_deg[0] * pi / 180, ay = d.rotation_deg[1] * pi / 180, az = d.rotation_deg[2] * pi / 180;
+    const double cx = std::cos(ax), sx = std::sin(ax), cy = std::cos(ay), sy = std::sin(ay), cz = std::cos(az),
+                 sz = std::sin(az);
+    const double R[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
+                         sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,
+                         -sy,     cy * sx,                cy * cx};
+    for (int k = 0; k < 9; ++k) o.R[k] = R[k];
+    out.push_back(o);
+  }
+  return out;
+}
+
 double slope_angle_deg(const Scene& s, const PlaneSpec& slope) {
   const double* f = s.floor_normal.data();
   const double* n = slope.normal;
@@ -164,6 +190,54 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
       std::snprintf(buf, sizeof buf, ": the body starts %.4g mm inside the %s plane; move body.position or the plane",
                     -worst * 1e3, s.floor && p == 0 ? "floor" : "slope");
       throw InputError(s.source + buf);
+    }
+  }
+}
+
+}  // namespace softtled
+
+namespace softtled {
+
+namespace {
+// Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four
+// sub-volumes (barycentric coordinates).
+bool in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
+  auto vol = [](const double* p, const double* q, const double* r, const double* s) {
+    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]},
+                 w[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  const double v = vol(a, b, c, d);
+  if (v == 0) return false;
+  const double l[4] = {vol(x, b, c, d) / v, vol(a, x, c, d) / v, vol(a, b, x, d) / v, vol(a, b, c, x) / v};
+  return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
+}
+}  // namespace
+
+void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles) {
+  for (std::size_t o = 0; o < obstacles.size(); ++o) {
+    double worst = 0;
+    int node = -1;
+    for (int i = 0; i < m.nnode(); ++i) {
+      const double d = signed_distance(obstacles[o], &m.X[3 * i]);
+      if (d < worst) worst = d, node = i;
+    }
+    const std::string key = s.source + ": obstacle[" + std::to_string(o) + "]";
+    if (worst < -1e-9) {
+      char buf[240];
+      std::snprintf(buf, sizeof buf,
+                    ": the body starts inside this %s obstacle (node %d is %.4g mm inside); move body.position or the "
+                    "obstacle",
+                    obstacle_shape_name(obstacles[o].shape), node, -worst * 1e3);
+      throw InputError(key + buf);
+    }
+    const double* c = obstacles[o].center;
+    for (int e = 0; e < m.ntet(); ++e) {
+      const int* t = &m.tet[4 * e];
+      if (in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], c))
+        throw InputError(key + ": the obstacle starts inside the body (its " +
+                         (obstacles[o].shape == kObstacleCapsule ? "end a" : "centre") + " lies in element " +
+                         std::to_string(e) + "); move body.position or the obstacle");
     }
   }
 }

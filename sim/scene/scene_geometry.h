@@ -24,6 +24,9 @@ void place_surface(const Scene& s, SurfaceMesh& m);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);
+// [[obstacle]] tables in metres, at t = 0 (a box's rotation_deg as a matrix, turned about
+// x, then y, then z like body.rotation_deg).
+std::vector<ObstacleSpec> scene_obstacles(const Scene& s);
 // The inverse for the slope: the angle [deg] by which `slope` is turned from the floor
 // normal about z (a slope that turns as a kinematic plane).
 double slope_angle_deg(const Scene& s, const PlaneSpec& slope);
@@ -37,5 +40,9 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m);
 // A body that starts inside a plane would be shot out by the projection: InputError
 // naming the plane (planes as scene_planes returns them).
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes);
+// The same for obstacles: InputError naming obstacle[i] when a body node lies inside it
+// (signed distance < 0) or its centre (a capsule: its end a) lies in one of the body's
+// elements (a small obstacle between the nodes).
+void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles);
 
 }  // namespace softtled

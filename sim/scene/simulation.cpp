@@ -19,6 +19,15 @@ bool same_pose(const PlaneSpec& a, const PlaneSpec& b) {
     if (a.point[k] != b.point[k] || a.normal[k] != b.normal[k]) return false;
   return true;
 }
+bool same_obstacle(const ObstacleSpec& a, const ObstacleSpec& b) {
+  if (a.shape != b.shape || a.radius != b.radius) return false;
+  for (int k = 0; k < 3; ++k)
+    if (a.center[k] != b.center[k] || a.b[k] != b.b[k] || a.half[k] != b.half[k] || a.velocity[k] != b.velocity[k])
+      return false;
+  for (int k = 0; k < 9; ++k)
+    if (a.R[k] != b.R[k]) return false;
+  return true;
+}
 }  // namespace
 
 double dilatational_wave_speed(double E, double nu, double rho) {
@@ -43,6 +52,9 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
   params_.planes = scene_planes(scene_);
   check_body_outside_planes(scene_, mesh_, params_.planes);
+  params_.obstacles = scene_obstacles(scene_);
+  obstacle_start_ = params_.obstacles;
+  check_body_outside_obstacles(scene_, mesh_, params_.obstacles);
   params_.contact_mode = scene_.contact_mode;
   params_.mu = scene_.mu;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
@@ -136,6 +148,12 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
     if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
   plane_motion_ = motion;
+  if (q.obstacles.size() > std::size_t(kMaxObstacles))
+    throw InputError("at most " + std::to_string(kMaxObstacles) + " obstacles");
+  obstacle_start_.resize(q.obstacles.size());
+  for (std::size_t i = 0; i < q.obstacles.size(); ++i)
+    if (i >= params_.obstacles.size() || !same_obstacle(q.obstacles[i], params_.obstacles[i]))
+      obstacle_start_[i] = moved(q.obstacles[i], -time());
   const bool energy_changed = q.E != params_.E || q.nu != params_.nu || q.material_model != params_.material_model ||
                               q.element != params_.element || q.g[0] != params_.g[0] || q.g[1] != params_.g[1] ||
                               q.g[2] != params_.g[2];
@@ -260,6 +278,10 @@ void Simulation::apply_initial_state() {
   last_good_offset_ = 0;
   work_ = last_good_work_ = 0;
   work_u_ = s.u;
+  if (obstacles_moving()) {  // back at t = 0
+    pose_obstacles();
+    solver_->set_params(params_);
+  }
   const Diagnostics d = diagnostics_of(s);
   watchdog_.reset(d.ke + d.se + d.pe, watchdog_energy_scale(mesh_, solver_->lumped_mass(), params_, d.ke));
 }
@@ -330,6 +352,10 @@ void Simulation::check_health() {
     total_steps_ = last_good_total_;
     work_ = last_good_work_;
     work_u_ = last_good_.u;
+    if (obstacles_moving()) {  // back where they were at the restored time
+      pose_obstacles();
+      solver_->set_params(params_);
+    }
     const std::string msg = watchdog_message(*f, t_bad, time(), params_.dt, ts_.dt_cr);
     if (params_.dt_adaptive && failures_ < AdaptiveStep::kMaxFailures) {
       // Last line of defence of the adaptive step: halve lambda for a while and go on
@@ -364,6 +390,7 @@ void Simulation::step(long n) {
     solver_->step(k);
     nsteps_ += k;
     total_steps_ += k;
+    if (obstacles_moving()) pose_obstacles();  // where they are now (diagnostics)
     done += k;
     dt_lo_ = std::min(dt_lo_, params_.dt);
     dt_hi_ = std::max(dt_hi_, params_.dt);
@@ -390,10 +417,25 @@ double Simulation::gap_to(const std::vector<PlaneSpec>& planes) {
   return gap;
 }
 
+bool Simulation::obstacles_moving() const {
+  for (const ObstacleSpec& o : params_.obstacles)
+    if (o.moving()) return true;
+  return false;
+}
+
+void Simulation::pose_obstacles() {
+  for (std::size_t i = 0; i < params_.obstacles.size(); ++i)
+    if (params_.obstacles[i].moving()) params_.obstacles[i] = moved(obstacle_start_[i], time());
+}
+
 long Simulation::move_planes(long max_steps) {
   bool moving = false;
   for (const PlaneMotion& m : plane_motion_) moving = moving || m.moving();
-  if (!moving) return max_steps;
+  const bool obstacles = obstacles_moving();
+  if (!moving && !obstacles) return max_steps;
+  // A moving obstacle: posed at the start of the step, the step kernels take its
+  // displacement over the step (velocity x dt) and project the nodes' relative motion.
+  if (obstacles) pose_obstacles();
   // One step at a time: each moving plane jumps to its pose at the end of the step, which
   // the body then meets. (The kernels take plane poses only, so this is a set_params per
   // step; on CUDA that recaptures the step graph while a plane moves.)

@@ -68,13 +68,18 @@ class Simulation {
   // Applies new live parameters; recomputes dt_cr (and dt when the scene asks for auto).
   // A fixed dt above dt_cr is clamped to lambda * dt_cr with a returned warning (live
   // edits must not blow up the viewer); empty when nothing was changed. A plane whose pose
-  // p leaves unchanged keeps its motion; a new or moved plane is at rest.
+  // p leaves unchanged keeps its motion; a new or moved plane is at rest. A new or changed
+  // obstacle moves on (at its velocity) from the pose given, at time().
   std::string set_params(const PhysicsParams& p);
 
   // Kinematic planes (plane_motion.h): params().planes[plane] moves with m from now on,
   // every step; its pose is in params().planes, what is left of its motion here.
   void set_plane_motion(std::size_t plane, const PlaneMotion& m);
   const std::vector<PlaneMotion>& plane_motion() const { return plane_motion_; }
+  // Obstacles: params().obstacles holds their poses now; a moving one (velocity) is at its
+  // scene pose + velocity x time(), moved before every step. set_params with a changed
+  // obstacle puts it there from now on.
+  bool obstacles_moving() const;
   // Smallest signed distance of a boundary node from any of `planes` now [m] (inf: none),
   // e.g. whether planes can be placed without cutting into the body.
   double gap_to(const std::vector<PlaneSpec>& planes);
@@ -129,6 +134,7 @@ class Simulation {
   // Moves the kinematic planes for the next steps; returns how many (at most max_steps)
   // may run before the next move.
   long move_planes(long max_steps);
+  void pose_obstacles();  // params_.obstacles of the moving obstacles at time()
   void account_work();  // adds the work fext_ did since work_u_
   // Adaptive step: a live omega_max estimate (iterations products; restart from the fixed
   // start vector), then dt = lambda * dt_live on the ladder, one rung up at most per
@@ -145,6 +151,7 @@ class Simulation {
   std::unique_ptr<Solver> solver_;
   PhysicsParams params_;
   std::vector<PlaneMotion> plane_motion_;  // one per params_.planes
+  std::vector<ObstacleSpec> obstacle_start_;  // one per params_.obstacles: its pose at t = 0
   TimeStepInfo ts_;
   std::vector<int> tracked_;
   std::vector<std::uint8_t> flags_;  // NodeFlag per node

@@ -77,6 +77,8 @@ double watchdog_energy_scale(const TetMesh& m, const std::vector<double>& mass, 
   double drop = hi - lo;
   for (const auto& pl : p.planes)
     for (int i = 0; i < n; ++i) drop = std::max(drop, std::fabs(signed_distance(pl, &m.X[3 * i])) + (hi - lo));
+  for (const auto& o : p.obstacles)
+    for (int i = 0; i < n; ++i) drop = std::max(drop, std::fabs(signed_distance(o, &m.X[3 * i])) + (hi - lo));
   return std::max(1e-9, ke0 + mt * g * drop);
 }
 

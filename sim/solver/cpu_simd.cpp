@@ -168,7 +168,7 @@ HWY_INLINE void node_block(const NodeArgs<T>& A, int i0) {
   const BodyStateView<T>& b = A.b;
   const StepParams<T>& p = A.p;
   const int n = m.nnode, cnt = std::min(L, n - i0);
-  const bool contact = p.contact.nplanes > 0;
+  const bool contact = has_contacts(p.contact);
   alignas(64) T f[3][L], fixed[L], tested[L], im[L];
   for (int l = 0; l < L; ++l) {
     T fl[3] = {T(0), T(0), T(0)};
@@ -220,7 +220,9 @@ HWY_INLINE void node_block(const NodeArgs<T>& A, int i0) {
     if (contact) {
       V x[3];
       for (int k = 0; k < 3; ++k) x[k] = hn::Add(hn::LoadU(d, x0 + k * s + j), vu[k]);
-      const auto touch = may_touch_planes(d, p.contact, x, nd, hn::Ne(hn::Load(d, tested + j), zero));
+      const auto mtested = hn::Ne(hn::Load(d, tested + j), zero);
+      auto touch = may_touch_planes(d, p.contact, x, nd, mtested);
+      if (p.contact.nobstacles > 0) touch = hn::Or(touch, may_touch_obstacles(d, p.contact, x, nd, mtested));
       if (!hn::AllFalse(d, touch)) {
         alignas(64) T xs[3][L], ds[3][L], tm[L];
         for (int k = 0; k < 3; ++k) {
@@ -232,7 +234,7 @@ HWY_INLINE void node_block(const NodeArgs<T>& A, int i0) {
           if (tm[l] == T(0)) continue;
           const T xl[3] = {xs[0][l], xs[1][l], xs[2][l]};
           T dl[3] = {ds[0][l], ds[1][l], ds[2][l]};
-          state[j + l] = project_to_planes(p.contact, xl, dl);
+          state[j + l] = project_node_contacts(p.contact, xl, dl);
           for (int k = 0; k < 3; ++k) ds[k][l] = dl[k];
         }
         for (int k = 0; k < 3; ++k) nd[k] = hn::Load(d, ds[k]);

@@ -9,7 +9,7 @@
 // What it covers: T4 and T4ANP, both material models, stiffness-proportional damping
 // (the element stage reads element_displacement, the node stage writes ub), user forces,
 // fixed nodes, contact-tested nodes and every contact mode (the projection itself is the
-// scalar project_to_planes on the few lanes that reach a plane). T4ANP's nodal pressure
+// scalar project_node_contacts on the few lanes that may reach a plane or an obstacle). T4ANP's nodal pressure
 // stage stays a scalar loop per node (a sum of ~13 element volumes and anp_pressure; the
 // rest volumes summed once in CpuBlocks), with the same bits as anp_node_pressure.
 // CpuSolver keeps the scalar stages of cpu_step.h as the reference path

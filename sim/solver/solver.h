@@ -1,6 +1,6 @@
 #pragma once
 // The per-body solver interface both backends implement. step() is the hot path:
-//   element stage (tet_forces.h) -> node stage (central_difference.h, plane_contact.h)
+//   element stage (tet_forces.h) -> node stage (central_difference.h, node_contact.h)
 // The CPU backend (cpu_solver.cpp, its loops in cpu_step.h) runs those functions with
 // OpenMP; the CUDA backend (cuda/cuda_solver.cpp, the GPU step in cuda/tled_step.cu)
 // launches them.
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/contact/node_contact.h"
 #include "sim/contact/plane_contact.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/mesh/tet_mesh.h"
@@ -22,6 +23,40 @@ struct PlaneSpec {
 
 inline double signed_distance(const PlaneSpec& pl, const double x[3]) {
   return pl.normal[0] * (x[0] - pl.point[0]) + pl.normal[1] * (x[1] - pl.point[1]) + pl.normal[2] * (x[2] - pl.point[2]);
+}
+
+// A rigid obstacle (obstacle_shapes.h) in metres and world coordinates, at one time.
+struct ObstacleSpec {
+  ObstacleShape shape = kObstacleSphere;
+  double center[3] = {0, 0, 0};    // sphere, box: centre; capsule: end a [m]
+  double b[3] = {0, 0, 0};         // capsule: end b [m]
+  double radius = 0;               // sphere, capsule [m]
+  double half[3] = {0, 0, 0};      // box: half sides [m]
+  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box: world = R local, row-major
+  double velocity[3] = {0, 0, 0};  // [m/s]: the pose moves by velocity x t
+
+  bool moving() const { return velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0; }
+};
+
+// What the step kernels read for an obstacle: its pose in T and its displacement over a
+// step of dt (velocity x dt; 0 for dt = 0 or an obstacle at rest). Every backend gets it
+// from here, computed on the host in double.
+template <class T>
+inline Obstacle<T> obstacle_from(const ObstacleSpec& s, double dt) {
+  Obstacle<T> o;
+  o.shape = s.shape;
+  for (int k = 0; k < 3; ++k) {
+    o.c[k] = T(s.center[k]);
+    o.e[k] = T(s.shape == kObstacleBox ? s.half[k] : s.shape == kObstacleCapsule ? s.b[k] - s.center[k] : 0.0);
+    o.d[k] = T(s.velocity[k] * dt);
+  }
+  o.r = T(s.radius);
+  for (int k = 0; k < 9; ++k) o.R[k] = T(s.R[k]);
+  return o;
+}
+
+inline double signed_distance(const ObstacleSpec& o, const double x[3]) {
+  return obstacle_surface(obstacle_from<double>(o, 0), x).dist;
 }
 
 enum class Precision { kFloat, kDouble };
@@ -44,6 +79,9 @@ struct PhysicsParams {
   double lambda = 0.5;         // Courant-like factor for dt_auto and dt_adaptive
   double g[3] = {0, -9.81, 0}; // gravity [m/s^2]
   std::vector<PlaneSpec> planes;
+  // Rigid obstacles (at most kMaxObstacles), each at its pose now: a moving one is moved
+  // by the Simulation before every step (plane_motion.h, moved), the kernels see poses.
+  std::vector<ObstacleSpec> obstacles;
   ContactMode contact_mode = kSliding;
   double mu = 0.5;             // Coulomb coefficient
 };

@@ -19,6 +19,9 @@ inline StepParams<T> step_params_from(const PhysicsParams& p, double dt_mid = 0)
       s.contact.planes[i].p[k] = T(p.planes[i].point[k]);
       s.contact.planes[i].n[k] = T(p.planes[i].normal[k]);
     }
+  if (p.obstacles.size() > std::size_t(kMaxObstacles)) throw std::invalid_argument("too many obstacles");
+  s.contact.nobstacles = int(p.obstacles.size());
+  for (std::size_t i = 0; i < p.obstacles.size(); ++i) s.contact.obstacles[i] = obstacle_from<T>(p.obstacles[i], p.dt);
   s.contact.mode = p.contact_mode;
   s.contact.mu = T(p.mu);
   return s;

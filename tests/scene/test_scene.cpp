@@ -144,3 +144,56 @@ TEST(Scene, SurfaceErrorsNameTheKeys) {
             std::string::npos);
   EXPECT_EQ(error_of("[body]\nshape = \"box\"\n"), "no error");
 }
+
+TEST(Scene, ObstaclesParseInMetresWithTheirShapeKeys) {
+  const Scene s = parse_scene(
+      "[[obstacle]]\nshape = \"sphere\"\ncenter = [1, 2, 3]\nradius = 4\n"
+      "[[obstacle]]\nshape = \"box\"\ncenter = [0, -5, 0]\nsize = [10, 2, 6]\nrotation_deg = [0, 0, 90]\nvelocity = [0.1, 0, 0]\n"
+      "[[obstacle]]\nshape = \"capsule\"\na = [0, 0, 0]\nb = [0, 0, 8]\nradius = 1.5\n",
+      "s");
+  ASSERT_EQ(s.obstacles.size(), 3u);
+  EXPECT_EQ(s.obstacles[0].shape, kObstacleSphere);
+  EXPECT_EQ(s.obstacles[1].shape, kObstacleBox);
+  EXPECT_EQ(s.obstacles[2].shape, kObstacleCapsule);
+  EXPECT_STREQ(obstacle_shape_name(s.obstacles[2].shape), "capsule");
+  const std::vector<ObstacleSpec> o = scene_obstacles(s);  // mm -> m
+  EXPECT_DOUBLE_EQ(o[0].center[2], 3e-3);
+  EXPECT_DOUBLE_EQ(o[0].radius, 4e-3);
+  EXPECT_DOUBLE_EQ(o[1].half[0], 5e-3);
+  EXPECT_DOUBLE_EQ(o[1].velocity[0], 0.1) << "velocities in m/s";
+  EXPECT_TRUE(o[1].moving());
+  EXPECT_FALSE(o[0].moving());
+  // Turned 90 degrees about z: the box's 10 mm side lies along y.
+  const double above[3] = {0, -5e-3 + 6e-3, 0};
+  EXPECT_NEAR(signed_distance(o[1], above), 1e-3, 1e-12);
+  EXPECT_DOUBLE_EQ(o[2].b[2], 8e-3);
+  const double beside[3] = {3e-3, 0, 4e-3};
+  EXPECT_NEAR(signed_distance(o[2], beside), 1.5e-3, 1e-15);
+}
+
+TEST(Scene, BadObstaclesNameTheKey) {
+  const std::string sphere = "[[obstacle]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\n";
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"cone\"\n").find("obstacle[0].shape: 'cone' is not one of: sphere, box, capsule"), std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"mesh\"\n").find("obstacle[0].shape: \"mesh\" obstacles are not supported yet"), std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\ncenter = [0, 0, 0]\n").find("obstacle[0].shape: required"), std::string::npos);
+  EXPECT_NE(error_of(sphere).find("obstacle[0].radius: required for a sphere obstacle"), std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = nan\n").find("obstacle[0].radius: must be finite"), std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = -1\n").find("obstacle[0].radius: must be positive, got -1"), std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = 0\n").find("obstacle[0].radius: must be positive, got 0"), std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = 1\nsize = [1, 1, 1]\n").find("obstacle[0].size: unknown key (a sphere obstacle takes"),
+            std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = 1\ncolour = \"red\"\n").find("obstacle[0].colour: unknown key"), std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"box\"\ncenter = [0, 0, 0]\nsize = [1, -2, 1]\n").find("obstacle[0].size: element 1 must be positive"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"box\"\ncenter = [0, nan, 0]\nsize = [1, 2, 1]\n").find("obstacle[0].center: element 1 is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"box\"\ncenter = [0, 0, 0]\n").find("obstacle[0].size: required for a box obstacle"), std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"capsule\"\na = [0, 0, 0]\nradius = 1\n").find("obstacle[0].b: required for a capsule obstacle"),
+            std::string::npos);
+  EXPECT_NE(error_of(sphere + "radius = 1\nvelocity = [1e5, 0, 0]\n").find("obstacle[0].velocity: element 0 = 100000 is out of range"),
+            std::string::npos);
+  std::string nine;
+  for (int i = 0; i < kMaxObstacles + 1; ++i) nine += sphere + "radius = 1\n";
+  EXPECT_NE(error_of(nine).find("obstacle: at most 8 obstacles, got 9"), std::string::npos);
+  EXPECT_NE(error_of("obstacle = 3\n").find("obstacle: expected [[obstacle]] tables"), std::string::npos);
+}

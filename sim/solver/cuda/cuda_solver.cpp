@@ -236,6 +236,19 @@ class CudaSolver final : public CudaSolverApi {
       }
       if (--nsteps == 0) return;
     }
+    if (nsteps == 1 && graphs_.empty()) {
+      // One step right after set_params: a moving obstacle or plane is posed before every
+      // step (Simulation::move_planes), so a one-step graph captured now would be thrown
+      // away by the next set_params. Launched directly instead: the same kernels.
+      const StepArgs<T> a = args(cfg_.step);
+      if (run_mode() == ExecMode::kFused) {
+        enqueue_fused_step(a, 0, false);
+        copy_back_fused(a);
+      } else {
+        enqueue_step(a, false);
+      }
+      return;
+    }
     // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
     const int K = std::max(1, opt_.steps_per_graph);
     long left = nsteps;
@@ -271,6 +284,7 @@ class CudaSolver final : public CudaSolverApi {
     const StepArgs<T> a = args(cfg_.step);
     StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
+    free_p.contact.nobstacles = 0;
     const StepArgs<T> a_free = args(free_p);
     const LaunchShape sn = node_shape(pdl);
     const LaunchShape sr = shape_for(rest_.surface.nvert, nsm_, false);

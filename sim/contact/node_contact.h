@@ -1,0 +1,74 @@
+#pragma once
+// All of one node's rigid contacts in one step: the planes, then the obstacles, each by
+// the projection rule of plane_contact.h (project_step). A node in the corner of two
+// supports is corrected by each, in that order.
+//
+// Obstacle (obstacle_shapes.h): the support is the tangent plane at the point of the
+// obstacle closest to the node at time t, and the step projected is the node's step
+// relative to the obstacle, du - d (d: the obstacle's displacement over the step), so a
+// moving obstacle pushes and friction acts on the relative motion (in the obstacle's
+// frame the obstacle is at rest and the rule is the plane's). The obstacles are convex,
+// so that plane supports them: a node that ends on or in front of it is outside, and a
+// straight relative step that would pass through the obstacle crosses it (no
+// tunnelling). On a curved surface the tangent plane is a linearisation: a node sliding
+// over a sphere of radius R is held up to (tangential step)^2 / 2R off the surface for a
+// step, then falls back under its own forces.
+#include <cstdint>
+
+#include "sim/contact/obstacle_shapes.h"
+#include "sim/contact/plane_contact.h"
+#include "sim/core/body_view.h"
+#include "sim/core/sim_hd.h"
+
+namespace softtled {
+
+// Obstacles one step can carry (scene files are checked against it at load). Fixed so the
+// parameters stay a plain value the kernels take by copy, as the planes do; 8 keeps
+// StepParams<double> below 2 KB of the 4 KB kernel-parameter space.
+constexpr int kMaxObstacles = 8;
+
+template <class T>
+struct ContactParams {
+  int nplanes = 0;
+  Plane<T> planes[kMaxPlanes];
+  int nobstacles = 0;
+  Obstacle<T> obstacles[kMaxObstacles];
+  int mode = kSliding;
+  T mu = T(0.5);
+};
+
+// Whether a step tests any node at all (none: the node stage skips contact entirely).
+template <class T>
+SIM_HD inline bool has_contacts(const ContactParams<T>& c) {
+  return c.nplanes > 0 || c.nobstacles > 0;
+}
+
+// x: position at time t; du: predicted step, replaced by the projected one. du is left
+// bit for bit as it was when the node is free (du - d + d need not round back to du).
+template <class T>
+SIM_HD inline std::uint8_t project_to_obstacle(const Obstacle<T>& o, const T x[3], T du[3], int mode, T mu) {
+  const SurfacePoint<T> sp = obstacle_surface(o, x);
+  T rel[3] = {du[0] - o.d[0], du[1] - o.d[1], du[2] - o.d[2]};
+  const std::uint8_t state = project_step(sp.n, sp.dist, rel, mode, mu);
+  if (state != kFree)
+    for (int k = 0; k < 3; ++k) du[k] = rel[k] + o.d[k];
+  return state;
+}
+
+// Planes in order, then obstacles in order; the state is the strongest of them
+// (kSlide > kStick > kFree).
+template <class T>
+SIM_HD inline std::uint8_t project_node_contacts(const ContactParams<T>& c, const T x[3], T du[3]) {
+  std::uint8_t state = kFree;
+  for (int p = 0; p < c.nplanes; ++p) {
+    const std::uint8_t s = project_to_plane(c.planes[p], x, du, c.mode, c.mu);
+    if (s > state) state = s;
+  }
+  for (int o = 0; o < c.nobstacles; ++o) {
+    const std::uint8_t s = project_to_obstacle(c.obstacles[o], x, du, c.mode, c.mu);
+    if (s > state) state = s;
+  }
+  return state;
+}
+
+}  // namespace softtled

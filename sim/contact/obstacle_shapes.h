@@ -1,0 +1,134 @@
+#pragma once
+// Rigid obstacles as value functions: the signed distance of a point from a sphere, an
+// oriented box or a capsule, and the outward unit normal at the closest surface point
+// (for a point inside, the normal of the nearest face, so that moving along it by -dist
+// leaves the obstacle). The contact projection (node_contact.h) projects a node's step
+// against the tangent plane there; all three shapes are convex, so that plane supports
+// the obstacle and a node put on or in front of it is outside.
+//
+// Closest points after Ericson, Real-Time Collision Detection (Morgan Kaufmann 2005):
+// sec. 5.1.2 (point to segment: the capsule's axis, then a sphere around that point) and
+// sec. 5.1.4 (point to oriented box: clamp the local coordinates to the half sides). The
+// inside distance of the box is the exact one, the largest of |q_i| - h_i (the nearest
+// face; ties go to the lowest axis, so the result is the same on every backend).
+#include <cmath>
+
+#include "sim/core/sim_hd.h"
+
+namespace softtled {
+
+enum ObstacleShape : int { kObstacleSphere = 0, kObstacleBox = 1, kObstacleCapsule = 2 };
+
+// One obstacle as the step kernels read it (a pose; its motion is the host's business).
+template <class T>
+struct Obstacle {
+  int shape = kObstacleSphere;  // ObstacleShape
+  T c[3] = {T(0), T(0), T(0)};  // sphere, box: centre; capsule: end a [m], at the start of the step
+  T e[3] = {T(0), T(0), T(0)};  // box: half sides; capsule: b - a [m]
+  T r = T(0);                   // sphere, capsule: radius [m]
+  T R[9] = {T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1)};  // box: world = R local, row-major
+  T d[3] = {T(0), T(0), T(0)};  // the obstacle's displacement over this step [m] (0: at rest)
+};
+
+template <class T>
+struct SurfacePoint {
+  T dist;  // signed distance [m]: > 0 outside, < 0 inside
+  T n[3];  // outward unit normal at the closest surface point
+};
+
+// Square root in T on both compilers (float stays float on the host, as on the device).
+template <class T>
+SIM_HD inline T contact_sqrt(T x) {
+#if defined(__CUDA_ARCH__)
+  return sqrt(x);
+#else
+  return std::sqrt(x);
+#endif
+}
+
+// Distance of x from the centre point p, less r: a sphere (and a capsule's end). At the
+// centre itself the normal is +y (any unit vector would do).
+template <class T>
+SIM_HD inline SurfacePoint<T> round_surface(const T p[3], T r, const T x[3]) {
+  const T v[3] = {x[0] - p[0], x[1] - p[1], x[2] - p[2]};
+  const T len = contact_sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  SurfacePoint<T> s;
+  s.dist = len - r;
+  if (len > T(0)) {
+    for (int k = 0; k < 3; ++k) s.n[k] = v[k] / len;
+  } else {
+    s.n[0] = T(0), s.n[1] = T(1), s.n[2] = T(0);
+  }
+  return s;
+}
+
+template <class T>
+SIM_HD inline SurfacePoint<T> box_surface(const Obstacle<T>& o, const T x[3]) {
+  const T v[3] = {x[0] - o.c[0], x[1] - o.c[1], x[2] - o.c[2]};
+  T q[3], r[3];  // local coordinates, and their part outside the box
+  T rr = T(0);
+  for (int i = 0; i < 3; ++i) {
+    q[i] = o.R[i] * v[0] + o.R[3 + i] * v[1] + o.R[6 + i] * v[2];  // R^T v
+    const T h = o.e[i];
+    const T clamped = q[i] < -h ? -h : (q[i] > h ? h : q[i]);
+    r[i] = q[i] - clamped;
+    rr += r[i] * r[i];
+  }
+  T nl[3] = {T(0), T(0), T(0)};
+  SurfacePoint<T> s;
+  if (rr > T(0)) {  // outside: from the closest point on the box (a face, edge or corner)
+    const T len = contact_sqrt(rr);
+    s.dist = len;
+    for (int i = 0; i < 3; ++i) nl[i] = r[i] / len;
+  } else {  // inside or on the surface: the nearest face
+    int a = 0;
+    T best = (q[0] < T(0) ? -q[0] : q[0]) - o.e[0];
+    for (int i = 1; i < 3; ++i) {
+      const T di = (q[i] < T(0) ? -q[i] : q[i]) - o.e[i];
+      if (di > best) best = di, a = i;
+    }
+    s.dist = best;
+    nl[a] = q[a] < T(0) ? T(-1) : T(1);
+  }
+  for (int k = 0; k < 3; ++k) s.n[k] = o.R[3 * k] * nl[0] + o.R[3 * k + 1] * nl[1] + o.R[3 * k + 2] * nl[2];
+  return s;
+}
+
+template <class T>
+SIM_HD inline SurfacePoint<T> capsule_surface(const Obstacle<T>& o, const T x[3]) {
+  const T* ab = o.e;
+  const T ab2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+  T t = T(0);
+  if (ab2 > T(0)) {
+    t = ((x[0] - o.c[0]) * ab[0] + (x[1] - o.c[1]) * ab[1] + (x[2] - o.c[2]) * ab[2]) / ab2;
+    t = t < T(0) ? T(0) : (t > T(1) ? T(1) : t);
+  }
+  const T p[3] = {o.c[0] + t * ab[0], o.c[1] + t * ab[1], o.c[2] + t * ab[2]};
+  return round_surface(p, o.r, x);
+}
+
+// Signed distance of x from the obstacle and the outward normal there.
+template <class T>
+SIM_HD inline SurfacePoint<T> obstacle_surface(const Obstacle<T>& o, const T x[3]) {
+  if (o.shape == kObstacleBox) return box_surface(o, x);
+  if (o.shape == kObstacleCapsule) return capsule_surface(o, x);
+  return round_surface(o.c, o.r, x);
+}
+
+// A sphere (centre cb, radius rb) holding the obstacle: the SIMD node stage's filter
+// (a node farther than its step from this sphere cannot reach the obstacle).
+template <class T>
+SIM_HD inline void obstacle_bound(const Obstacle<T>& o, T cb[3], T& rb) {
+  if (o.shape == kObstacleBox) {
+    for (int k = 0; k < 3; ++k) cb[k] = o.c[k];
+    rb = contact_sqrt(o.e[0] * o.e[0] + o.e[1] * o.e[1] + o.e[2] * o.e[2]);
+  } else if (o.shape == kObstacleCapsule) {
+    for (int k = 0; k < 3; ++k) cb[k] = o.c[k] + T(0.5) * o.e[k];
+    rb = o.r + T(0.5) * contact_sqrt(o.e[0] * o.e[0] + o.e[1] * o.e[1] + o.e[2] * o.e[2]);
+  } else {
+    for (int k = 0; k < 3; ++k) cb[k] = o.c[k];
+    rb = o.r;
+  }
+}
+
+}  // namespace softtled
