@@ -87,6 +87,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 }
 
 std::string Simulation::set_params(const PhysicsParams& p) {
+  drop_estimate();  // of the old parameters
   PhysicsParams q = p;
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
@@ -194,17 +195,29 @@ void Simulation::change_dt(double dt_new) {
 }
 
 void Simulation::adapt_step(int iterations, bool restart, bool apply) {
-  // The estimate waits for its result anyway; waiting for the enqueued steps first keeps
-  // their device time out of the estimate's reported cost.
-  solver_->synchronize();
-  const auto t0 = std::chrono::steady_clock::now();
+  begin_estimate(iterations, restart);
+  finish_estimate(apply);
+}
+
+void Simulation::begin_estimate(int iterations, bool restart) {
   // Perturbation amplitude: small against the smallest element (linearisation), large
   // against float's rounding of u (the quotient uses the step actually taken).
   const double a = (scene_.precision == Precision::kFloat ? 1e-3 : 1e-6) * ts_.min_Le;
-  const double w = solver_->estimate_omega_max(iterations, a, restart);
+  solver_->begin_omega_max(iterations, a, restart);
+  estimate_pending_ = true;
   since_estimate_ = 0;
+  // Applied this many steps later (finish_estimate from step()): a GPU keeps stepping
+  // while the host waits for the result. Half the interval at most, so an estimate is
+  // applied before the next one begins.
+  estimate_lag_ = std::min<long>(AdaptiveStep::kLag, estimate_every_ / 2);
+}
+
+void Simulation::finish_estimate(bool apply) {
+  const Solver::OmegaEstimate e = solver_->end_omega_max();
+  estimate_pending_ = false;
+  const double w = e.omega;
   ++estimates_;
-  estimate_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  estimate_seconds_ += e.seconds;
   if (!(w > 0) || !std::isfinite(w)) return;  // nothing free to estimate: keep the step
   if (omega_prev_ > 0 && w > 1.02 * omega_prev_)
     estimate_every_ = std::max<long>(AdaptiveStep::kEveryMin, estimate_every_ / 2);
@@ -226,16 +239,26 @@ void Simulation::adapt_step(int iterations, bool restart, bool apply) {
   }
 }
 
+void Simulation::drop_estimate() {
+  if (estimate_pending_) solver_->end_omega_max();  // of a state that is gone
+  estimate_pending_ = false;
+}
+
+long Simulation::steps_to_estimate_event() const {
+  if (!params_.dt_adaptive) return std::numeric_limits<long>::max();
+  return std::max(1L, (estimate_pending_ ? estimate_lag_ : estimate_every_) - since_estimate_);
+}
+
 void Simulation::advance_to(double t_end) {
   while (time() < t_end - 0.5 * params_.dt) {
     long k = std::max(1L, std::lround((t_end - time()) / params_.dt));
-    if (params_.dt_adaptive) k = std::min(k, std::max(1L, estimate_every_ - since_estimate_));
-    step(k);
+    step(std::min(k, steps_to_estimate_event()));
   }
   check_health();
 }
 
 void Simulation::apply_initial_state() {
+  drop_estimate();
   const int n = mesh_.nnode();
   HostState s;
   s.u.assign(3 * n, 0.0);
@@ -312,6 +335,7 @@ void Simulation::account_work() {
 }
 
 void Simulation::set_state(const HostState& s) {
+  drop_estimate();
   solver_->set_state(s);
   state_changed();
   last_good_ = s;
@@ -344,6 +368,7 @@ void Simulation::check_health() {
       watchdog_.check(mesh_, s, diagnostics(), work_, params_.material_model, unstable_dt);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
+    drop_estimate();
     solver_->set_state(last_good_);
     state_changed();
     const double t_bad = time();
@@ -386,7 +411,7 @@ void Simulation::check_health() {
 void Simulation::step(long n) {
   for (long done = 0; done < n;) {
     long k = move_planes(n - done);
-    if (params_.dt_adaptive) k = std::min(k, std::max(1L, estimate_every_ - since_estimate_));
+    k = std::min(k, steps_to_estimate_event());
     solver_->step(k);
     nsteps_ += k;
     total_steps_ += k;
@@ -395,8 +420,13 @@ void Simulation::step(long n) {
     dt_lo_ = std::min(dt_lo_, params_.dt);
     dt_hi_ = std::max(dt_hi_, params_.dt);
     state_changed();
-    if (params_.dt_adaptive && (since_estimate_ += k) >= estimate_every_)
-      adapt_step(AdaptiveStep::kIterations, false);
+    if (params_.dt_adaptive) {
+      since_estimate_ += k;
+      if (estimate_pending_ && since_estimate_ >= estimate_lag_)
+        finish_estimate(true);
+      else if (!estimate_pending_ && since_estimate_ >= estimate_every_)
+        begin_estimate(AdaptiveStep::kIterations, false);
+    }
   }
 }
 

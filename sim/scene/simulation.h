@@ -40,6 +40,9 @@ struct AdaptiveStep {
   static constexpr int kWarmup = 40;         // ... at the start and after a rollback
   static constexpr int kRungsPerOctave = 16;  // dt on a ladder dt_ref 2^(k/16): 4.4 % rungs
   static constexpr int kMaxFailures = 3;     // watchdog trips survived (lambda halved each)
+  // An estimate begun at step n is applied at step n + min(kLag, interval / 2): a GPU
+  // runs those steps while the host waits for the result, so the wait costs no device time.
+  static constexpr int kLag = 8;
 };
 
 // Thrown by Simulation::advance when the watchdog stops a run; the state has been rolled
@@ -105,7 +108,8 @@ class Simulation {
   // Shortest and longest step taken so far [s] (equal for a fixed step).
   double dt_min_used() const { return dt_lo_; }
   double dt_max_used() const { return dt_hi_; }
-  // Adaptive step: estimates made and their wall time [s] (cost: against the run's wall time).
+  // Adaptive step: estimates made and their own execution time [s] (device time on a GPU;
+  // its cost: against the run's wall time).
   long estimates() const { return estimates_; }
   double estimate_seconds() const { return estimate_seconds_; }
   int watchdog_trips() const { return failures_; }  // adaptive: trips survived so far
@@ -140,6 +144,13 @@ class Simulation {
   // start vector), then dt = lambda * dt_live on the ladder, one rung up at most per
   // estimate, any number down. apply: change dt now (else only ts_ is updated).
   void adapt_step(int iterations, bool restart, bool apply = true);
+  // The same in two halves around the steps of the lag (step()): begin on the live state,
+  // finish (apply as above) kLag steps later; drop: discard a pending one (the state or
+  // the parameters it estimated are gone).
+  void begin_estimate(int iterations, bool restart);
+  void finish_estimate(bool apply);
+  void drop_estimate();
+  long steps_to_estimate_event() const;  // steps until an estimate begins or is applied
   // Changes dt between two steps: time bookkeeping, du of the live and the saved state
   // rescaled, the next step a midpoint step (Solver::change_step).
   void change_dt(double dt_new);
@@ -181,6 +192,8 @@ class Simulation {
   // survived and when lambda is restored.
   long since_estimate_ = 0;
   long estimate_every_ = AdaptiveStep::kEvery;
+  bool estimate_pending_ = false;  // begun, not yet applied
+  long estimate_lag_ = 0;
   double omega_prev_ = 0;
   double ladder_ref_ = 0;
   int rung_ = 0;

@@ -9,6 +9,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -110,7 +111,15 @@ class CpuSolver final : public Solver {
     dt_mid_ = dt_mid;
   }
 
-  double estimate_omega_max(int iterations, double a, bool restart) override {
+  // Synchronous: the estimate is made here, end_omega_max hands it over.
+  void begin_omega_max(int iterations, double a, bool restart) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    omega_.omega = power_iteration(iterations, a, restart);
+    omega_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  OmegaEstimate end_omega_max() override { return omega_; }
+
+  double power_iteration(int iterations, double a, bool restart) {
     const int n = rest_.nnode;
     const std::size_t n3 = 3 * std::size_t(n);
     if (probe_v_.size() != n3 || restart) {
@@ -254,6 +263,7 @@ class CpuSolver final : public Solver {
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty
   // estimate_omega_max: the warm vector v (max-norm 1), f(u), M^-1 K v, u + a v (3 x nnode)
   std::vector<T> probe_v_, probe_f0_, probe_w_, probe_up_;
+  OmegaEstimate omega_;  // begin_omega_max's result
   PhysicsParams params_;
   double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
   std::vector<T> vol_now_, p_node_;  // T4ANP: current element volumes, nodal pressures

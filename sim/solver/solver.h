@@ -128,7 +128,19 @@ class Solver {
   // power-iteration products from the vector the last call left (warm start), at
   // perturbation amplitude a [m] (max-norm of the perturbation); restart: from the fixed
   // start vector instead (after a rollback the warm vector may be garbage). 0: no free node.
-  virtual double estimate_omega_max(int iterations, double a, bool restart = false) = 0;
+  // In two halves, so that an asynchronous backend overlaps it with the steps enqueued
+  // after it: begin_omega_max estimates the state as it is at the call, end_omega_max
+  // waits for the result. One estimate at a time; steps in between may change the state.
+  struct OmegaEstimate {
+    double omega = 0;
+    double seconds = 0;  // the estimate's own execution time (device time on a GPU)
+  };
+  virtual void begin_omega_max(int iterations, double a, bool restart = false) = 0;
+  virtual OmegaEstimate end_omega_max() = 0;
+  double estimate_omega_max(int iterations, double a, bool restart = false) {
+    begin_omega_max(iterations, a, restart);
+    return end_omega_max().omega;
+  }
   // Waits for every enqueued step (asynchronous backends; the CPU steps synchronously).
   virtual void synchronize() {}
 

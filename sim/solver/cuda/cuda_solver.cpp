@@ -359,10 +359,10 @@ class CudaSolver final : public CudaSolverApi {
     dt_mid_ = dt_mid;
   }
 
-  // The CPU backend's estimate_omega_max as kernels (tled_probe.cu): the step's element
-  // stage on u + a v, then one kernel for the gather, the product and its deterministic
-  // sums; one graph with PDL, one download.
-  double estimate_omega_max(int iterations, double a, bool restart) override {
+  // The CPU backend's power iteration as kernels (tled_probe.cu): the step's element stage
+  // on u + a v, then one kernel for the gather, the product and its deterministic sums;
+  // one graph with PDL and an asynchronous download, which end_omega_max waits for.
+  void begin_omega_max(int iterations, double a, bool restart) override {
     const int n3 = 3 * n_;
     LaunchShape s3 = shape_for(n3, nsm_, false), sn = shape_for(n_, nsm_, false);
     s3.pdl = sn.pdl = true;
@@ -415,12 +415,20 @@ class CudaSolver final : public CudaSolverApi {
                           }
                         })).first;
     }
+    SOFTTLED_CUDA_CHECK(cudaEventRecord(probe_.begin.get(), stream_));
     SOFTTLED_CUDA_CHECK(cudaGraphLaunch(it->second, stream_));
-    double* h = probe_.result.data();
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(h, probe_.sums.data(), probe_.result.bytes(), cudaMemcpyDeviceToHost, stream_));
-    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
-    if (!(h[1] > 0) || !(h[2] > 0)) return 0;
-    return std::sqrt(std::sqrt(h[0] / h[1]));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(probe_.result.data(), probe_.sums.data(), probe_.result.bytes(),
+                                        cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaEventRecord(probe_.end.get(), stream_));
+  }
+
+  OmegaEstimate end_omega_max() override {
+    SOFTTLED_CUDA_CHECK(cudaEventSynchronize(probe_.end.get()));
+    OmegaEstimate r;
+    r.seconds = 1e-6 * elapsed_us(probe_.begin, probe_.end);
+    const double* h = probe_.result.data();
+    if (h[1] > 0 && h[2] > 0) r.omega = std::sqrt(std::sqrt(h[0] / h[1]));
+    return r;
   }
 
   double strain_energy() const override {
@@ -715,6 +723,7 @@ class CudaSolver final : public CudaSolverApi {
     DeviceBuffer<unsigned> ticket;
     DeviceBuffer<int> node_old;
     PinnedBuffer<double> result{3};  // sums, downloaded
+    Event begin, end;                 // around the estimate in the stream (its device time)
   } probe_;
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
