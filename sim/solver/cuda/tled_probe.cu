@@ -9,6 +9,7 @@
 #include "sim/fem/central_difference.h"
 #include "sim/fem/stiffness_probe.h"
 #include "sim/solver/cuda/kernel_support.cuh"
+#include "sim/solver/cuda/lane_gather.cuh"
 #include "sim/solver/cuda/tled_kernels.h"
 
 namespace softtled::cuda {
@@ -40,20 +41,20 @@ __global__ void probe_displace_kernel(int n3, const T* __restrict__ u, const T* 
   v[j] = vj;
 }
 
-// f0 = the summed internal force at u (the product's reference). One thread per node.
+// f0 = the summed internal force at u (the product's reference). kProbeLanes per node.
 template <class T>
 __global__ void probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0) {
   pdl_launch_dependents();
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  const LaneSlots<kProbeLanes> g = lane_slots<T, kProbeLanes>(m, blockIdx.x * blockDim.x + threadIdx.x);
   pdl_wait();  // fcorner is written by the element stage
-  if (i >= m.nnode) return;
   T f[3];
-  gather_node_force(m.gather_start, m.gather_slot, fcorner, 4 * m.ntet, i, f);
-  for (int k = 0; k < 3; ++k) f0[k * m.nnode + i] = f[k];
+  lane_gather_force<T, kProbeLanes>(m, fcorner, g, f);
+  if (g.lane == 0 && g.i < m.nnode)
+    for (int k = 0; k < 3; ++k) f0[k * m.nnode + g.i] = f[k];
 }
 
 // One product's node side in one kernel: w = M^-1 (f(up) - f0) / a per node, and the
-// three numbers the power iteration needs, sums = (sum m|w|^2, sum m|v|^2, max |w|).
+// three numbers the power iteration needs (kProbeLanes per node, lane_gather.cuh), sums = (sum m|w|^2, sum m|v|^2, max |w|).
 // Each block reduces its nodes by a fixed tree into partials[3 b ..]; the block that
 // finishes last (a ticket counter) adds the partials in block order. Which block is last
 // changes from run to run, the order of the additions does not: deterministic.
@@ -65,13 +66,14 @@ __global__ void __launch_bounds__(kProbeThreads)
   __shared__ double sh[3][kProbeThreads];
   __shared__ bool last;
   pdl_launch_dependents();
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  const int n = m.nnode, t = int(threadIdx.x);
+  const LaneSlots<kProbeLanes> ls = lane_slots<T, kProbeLanes>(m, blockIdx.x * blockDim.x + threadIdx.x);
+  const int n = m.nnode, t = int(threadIdx.x), i = ls.i;
   pdl_wait();  // fcorner is written by the element stage
+  T f[3];
+  lane_gather_force<T, kProbeLanes>(m, fcorner, ls, f);
   double sw = 0, sv = 0, wm = 0;
-  if (i < n) {
-    T f[3], g[3], wi[3];
-    gather_node_force(m.gather_start, m.gather_slot, fcorner, 4 * m.ntet, i, f);
+  if (ls.lane == 0 && i < n) {
+    T g[3], wi[3];
     for (int k = 0; k < 3; ++k) g[k] = f0[k * n + i];
     probe_response(f, g, m.inv_mass[i], inv_a, wi);
     // The CPU adds m w_k^2 one component at a time into one running sum; here each node's
@@ -132,7 +134,11 @@ cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3,
 }
 
 template <class T>
-cudaError_t launch_probe_f0(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const T* fcorner, T* f0) {
+cudaError_t launch_probe_f0(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, T* f0) {
+  LaunchShape ls;
+  ls.grid = probe_blocks(m.nnode);
+  ls.block = kProbeThreads;
+  ls.pdl = pdl;
   return launch(s, ls, probe_f0_kernel<T>, m, fcorner, f0);
 }
 
@@ -156,7 +162,7 @@ cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale,
   template cudaError_t launch_probe_start<T>(cudaStream_t, const LaunchShape&, int, const T*, const int*, T*);        \
   template cudaError_t launch_probe_displace<T>(cudaStream_t, const LaunchShape&, int, const T*, const T*,           \
                                                 const double*, T*, T, T*);                                            \
-  template cudaError_t launch_probe_f0<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&, const T*, T*);      \
+  template cudaError_t launch_probe_f0<T>(cudaStream_t, bool, const TetMeshView<T>&, const T*, T*);                   \
   template cudaError_t launch_probe_product<T>(cudaStream_t, bool, const TetMeshView<T>&, const T*, const T*,          \
                                                const T*, const double*, T, T*, double*, unsigned*, double*);          \
   template cudaError_t launch_scale<T>(cudaStream_t, const LaunchShape&, int, T, T*);

@@ -10,6 +10,7 @@
 #include "sim/fem/central_difference.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/solver/cuda/kernel_support.cuh"
+#include "sim/solver/cuda/lane_gather.cuh"
 #include "sim/solver/cuda/tled_kernels.h"
 
 namespace softtled::cuda {
@@ -93,40 +94,10 @@ __global__ void anp_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> ma
   anp_corner_forces(m, mat, u, p_node, fcorner, e);
 }
 
-// ---- node stage with G lanes per node (see StepArgs in tled_kernels.h) ----
-template <int G>
-struct LaneSlots {
-  static constexpr int kBatch = 64 / G;  // corners per lane issued at once: 64 per node
-  int i, lane, j0, j1;
-  int s[kBatch];  // corner slots, -1 past the node's list
-};
-
-// Thread t serves node t / G as lane t % G. Reads only rest data (the gather table), so
-// under PDL it runs before the wait.
-template <class T, int G>
-__device__ __forceinline__ LaneSlots<G> lane_slots(const TetMeshView<T>& m, int t) {
-  LaneSlots<G> g;
-  g.i = t / G;
-  g.lane = t % G;
-  g.j0 = g.j1 = 0;
-  if (g.i < m.nnode) {
-    g.j0 = m.gather_start[g.i];
-    g.j1 = m.gather_start[g.i + 1];
-  }
-#pragma unroll
-  for (int q = 0; q < LaneSlots<G>::kBatch; ++q) {
-    const int j = g.j0 + g.lane + q * G;
-    g.s[q] = j < g.j1 ? m.gather_slot[j] : -1;
-  }
-  return g;
-}
-
+// ---- node stage with G lanes per node (see StepArgs in tled_kernels.h; lane_gather.cuh) ----
 // Every lane of the warp must call this (the shuffles use the full mask).
 template <class T, int G>
 __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlots<G>& g) {
-  constexpr int B = LaneSlots<G>::kBatch;
-  const int stride = 4 * a.m.ntet;
-  const T* fc = a.b.fcorner;
   if (g.lane == 1 && g.i < a.m.nnode) {
     // update_node's live reads, in flight together with the corner loads below (only
     // after the grid dependency: the previous node stage writes them).
@@ -136,24 +107,8 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
       prefetch_l1(a.b.du + k * n + g.i);
     }
   }
-  T v[B][3];
-#pragma unroll
-  for (int q = 0; q < B; ++q) {
-    const int s = g.s[q];
-    v[q][0] = s >= 0 ? fc[s] : T(0);
-    v[q][1] = s >= 0 ? fc[stride + s] : T(0);
-    v[q][2] = s >= 0 ? fc[2 * stride + s] : T(0);
-  }
-  T f[3] = {T(0), T(0), T(0)};
-#pragma unroll
-  for (int q = 0; q < B; ++q)
-    if (g.s[q] >= 0)
-      for (int k = 0; k < 3; ++k) f[k] += v[q][k];
-  for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
-    const int s = a.m.gather_slot[j];
-    for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
-  }
-  for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
+  T f[3];
+  lane_gather_force<T, G>(a.m, a.b.fcorner, g, f);
   if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i, a.b.ub);
 }
 
