@@ -34,7 +34,7 @@ struct AdaptiveStep {
   // Steps between two live omega_max estimates: kEvery, halved (down to kEveryMin) while
   // omega_max rises by more than 2 % from one estimate to the next (an impact), and
   // doubled back while it does not.
-  static constexpr int kEvery = 100;
+  static constexpr int kEvery = 150;
   static constexpr int kEveryMin = 6;
   static constexpr int kIterations = 2;      // power-iteration products per estimate
   static constexpr int kWarmup = 40;         // ... at the start and after a rollback
