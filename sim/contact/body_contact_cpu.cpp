@@ -162,8 +162,8 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
     T nb[6];
     for (int k = 0; k < 3; ++k) {
       const T x = x_[3 * i + k], y = X0[k * n + i] + u[k * n + i];
-      nb[k] = std::min(x, y) - tol_;
-      nb[3 + k] = std::max(x, y) + tol_;
+      nb[k] = std::min(x, y);  // not inflated: the triangles' boxes carry the tolerance
+      nb[3 + k] = std::max(x, y);
     }
     if (!finite_box(nb)) continue;
     cand_.clear();

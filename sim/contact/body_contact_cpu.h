@@ -10,9 +10,9 @@
 //     swept, inflated boxes of the boundary triangles that reach into the box of a body
 //     their own body's box meets, filled by a counting sort in triangle order, so each
 //     cell's list is sorted;
-//  3. per surface node whose box reaches into such a body, in node order: the cells its
-//     swept, inflated box covers give the triangles of other bodies, whose boxes are
-//     tested, sorted and deduplicated.
+//  3. per surface node, in node order: for each body whose box its swept box (t to
+//     t + dt, not inflated) meets, the cells it covers give that body's triangles, whose
+//     boxes are tested, sorted and deduplicated.
 // Narrow phase: node_triangle_contact per (node, candidate), in that order, each
 // correction applied at once (Gauss-Seidel), so later pairs see earlier corrections.
 #include <array>

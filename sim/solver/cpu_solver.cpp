@@ -95,14 +95,30 @@ class CpuSolver final : public Solver {
       const SimdAnpScratch<T> sa = simd_scratch();
       BodyStateView<T> bb = b;
       bb.fcorner = fblk_.data();
+      if (bodies) {  // a loop of its own: the one-body loop below stays as it was
+#pragma omp parallel num_threads(threads_)
+        for (long s = 0; s < nsteps; ++s) {
+          cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
+          cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
+#pragma omp single
+          bc.apply(m.X0, bb.u, bb.du, bb.ub, c.step.beta_dt, bb.contact, c.step.contact.mode, c.step.contact.mu);
+        }
+        return;
+      }
 #pragma omp parallel num_threads(threads_)
       for (long s = 0; s < nsteps; ++s) {
         cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
         cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
-        if (bodies) {
+      }
+      return;
+    }
+    if (bodies) {
+#pragma omp parallel num_threads(threads_)
+      for (long s = 0; s < nsteps; ++s) {
+        cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
+        cpu_node_stage(m, b, s == 0 ? first : c.step);
 #pragma omp single
-          bc.apply(m.X0, bb.u, bb.du, bb.ub, c.step.beta_dt, bb.contact, c.step.contact.mode, c.step.contact.mu);
-        }
+        bc.apply(m.X0, b.u, b.du, b.ub, c.step.beta_dt, b.contact, c.step.contact.mode, c.step.contact.mu);
       }
       return;
     }
@@ -110,10 +126,6 @@ class CpuSolver final : public Solver {
     for (long s = 0; s < nsteps; ++s) {
       cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
       cpu_node_stage(m, b, s == 0 ? first : c.step);
-      if (bodies) {
-#pragma omp single
-        bc.apply(m.X0, b.u, b.du, b.ub, c.step.beta_dt, b.contact, c.step.contact.mode, c.step.contact.mu);
-      }
     }
   }
 
