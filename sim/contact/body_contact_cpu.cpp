@@ -116,6 +116,7 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   const unsigned mask = unsigned(cell_start_.size() - 2);
   const double inv_h = 1.0 / double(cell_);
   std::fill(cell_start_.begin(), cell_start_.end(), 0);
+  entries_.clear();
   auto for_cells = [&](const T* bx, int body, auto&& fn) {
     const long long x0 = cell_of(bx[0], inv_h), x1 = cell_of(bx[3], inv_h);
     const long long y0 = cell_of(bx[1], inv_h), y1 = cell_of(bx[4], inv_h);
@@ -144,16 +145,15 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
       bx[0] = T(NAN);
       continue;
     }
-    for_cells(bx, tri_body_[t], [&](unsigned c) { ++cell_start_[c + 1]; });
+    for_cells(bx, tri_body_[t], [&](unsigned c) {
+      ++cell_start_[c + 1];
+      entries_.push_back({c, unsigned(t)});
+    });
   }
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   cell_tri_.resize(cell_start_.back());
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (int t = 0; t < nt; ++t) {
-    const T* bx = &tri_box_[6 * t];
-    if (std::isnan(double(bx[0]))) continue;
-    for_cells(bx, tri_body_[t], [&](unsigned c) { cell_tri_[cell_fill_[c]++] = t; });
-  }
+  for (const auto& e : entries_) cell_tri_[cell_fill_[e[0]]++] = int(e[1]);  // triangle order kept
 
   // 3. Per surface node, in order: candidates, then the narrow phase.
   for (int i : surf_) {

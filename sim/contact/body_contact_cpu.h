@@ -56,6 +56,7 @@ class CpuBodyContact {
   std::vector<std::array<int, 2>> partners_;  // pairs of bodies whose boxes meet
   std::vector<T> tri_box_;       // 6 per triangle
   std::vector<int> cell_start_, cell_tri_, cell_fill_;
+  std::vector<std::array<unsigned, 2>> entries_;  // (cell, triangle) in triangle order
   std::vector<int> cand_;
   int last_candidates_ = 0, last_contacts_ = 0;
 
