@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "sim/core/body_view.h"
 #include "sim/mesh/surface_generators.h"
@@ -255,8 +257,9 @@ namespace softtled {
 void check_bodies_apart(const Scene& s, const TetMesh& m) {
   const int nb = m.nbody();
   if (nb < 2) return;
-  // Bounding box of each body's nodes, then each node of a body inside another's box
-  // against that body's elements whose box holds it.
+  // Bounding box of each body's nodes; the surface nodes inside another body's box go
+  // into a grid (cell: twice the mean element box), then each element is tested against
+  // the other bodies' nodes in the cells its box covers.
   std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()), hi(3 * nb, -std::numeric_limits<double>::infinity());
   for (int i = 0; i < m.nnode(); ++i)
     for (int k = 0; k < 3; ++k) {
@@ -264,30 +267,66 @@ void check_bodies_apart(const Scene& s, const TetMesh& m) {
       lo[3 * b + k] = std::min(lo[3 * b + k], m.X[3 * i + k]);
       hi[3 * b + k] = std::max(hi[3 * b + k], m.X[3 * i + k]);
     }
-  for (int e = 0; e < m.ntet(); ++e) {
+  auto in_box = [&](const double* x, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (x[k] < lo[3 * b + k] || x[k] > hi[3 * b + k]) return false;
+    return true;
+  };
+  auto tet_box = [&](int e, double* elo, double* ehi) {
     const int* t = &m.tet[4 * e];
-    const int be = m.tet_body[e];
-    double elo[3], ehi[3];
     for (int k = 0; k < 3; ++k) {
       elo[k] = std::min(std::min(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::min(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
       ehi[k] = std::max(std::max(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::max(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
     }
-    for (int b = 0; b < nb; ++b) {
+  };
+  double extent = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    extent += std::max(ehi[0] - elo[0], std::max(ehi[1] - elo[1], ehi[2] - elo[2]));
+  }
+  const double h = 2 * extent / std::max(1, m.ntet());
+  if (!(h > 0)) return;
+  auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
+  auto key = [](long long x, long long y, long long z) { return (x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL); };
+  std::unordered_map<long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
+  for (int i : m.surface_nodes) {
+    const double* x = &m.X[3 * i];
+    bool near = false;
+    for (int b = 0; b < nb && !near; ++b) near = b != m.node_body[i] && in_box(x, b);
+    if (near) grid[key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
+  }
+  if (grid.empty()) return;
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    const int be = m.tet_body[e];
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    bool near = false;
+    for (int b = 0; b < nb && !near; ++b) {
       if (b == be) continue;
-      bool boxes = true;
-      for (int k = 0; k < 3; ++k) boxes = boxes && elo[k] <= hi[3 * b + k] && ehi[k] >= lo[3 * b + k];
-      if (!boxes) continue;
-      for (int i : m.surface_nodes) {
-        if (m.node_body[i] != b) continue;
-        const double* x = &m.X[3 * i];
-        bool in = true;
-        for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
-        if (in && in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
-          throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key + " overlap at the start (a node of " +
-                           s.body(b).key + " lies in element " + std::to_string(e) + " of " + s.body(be).key +
-                           "); move " + s.body(b).key + ".position or " + s.body(be).key + ".position");
-      }
+      near = true;
+      for (int k = 0; k < 3; ++k) near = near && elo[k] <= hi[3 * b + k] && ehi[k] >= lo[3 * b + k];
     }
+    if (!near) continue;
+    for (long long cx = cell(elo[0]); cx <= cell(ehi[0]); ++cx)
+      for (long long cy = cell(elo[1]); cy <= cell(ehi[1]); ++cy)
+        for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
+          const auto it = grid.find(key(cx, cy, cz));
+          if (it == grid.end()) continue;
+          for (int i : it->second) {
+            const int b = m.node_body[i];
+            if (b == be) continue;
+            const double* x = &m.X[3 * i];
+            bool in = true;
+            for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
+            if (in && in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
+              throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key +
+                               " overlap at the start (a node of " + s.body(b).key + " lies in element " +
+                               std::to_string(e) + " of " + s.body(be).key + "); move " + s.body(b).key +
+                               ".position or " + s.body(be).key + ".position");
+          }
+        }
   }
 }
 

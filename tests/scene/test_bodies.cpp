@@ -381,3 +381,40 @@ TEST_P(BodiesOnEachBackend, TwoRingsWithOwnMaterialsFallSideBySide) {
   EXPECT_GT(a.n_contact, 0);  // landed (from 1 mm up, at 14 ms)
   EXPECT_GT(b.n_contact, 0);
 }
+
+// Friction acts on the relative tangential motion: a block flying obliquely onto a free
+// block (zero gravity, alpha = 0) keeps its sliding velocity without friction and drags
+// the other along with static friction; total momentum is conserved either way.
+TEST(Bodies, FrictionActsOnTheRelativeTangentialMotion) {
+  const std::string t =
+      "[[body]]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [3, 3, 3]\n"
+      "[[body]]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [3, 3, 3]\nposition = [0.7, 7, 0.3]\n"
+      "velocity = [0.5, -0.3, 0]\n"
+      "[material]\nE = 20000\nnu = 0.3\n[damping]\nalpha = 0\n[gravity]\ng = [0, 0, 0]\n[floor]\nenabled = false\n"
+      "[time]\nduration = 0.015\n";
+  double vx[2][2], px[2];
+  for (int m = 0; m < 2; ++m) {
+    const Scene s = parse_scene(t, "f.toml", {m == 0 ? "contact.mode=sliding" : "contact.mode=static"});
+    Simulation sim(s, "cpu");
+    double P0[3];
+    momentum(sim, P0);
+    int contacts = 0;
+    while (sim.time() < s.duration) {
+      sim.advance(20, 20);
+      contacts = std::max(contacts, sim.diagnostics().n_contact);
+    }
+    double P[3];
+    momentum(sim, P);
+    px[m] = std::fabs(P[0] - P0[0]) / std::fabs(P0[0]);
+    vx[m][0] = body_vx(sim, 0);
+    vx[m][1] = body_vx(sim, 1);
+    std::printf("%s: contacts %d, vx bottom %.4f top %.4f m/s, x-momentum drift %.2g\n", m ? "static" : "sliding",
+                contacts, vx[m][0], vx[m][1], px[m]);
+    EXPECT_GT(contacts, 4);
+    EXPECT_LT(px[m], 1e-9);
+  }
+  EXPECT_LT(std::fabs(vx[0][0]), 0.01);  // frictionless: the normal is along y, nothing drags along x
+  EXPECT_GT(vx[0][1], 0.49);
+  EXPECT_GT(vx[1][0], 0.05);             // static friction drags the bottom block along
+  EXPECT_LT(vx[1][1], 0.45);
+}
