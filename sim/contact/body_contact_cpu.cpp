@@ -20,10 +20,16 @@ inline unsigned bucket(long long ix, long long iy, long long iz, int body, unsig
                                (static_cast<unsigned long long>(body) * 2654435761ull);
   return static_cast<unsigned>(h ^ (h >> 29)) & mask;
 }
+// Whether a box can go into the grid: finite, within the range the cell index takes, and
+// at most kMaxCellsPerAxis cells wide. A box that is not belongs to a diverging state (the
+// watchdog's business); it is left out rather than hang the loop over its cells.
+constexpr double kMaxCellsPerAxis = 64;
 template <class T>
-bool finite_box(const T* b) {
+bool grid_box(const T* b, double inv_h) {
   for (int k = 0; k < 6; ++k)
-    if (!std::isfinite(double(b[k]))) return false;
+    if (!std::isfinite(double(b[k])) || std::fabs(double(b[k]) * inv_h) > 1e15) return false;
+  for (int k = 0; k < 3; ++k)
+    if ((double(b[3 + k]) - double(b[k])) * inv_h > kMaxCellsPerAxis) return false;
   return true;
 }
 template <class T>
@@ -141,7 +147,7 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
       }
     }
     for (int k = 0; k < 3; ++k) bx[k] -= tol_, bx[3 + k] += tol_;
-    if (!finite_box(bx) || !near_partner(tri_body_[t], bx)) {
+    if (!grid_box(bx, inv_h) || !near_partner(tri_body_[t], bx)) {
       bx[0] = T(NAN);
       continue;
     }
@@ -165,7 +171,7 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
       nb[k] = std::min(x, y);  // not inflated: the triangles' boxes carry the tolerance
       nb[3 + k] = std::max(x, y);
     }
-    if (!finite_box(nb)) continue;
+    if (!grid_box(nb, inv_h)) continue;
     cand_.clear();
     for (const auto& pr : partners_) {
       const int o = pr[0] == bi ? pr[1] : pr[1] == bi ? pr[0] : -1;

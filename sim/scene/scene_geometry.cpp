@@ -288,8 +288,11 @@ void check_bodies_apart(const Scene& s, const TetMesh& m) {
   const double h = 2 * extent / std::max(1, m.ntet());
   if (!(h > 0)) return;
   auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
-  auto key = [](long long x, long long y, long long z) { return (x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL); };
-  std::unordered_map<long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
+  auto key = [](long long x, long long y, long long z) {  // unsigned: wraps, never overflows
+    return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
+           (static_cast<unsigned long long>(z) * 83492791ull);
+  };
+  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
   for (int i : m.surface_nodes) {
     const double* x = &m.X[3 * i];
     bool near = false;
