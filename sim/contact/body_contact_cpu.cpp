@@ -70,7 +70,14 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   cell_ = T(sum > 0 ? 0.5 * (longest + sum / (3.0 * nt)) : 1.0);
   unsigned size = 1;
   while (size < 2u * unsigned(std::max(1, nt))) size <<= 1;
-  cell_start_.assign(size + 1, 0);
+  cell_start_grid_.assign(size + 1, 0);
+  // Candidate lists are kept while no surface node moves more than half the margin from
+  // its box at the last rebuild (temporal coherence): a rebuild every few steps in fast
+  // flight, rarely at rest. The margin adds to the boxes, so it costs narrow-phase tests.
+  half_margin_ = T(0.5) * tol_;
+  node_box_.assign(6 * surf_.size(), T(0));
+  surf_index_.assign(n_, -1);
+  for (std::size_t s = 0; s < surf_.size(); ++s) surf_index_[surf_[s]] = int(s);
   x_.assign(3 * std::size_t(n_), T(0));
   box_.assign(6 * nbody_, T(0));
   active_.assign(nbody_, 0);
@@ -82,22 +89,83 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   last_candidates_ = last_contacts_ = 0;
   if (nbody_ < 2) return;
   const int n = n_;
-  // 1. Positions at t and the bodies' swept boxes.
-  for (int b = 0; b < nbody_; ++b)
-    for (int k = 0; k < 3; ++k) box_[6 * b + k] = T(INFINITY), box_[6 * b + 3 + k] = T(-INFINITY);
-  for (int i : surf_) {
-    T* bx = &box_[6 * node_body_[i]];
+  // 1. Positions at t; the candidate lists stay valid while every surface node's positions
+  //    at t and t + dt stay within half the margin of its box at the last rebuild.
+  bool valid = lists_valid_;
+  for (std::size_t s = 0; s < surf_.size(); ++s) {
+    const int i = surf_[s];
+    const T* nb = &node_box_[6 * s];
     for (int k = 0; k < 3; ++k) {
       const T x = X0[k * n + i] + (u[k * n + i] - du[k * n + i]);
       const T y = X0[k * n + i] + u[k * n + i];
       x_[3 * i + k] = x;
-      bx[k] = std::min(bx[k], std::min(x, y));
-      bx[3 + k] = std::max(bx[3 + k], std::max(x, y));
+      // (NaN fails the test, so a non-finite state rebuilds, and is then left out.)
+      if (!(std::min(x, y) >= nb[k] - half_margin_ && std::max(x, y) <= nb[3 + k] + half_margin_)) valid = false;
+    }
+  }
+  if (!valid) rebuild(X0, u);
+  if (cand_start_.empty()) return;  // no two bodies near each other
+
+  // 2. Narrow phase: per surface node in order, its candidates in order.
+  for (std::size_t s = 0; s < surf_.size(); ++s) {
+    const int i = surf_[s];
+    const int c0 = cand_start_[s], c1 = cand_start_[s + 1];
+    last_candidates_ += c1 - c0;
+    for (int c = c0; c < c1; ++c) {
+      const int t = cand_list_[c];
+      const int j[4] = {i, tri_[3 * t], tri_[3 * t + 1], tri_[3 * t + 2]};
+      T x[4][3], d[4][3];
+      for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) {
+          d[a][k] = du[k * n + j[a]];
+          x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
+        }
+      const NodeTriangleCorrection<T> r =
+          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], x[1], d[1], inv_mass_[j[1]], x[2], d[2], inv_mass_[j[2]],
+                                x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
+      if (r.state == kFree) continue;
+      ++last_contacts_;
+      const T* corr[4] = {r.dp, r.da, r.db, r.dc};
+      for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t q = std::size_t(k) * n + j[a];
+          du[q] += corr[a][k];
+          u[q] += corr[a][k];
+          if (ub) ub[q] = u[q] + beta_dt * du[q];
+        }
+      if (r.state > contact[i]) contact[i] = r.state;
+    }
+  }
+}
+
+template <class T>
+void CpuBodyContact<T>::rebuild(const T* X0, const T* u) {
+  ++rebuilds_;
+  const int n = n_;
+  const T m2 = half_margin_;
+  lists_valid_ = true;
+  cand_start_.clear();
+  cand_list_.clear();
+  // Each surface node's swept box now (x_ holds the positions at t), and each body's box
+  // over them, inflated by the tolerance and half the margin: a body pair whose boxes do
+  // not meet now cannot touch before the next rebuild.
+  for (int b = 0; b < nbody_; ++b)
+    for (int k = 0; k < 3; ++k) box_[6 * b + k] = T(INFINITY), box_[6 * b + 3 + k] = T(-INFINITY);
+  for (std::size_t s = 0; s < surf_.size(); ++s) {
+    const int i = surf_[s];
+    T* nb = &node_box_[6 * s];
+    T* bx = &box_[6 * node_body_[i]];
+    for (int k = 0; k < 3; ++k) {
+      const T x = x_[3 * i + k], y = X0[k * n + i] + u[k * n + i];
+      nb[k] = std::min(x, y);
+      nb[3 + k] = std::max(x, y);
+      bx[k] = std::min(bx[k], nb[k]);
+      bx[3 + k] = std::max(bx[3 + k], nb[3 + k]);
     }
   }
   bool any = false;
   for (int b = 0; b < nbody_; ++b) {
-    for (int k = 0; k < 3; ++k) box_[6 * b + k] -= tol_, box_[6 * b + 3 + k] += tol_;
+    for (int k = 0; k < 3; ++k) box_[6 * b + k] -= tol_ + m2, box_[6 * b + 3 + k] += tol_ + m2;
     active_[b] = 0;
   }
   partners_.clear();
@@ -117,11 +185,12 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
     return false;
   };
 
-  // 2. Triangles of the taking part bodies into the hash grid (counting sort).
+  // Triangles into the hash grid (counting sort): the union of their nodes' boxes,
+  // inflated by the tolerance and half the margin.
   const int nt = int(tri_body_.size());
-  const unsigned mask = unsigned(cell_start_.size() - 2);
+  const unsigned mask = unsigned(cell_start_grid_.size() - 2);
   const double inv_h = 1.0 / double(cell_);
-  std::fill(cell_start_.begin(), cell_start_.end(), 0);
+  std::fill(cell_start_grid_.begin(), cell_start_grid_.end(), 0);
   entries_.clear();
   auto for_cells = [&](const T* bx, int body, auto&& fn) {
     const long long x0 = cell_of(bx[0], inv_h), x1 = cell_of(bx[3], inv_h);
@@ -133,84 +202,57 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   };
   for (int t = 0; t < nt; ++t) {
     T* bx = &tri_box_[6 * t];
-    if (!active_[tri_body_[t]]) {
-      bx[0] = T(NAN);
-      continue;
-    }
-    for (int k = 0; k < 3; ++k) bx[k] = T(INFINITY), bx[3 + k] = T(-INFINITY);
+    bx[0] = T(NAN);
+    if (!active_[tri_body_[t]]) continue;
+    T b[6];
+    for (int k = 0; k < 3; ++k) b[k] = T(INFINITY), b[3 + k] = T(-INFINITY);
     for (int c = 0; c < 3; ++c) {
-      const int j = tri_[3 * t + c];
+      const T* nb = &node_box_[6 * surf_index_[tri_[3 * t + c]]];
       for (int k = 0; k < 3; ++k) {
-        const T x = x_[3 * j + k], y = X0[k * n + j] + u[k * n + j];
-        bx[k] = std::min(bx[k], std::min(x, y));
-        bx[3 + k] = std::max(bx[3 + k], std::max(x, y));
+        b[k] = std::min(b[k], nb[k]);
+        b[3 + k] = std::max(b[3 + k], nb[3 + k]);
       }
     }
-    for (int k = 0; k < 3; ++k) bx[k] -= tol_, bx[3 + k] += tol_;
-    if (!grid_box(bx, inv_h) || !near_partner(tri_body_[t], bx)) {
-      bx[0] = T(NAN);
-      continue;
-    }
+    for (int k = 0; k < 3; ++k) b[k] -= tol_ + m2, b[3 + k] += tol_ + m2;
+    if (!grid_box(b, inv_h) || !near_partner(tri_body_[t], b)) continue;
+    for (int k = 0; k < 6; ++k) bx[k] = b[k];
     for_cells(bx, tri_body_[t], [&](unsigned c) {
-      ++cell_start_[c + 1];
+      ++cell_start_grid_[c + 1];
       entries_.push_back({c, unsigned(t)});
     });
   }
-  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
-  cell_tri_.resize(cell_start_.back());
-  cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t c = 1; c < cell_start_grid_.size(); ++c) cell_start_grid_[c] += cell_start_grid_[c - 1];
+  cell_tri_.resize(cell_start_grid_.back());
+  cell_fill_.assign(cell_start_grid_.begin(), cell_start_grid_.end() - 1);
   for (const auto& e : entries_) cell_tri_[cell_fill_[e[0]]++] = int(e[1]);  // triangle order kept
 
-  // 3. Per surface node, in order: candidates, then the narrow phase.
-  for (int i : surf_) {
+  // Per surface node, in order: its box inflated by half the margin against the other
+  // bodies' triangles; sorted, deduplicated.
+  cand_start_.assign(surf_.size() + 1, 0);
+  for (std::size_t s = 0; s < surf_.size(); ++s) {
+    const int i = surf_[s];
     const int bi = node_body_[i];
+    cand_start_[s] = int(cand_list_.size());
     if (!active_[bi]) continue;
     T nb[6];
-    for (int k = 0; k < 3; ++k) {
-      const T x = x_[3 * i + k], y = X0[k * n + i] + u[k * n + i];
-      nb[k] = std::min(x, y);  // not inflated: the triangles' boxes carry the tolerance
-      nb[3 + k] = std::max(x, y);
-    }
+    for (int k = 0; k < 3; ++k) nb[k] = node_box_[6 * s + k] - m2, nb[3 + k] = node_box_[6 * s + 3 + k] + m2;
     if (!grid_box(nb, inv_h)) continue;
     cand_.clear();
     for (const auto& pr : partners_) {
       const int o = pr[0] == bi ? pr[1] : pr[1] == bi ? pr[0] : -1;
       if (o < 0 || !overlap(nb, &box_[6 * o])) continue;
       for_cells(nb, o, [&](unsigned c) {
-        for (int s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
-          const int t = cell_tri_[s];
+        for (int q = cell_start_grid_[c]; q < cell_start_grid_[c + 1]; ++q) {
+          const int t = cell_tri_[q];
           if (tri_body_[t] == o && overlap(nb, &tri_box_[6 * t])) cand_.push_back(t);
         }
       });
     }
-    if (cand_.empty()) continue;
     std::sort(cand_.begin(), cand_.end());
     cand_.erase(std::unique(cand_.begin(), cand_.end()), cand_.end());
-    last_candidates_ += int(cand_.size());
-    for (int t : cand_) {
-      const int j[4] = {i, tri_[3 * t], tri_[3 * t + 1], tri_[3 * t + 2]};
-      T x[4][3], d[4][3];
-      for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) {
-          d[a][k] = du[k * n + j[a]];
-          x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
-        }
-      const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], x[1], d[1], inv_mass_[j[1]], x[2], d[2], inv_mass_[j[2]],
-                                x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
-      if (r.state == kFree) continue;
-      ++last_contacts_;
-      const T* corr[4] = {r.dp, r.da, r.db, r.dc};
-      for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) {
-          const std::size_t s = std::size_t(k) * n + j[a];
-          du[s] += corr[a][k];
-          u[s] += corr[a][k];
-          if (ub) ub[s] = u[s] + beta_dt * du[s];
-        }
-      if (r.state > contact[i]) contact[i] = r.state;
-    }
+    cand_list_.insert(cand_list_.end(), cand_.begin(), cand_.end());
   }
+  cand_start_[surf_.size()] = int(cand_list_.size());
 }
 
 template class CpuBodyContact<float>;

@@ -2,7 +2,10 @@
 // Body-body contact on the CPU (body_contact.h): broad phase and the serial, fixed-order
 // narrow phase, run after the node stage of every step while contact.bodies is on.
 //
-// Broad phase, rebuilt every step (deterministic: no atomics, no thread-dependent order):
+// Broad phase (deterministic: no atomics, no thread-dependent order), rebuilt when a
+// surface node's positions at t or t + dt leave its box at the last rebuild by more than
+// half_margin (temporal coherence; every box below carries that half margin, so the kept
+// candidate lists hold every pair the narrow test can accept until then):
 //  1. each body's box over its surface nodes at t and t + dt, inflated by tol; bodies whose
 //     box meets no other body's box take no part (far apart: the stage ends here);
 //  2. a uniform hash grid (cell ~ a boundary-triangle edge at rest; the key holds the
@@ -37,6 +40,7 @@ class CpuBodyContact {
   void apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
 
   T tolerance() const { return tol_; }
+  long rebuilds() const { return rebuilds_; }  // broad-phase rebuilds so far
   // Work of the last apply (the bench's and tests' view of the broad phase).
   int last_candidates() const { return last_candidates_; }
   int last_contacts() const { return last_contacts_; }
@@ -55,7 +59,15 @@ class CpuBodyContact {
   std::vector<std::uint8_t> active_;  // per body
   std::vector<std::array<int, 2>> partners_;  // pairs of bodies whose boxes meet
   std::vector<T> tri_box_;       // 6 per triangle
-  std::vector<int> cell_start_, cell_tri_, cell_fill_;
+  std::vector<int> cell_start_grid_, cell_tri_, cell_fill_;
+  // candidate lists (CSR over surf_), valid while lists_valid_ and no node left its box
+  std::vector<int> cand_start_, cand_list_;
+  std::vector<T> node_box_;      // 6 per surface node: its swept box at the last rebuild
+  std::vector<int> surf_index_;  // nnode: position in surf_, -1 inside
+  T half_margin_ = T(0);
+  bool lists_valid_ = false;
+  long rebuilds_ = 0;
+  void rebuild(const T* X0, const T* u);
   std::vector<std::array<unsigned, 2>> entries_;  // (cell, triangle) in triangle order
   std::vector<int> cand_;
   int last_candidates_ = 0, last_contacts_ = 0;
