@@ -111,6 +111,10 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 
 std::string Simulation::set_params(const PhysicsParams& p) {
   PhysicsParams q = p;
+  // Body-body contact: only between several bodies, only on the CPU backend.
+  if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
+  if (q.body_contact && !params_.body_contact && solver_->backend().rfind("cuda", 0) == 0)
+    throw InputError("contact.bodies: body-body contact runs on the CPU backend only for now");
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
   if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||
