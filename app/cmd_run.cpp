@@ -21,8 +21,10 @@ namespace {
 // One row per output time (README, "Command line"). ke is computed from the integrator's
 // half-step velocity du/dt, the mean velocity over the last step (t - dt, t), not the
 // velocity at t: in free fall it lags by g dt / 2 (Diagnostics::ke).
-std::string csv_header(int ntracked) {
+std::string csv_header(int ntracked, int nbody) {
   std::string h = "t,cx,cy,cz,min_gap,ke,se,pe,n_contact,n_stick,max_u";
+  for (int b = 0; b < nbody && nbody >= 2; ++b)
+    h += ",b" + std::to_string(b) + "_cx,b" + std::to_string(b) + "_cy,b" + std::to_string(b) + "_cz";
   for (int j = 0; j < ntracked; ++j)
     h += ",n" + std::to_string(j) + "_ux,n" + std::to_string(j) + "_uy,n" + std::to_string(j) + "_uz";
   return h + '\n';
@@ -33,6 +35,10 @@ std::string csv_row(const Diagnostics& d, int t_decimals) {
   std::snprintf(buf, sizeof buf, "%.*f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d,%.9g", t_decimals, d.t, d.centroid[0],
                 d.centroid[1], d.centroid[2], d.min_gap, d.ke, d.se, d.pe, d.n_contact, d.n_stick, d.max_u);
   std::string row = buf;
+  for (double v : d.body_centroid) {
+    std::snprintf(buf, sizeof buf, ",%.9g", v);
+    row += buf;
+  }
   for (double v : d.tracked) {
     std::snprintf(buf, sizeof buf, ",%.9g", v);
     row += buf;
@@ -95,7 +101,7 @@ Command add_run_command(CLI::App& app) {
     };
     if (!o->csv.empty()) {
       csv = std::make_unique<OutputFile>(o->csv);
-      csv->write(csv_header(int(sim.tracked_nodes().size())));
+      csv->write(csv_header(int(sim.tracked_nodes().size()), sim.mesh().nbody()));
     }
     FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     std::unique_ptr<VtuSeries> vtu;

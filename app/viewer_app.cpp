@@ -238,6 +238,7 @@ class Viewer {
     for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
     set_.contact_mode = s.contact_mode;
     set_.mu = float(s.mu);
+    set_.body_contact = s.body_contact();
     set_.floor = s.floor;
     set_.slope = s.slope;
     set_.slope_deg = float(s.slope_angle_deg);
@@ -261,6 +262,7 @@ class Viewer {
     st_.precision = precision_name(sim_->scene().precision);
     st_.nnode = sim_->mesh().nnode();
     st_.ntet = sim_->mesh().ntet();
+    st_.nbody = sim_->mesh().nbody();
     st_.nsurf = int(topo_.node.size());
     st_.ntri = int(topo_.tri.size() / 3);
     drag_.release();
@@ -336,6 +338,7 @@ class Viewer {
     p.alpha = set_.alpha;
     p.contact_mode = ContactMode(set_.contact_mode);
     p.mu = set_.mu;
+    p.body_contact = set_.body_contact;
     if (planes) p.planes = *planes;
     p.dt_auto = set_.lock_lambda;
     p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);

@@ -20,6 +20,7 @@ struct ViewerSettings {
   // Contact: live.
   int contact_mode = 0;             // ContactMode: 0 sliding, 1 static, 2 coulomb
   float mu = 0.5f;
+  bool body_contact = false;        // several bodies: body-body contact (CPU backend)
   bool floor = true;
   bool slope = false;
   float slope_deg = 20;
@@ -65,6 +66,7 @@ struct ViewerStats {
   TimeStepInfo ts;
   std::string backend, precision, renderer, vertex_path, warning;
   int nnode = 0, ntet = 0, nsurf = 0, ntri = 0;
+  int nbody = 1;
   float slope_now = 0;              // slope angle in use (turns towards the panel's) [deg]
   bool slope_turning = false;       // the slope is turning towards the panel's angle
   bool rebuilding = false;

@@ -96,6 +96,18 @@ TetMesh permute_mesh(const TetMesh& m, const MeshPermutation& p) {
   r.surface_nodes.resize(m.surface_nodes.size());
   for (std::size_t j = 0; j < m.surface_nodes.size(); ++j) r.surface_nodes[j] = p.node_new[m.surface_nodes[j]];
   std::sort(r.surface_nodes.begin(), r.surface_nodes.end());
+  if (!m.node_body.empty()) {
+    r.node_body.resize(n);
+    for (int i = 0; i < n; ++i) r.node_body[i] = m.node_body[p.node_old[i]];
+  }
+  auto per_tet = [&](const auto& src, auto& dst) {
+    if (src.empty()) return;
+    dst.resize(ne);
+    for (int e = 0; e < ne; ++e) dst[e] = src[p.tet_old[e]];
+  };
+  per_tet(m.tet_body, r.tet_body);
+  per_tet(m.rho_scale, r.rho_scale);
+  per_tet(m.E_scale, r.E_scale);
   return r;
 }
 

@@ -71,6 +71,32 @@ TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet) {
   return m;
 }
 
+int TetMesh::nbody() const {
+  return node_body.empty() ? 1 : node_body.back() + 1;
+}
+
+TetMesh concat_bodies(const std::vector<TetMesh>& bodies, const std::vector<double>& rho_scale,
+                      const std::vector<double>& E_scale) {
+  TetMesh m;
+  bool uniform = true;
+  for (std::size_t b = 0; b < bodies.size(); ++b) uniform = uniform && rho_scale[b] == 1.0 && E_scale[b] == 1.0;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const TetMesh& p = bodies[b];
+    const int off = m.nnode();
+    m.X.insert(m.X.end(), p.X.begin(), p.X.end());
+    for (int v : p.tet) m.tet.push_back(v + off);
+    for (int v : p.boundary_tri) m.boundary_tri.push_back(v + off);
+    for (int v : p.surface_nodes) m.surface_nodes.push_back(v + off);
+    m.node_body.insert(m.node_body.end(), p.nnode(), int(b));
+    m.tet_body.insert(m.tet_body.end(), p.ntet(), int(b));
+    if (!uniform) {
+      m.rho_scale.insert(m.rho_scale.end(), p.ntet(), rho_scale[b]);
+      m.E_scale.insert(m.E_scale.end(), p.ntet(), E_scale[b]);
+    }
+  }
+  return m;
+}
+
 MeshCounts count_faces_and_edges(const TetMesh& m) {
   std::set<std::array<int, 3>> faces;
   std::set<std::pair<int, int>> edges, bedges;

@@ -10,10 +10,30 @@ struct TetMesh {
   std::vector<int> tet;               // 4 x ntet, interleaved; every tet has positive volume
   std::vector<int> boundary_tri;      // 3 x nbtri, faces of exactly one tet, normal outward
   std::vector<int> surface_nodes;     // sorted nodes touched by boundary_tri
+  // Several bodies (concat_bodies): body index per node and per element, each body's nodes
+  // and elements contiguous and in body order. Empty for a one-body mesh.
+  std::vector<int> node_body;         // nnode
+  std::vector<int> tet_body;          // ntet
+  // Per-element material relative to the scene's [material], when bodies differ (a body's
+  // [body.material]): density rho_e / rho and stiffness E_e / E. build_rest_state takes
+  // the element's mass as rho * rho_scale[e] * V0 / 4 and its rest volume, by which the
+  // T4 forces and strain energy scale, as V0 * E_scale[e] (Neo-Hookean stress is linear
+  // in E at a fixed nu). Empty when every element has the scene's material: the rest state
+  // is then computed exactly as for one body.
+  std::vector<double> rho_scale;      // ntet
+  std::vector<double> E_scale;        // ntet
+  int nbody() const;                  // 1 when node_body is empty
   int nnode() const { return static_cast<int>(X.size() / 3); }
   int ntet() const { return static_cast<int>(tet.size() / 4); }
   int nbtri() const { return static_cast<int>(boundary_tri.size() / 3); }
 };
+
+// The bodies as one mesh with disconnected components: nodes, elements, boundary
+// triangles and surface nodes of body b follow those of body b - 1 (indices offset), and
+// node_body / tet_body say whose they are. rho_scale and E_scale (one per body) are set per
+// element unless they are all 1.
+TetMesh concat_bodies(const std::vector<TetMesh>& bodies, const std::vector<double>& rho_scale,
+                      const std::vector<double>& E_scale);
 
 // Builds a mesh from nodes and tets: flips negatively oriented tets, rejects degenerate
 // ones (InputError naming the element), extracts the boundary.

@@ -39,6 +39,18 @@ Diagnostics measure_diagnostics(const TetMesh& mesh, const HostState& s, const s
     if (s.contact[i] == kStick) ++d.n_stick;
   }
   for (int k = 0; k < 3; ++k) d.centroid[k] = c[k] / mt;
+  if (!mesh.node_body.empty()) {
+    const int nb = mesh.nbody();
+    std::vector<double> bm(nb, 0.0);
+    d.body_centroid.assign(3 * nb, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const int b = mesh.node_body[i];
+      bm[b] += m[i];
+      for (int k = 0; k < 3; ++k) d.body_centroid[3 * b + k] += m[i] * (mesh.X[3 * i + k] + u[k * n + i]);
+    }
+    for (int b = 0; b < nb; ++b)
+      for (int k = 0; k < 3; ++k) d.body_centroid[3 * b + k] /= bm[b];
+  }
   d.se = se;
   for (int i : tracked)
     for (int k = 0; k < 3; ++k) d.tracked.push_back(u[k * n + i]);

@@ -20,6 +20,7 @@ struct Diagnostics {
   int n_contact = 0, n_stick = 0;  // nodes projected this step (by a plane or an obstacle), of which sticking
   double max_u = 0;                // largest displacement magnitude [m]
   std::vector<double> tracked;     // 3 per tracked node: displacement [m]
+  std::vector<double> body_centroid;  // several bodies: 3 per body, mass-weighted [m]; else empty
 };
 
 // Diagnostics of state s at time t; the strain energy se comes from the solver.

@@ -1,6 +1,7 @@
 #include "sim/scene/scene.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -48,11 +49,15 @@ const char* name_of(const Names<E>& names, E value) {
 // Reads keys of a table and remembers which were read, so leftovers can be reported.
 class Reader {
  public:
-  Reader(const toml::table& root, std::string source) : root_(root), source_(std::move(source)) {}
+  // label: how "body.*" keys are named in messages ("body[1]" for the second [[body]]).
+  Reader(const toml::table& root, std::string source, std::string label = "")
+      : root_(root), source_(std::move(source)), label_(std::move(label)) {}
 
   [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
-    throw InputError(source_ + ": " + key + ": " + msg);
+    const std::string shown = !label_.empty() && key.rfind("body.", 0) == 0 ? label_ + key.substr(4) : key;
+    throw InputError(source_ + ": " + shown + ": " + msg);
   }
+  bool used(const std::string& key) const { return used_.count(key) > 0; }
 
   const toml::node* get(const std::string& key) {
     used_.insert(key);
@@ -157,6 +162,7 @@ class Reader {
   void reject_unknown() const {
     for (const auto& [k, v] : root_) {
       const std::string key(k.str());
+      if (key == "body") continue;  // read_bodies checks its own tables
       if (auto t = v.as_table()) {
         for (const auto& [k2, v2] : *t) {
           (void)v2;
@@ -172,6 +178,7 @@ class Reader {
  private:
   const toml::table& root_;
   std::string source_;
+  std::string label_;
   std::set<std::string> used_;
 };
 
@@ -202,7 +209,37 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   }
   const auto dot = key.find('.');
   const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
-  const std::string leaf = dot == std::string::npos ? key : key.substr(dot + 1);
+  std::string leaf = dot == std::string::npos ? key : key.substr(dot + 1);
+  // body.N.key / body.N.material.key: the N-th body (0-based, file order) of [[body]]
+  // tables, or of the one [body] table (N = 0).
+  if (section == "body" && !leaf.empty() && std::isdigit(static_cast<unsigned char>(leaf[0]))) {
+    const auto dot2 = leaf.find('.');
+    const std::string idx = leaf.substr(0, dot2);
+    std::string rest = dot2 == std::string::npos ? "" : leaf.substr(dot2 + 1);
+    if (idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty())
+      throw InputError("--set '" + kv + "': body keys are 'body.N.key' (N = 0, 1, ... in file order)");
+    const std::size_t n = std::stoul(idx);
+    toml::table* body = nullptr;
+    if (auto* arr = root["body"].as_array()) {
+      if (n < arr->size()) body = (*arr)[n].as_table();
+    } else if (n == 0) {
+      if (!root.contains("body")) root.insert("body", toml::table{});
+      body = root["body"].as_table();
+    }
+    if (!body) throw InputError(source + ": --set " + key + ": the scene has no body " + idx);
+    if (rest.rfind("material.", 0) == 0) {
+      rest = rest.substr(9);
+      if (!body->contains("material")) body->insert("material", toml::table{});
+      body = (*body)["material"].as_table();
+      if (!body) throw InputError(source + ": --set " + key + ": 'material' is not a table");
+    }
+    if (rest.empty() || rest.find('.') != std::string::npos)
+      throw InputError("--set '" + kv + "': body keys are 'body.N.key' or 'body.N.material.key'");
+    body->insert_or_assign(rest, *parsed["v"].node());
+    return;
+  }
+  if (section == "body" && root["body"].as_array())
+    throw InputError(source + ": --set " + key + ": the scene has [[body]] tables: use body.N." + leaf);
   if (leaf.empty() || leaf.find('.') != std::string::npos)
     throw InputError("--set '" + kv + "': keys are 'section.key' or 'key'");
   toml::table* target = &root;
@@ -337,6 +374,88 @@ void read_obstacles(Reader& r, Scene& s) {
   }
 }
 
+
+// One body's keys (body.* in table t, under the name label), into b.
+void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b,
+               double* own_nu) {
+  toml::table root;
+  root.insert("body", t);
+  Reader r(root, source, label == "body" ? "" : label);
+  b.key = label;
+  b.shape = r.str("body.shape", b.shape, {"torus", "box", "sphere", "file"});
+  b.radius = r.num("body.radius", b.radius, 0, INFINITY, true);
+  b.subdivisions = r.integer("body.subdivisions", b.subdivisions, 0, 7);
+  b.file = r.str("body.file", "");
+  b.major_radius = r.num("body.major_radius", b.major_radius, 0, INFINITY, true);
+  b.tube_radius = r.num("body.tube_radius", b.tube_radius, 0, INFINITY, true);
+  b.segments = r.ivec<2>("body.segments", b.segments, 3, 4096);
+  b.size = r.vec<3>("body.size", b.size);
+  for (double v : b.size) if (!(v > 0)) r.fail("body.size", "sides must be positive");
+  b.divisions = r.ivec<3>("body.divisions", b.divisions, 1, 1024);
+  b.scale = r.num("body.scale", 1.0, 0, INFINITY, true);
+  b.position = r.vec<3>("body.position", b.position);
+  b.rotation_deg = r.vec<3>("body.rotation_deg", b.rotation_deg);
+  b.velocity = r.vec<3>("body.velocity", b.velocity, kMaxSpeed);
+  if (b.shape == "torus" && !(b.tube_radius < b.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
+  if (b.shape == "file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
+  if (const toml::node* mat = r.get("body.material")) {
+    auto mt = mat->as_table();
+    if (!mt) r.fail("body.material", "expected a table ([body.material]) with E, nu, rho");
+    for (const auto& [k, v] : *mt) {
+      (void)v;
+      const std::string name(k.str());
+      if (name != "E" && name != "nu" && name != "rho")
+        r.fail("body.material." + name, "unknown key (a body's material takes E, nu, rho; model and element are "
+                                        "the scene's [material])");
+    }
+    b.own_E = r.num("body.material.E", -1, 0, kMaxYoungsModulus, true);
+    b.own_rho = r.num("body.material.rho", -1, 0, kMaxDensity, true);
+    *own_nu = r.num("body.material.nu", -2, -1, 0.5, false);
+  }
+  for (const auto& [k, v] : t) {
+    (void)v;
+    const std::string name(k.str());
+    if (!r.used("body." + name)) r.fail("body." + name, "unknown key (see README, 'Scene format')");
+  }
+}
+
+// [body] (one body) or [[body]] tables (at most kMaxBodies), each with body.* keys and
+// optionally [body.material]. Body 0 goes into the Scene's own BodyDesc.
+void read_bodies(Reader& r, const toml::table& root, Scene& s, std::vector<double>& own_nu) {
+  const toml::node* node = r.get("body");
+  std::vector<const toml::table*> tables;
+  bool array = false;
+  const toml::table empty;
+  if (!node) {
+    tables.push_back(&empty);
+  } else if (auto t = node->as_table()) {
+    tables.push_back(t);
+  } else if (auto a = node->as_array()) {
+    array = true;
+    if (a->empty()) r.fail("body", "expected at least one [[body]] table");
+    if (a->size() > std::size_t(kMaxBodies))
+      r.fail("body", "at most " + std::to_string(kMaxBodies) + " bodies (kMaxBodies), got " + std::to_string(a->size()));
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      auto t = (*a)[i].as_table();
+      if (!t) r.fail("body[" + std::to_string(i) + "]", "expected a table ([[body]])");
+      tables.push_back(t);
+    }
+  } else {
+    r.fail("body", "expected a [body] table or [[body]] tables");
+  }
+  (void)root;
+  own_nu.assign(tables.size(), -2);
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const std::string label = array ? "body[" + std::to_string(i) + "]" : "body";
+    if (i == 0) {
+      read_body(*tables[i], s.source, label, s, &own_nu[i]);
+    } else {
+      BodyDesc b;
+      read_body(*tables[i], s.source, label, b, &own_nu[i]);
+      s.more_bodies.push_back(b);
+    }
+  }
+}
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
@@ -352,26 +471,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   Reader r(root, source);
   Scene s;
   s.source = source;
+  std::vector<double> own_nu;  // per body: [body.material] nu, -2 when not given
   const std::string units = r.str("units", "mm", {"m", "mm"});
   s.length_unit = units == "mm" ? 1e-3 : 1.0;
 
-  s.shape = r.str("body.shape", s.shape, {"torus", "box", "sphere", "file"});
-  s.radius = r.num("body.radius", s.radius, 0, INFINITY, true);
-  s.subdivisions = r.integer("body.subdivisions", s.subdivisions, 0, 7);
-  s.file = r.str("body.file", "");
-  s.major_radius = r.num("body.major_radius", s.major_radius, 0, INFINITY, true);
-  s.tube_radius = r.num("body.tube_radius", s.tube_radius, 0, INFINITY, true);
-  s.segments = r.ivec<2>("body.segments", s.segments, 3, 4096);
-  s.size = r.vec<3>("body.size", s.size);
-  for (double v : s.size) if (!(v > 0)) r.fail("body.size", "sides must be positive");
-  s.divisions = r.ivec<3>("body.divisions", s.divisions, 1, 1024);
-  s.scale = r.num("body.scale", 1.0, 0, INFINITY, true);
-  s.position = r.vec<3>("body.position", s.position);
-  s.rotation_deg = r.vec<3>("body.rotation_deg", s.rotation_deg);
-  s.velocity = r.vec<3>("body.velocity", s.velocity, kMaxSpeed);
-  if (s.shape == "torus" && !(s.tube_radius < s.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
-  if (s.shape == "file" && s.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
-
+  read_bodies(r, root, s, own_nu);
   read_mesh_keys(r, s);
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
@@ -420,6 +524,16 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
   s.rho = r.num("material.rho", s.rho, 0, kMaxDensity, true);
+  for (int i = 0; i < s.body_count(); ++i) {
+    const std::string key = s.body(i).key;
+    if (own_nu[i] > -2 && own_nu[i] != s.nu)
+      throw InputError(s.source + ": " + key + ".material.nu: a body's own nu is not supported yet (its E and rho are); "
+                       "it must equal material.nu or be left out");
+    if (s.element == kT4ANP && ((s.body(i).own_E > 0 && s.body(i).own_E != s.E) ||
+                                (s.body(i).own_rho > 0 && s.body(i).own_rho != s.rho)))
+      throw InputError(s.source + ": " + key + ".material: per-body materials are implemented for material.element = "
+                       "\"T4\" only");
+  }
   s.alpha = r.num("damping.alpha", s.alpha, 0, kMaxAlpha);
   s.beta = r.num("damping.beta", s.beta, 0, kMaxBeta);
   s.g = r.vec<3>("gravity.g", s.g, kMaxGravity);
@@ -436,6 +550,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.contact_mode = r.choice("contact.mode", s.contact_mode, kContactModes);
   s.mu = r.num("contact.mu", s.mu, 0, kMaxMu);
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
+  s.contact_bodies = r.boolean("contact.bodies", true);
+  s.contact_self = r.boolean("contact.self", false);
+  if (s.contact_self)
+    r.fail("contact.self", "self-contact is not yet supported (body-body contact is: contact.bodies)");
 
   {
     const toml::node* dt = r.get("time.dt");

@@ -12,11 +12,14 @@
 
 namespace softtled {
 
-struct Scene {
-  std::string source;      // file it came from (messages, relative paths)
-  double length_unit = 1e-3;  // metres per scene length unit ("mm" by default)
+// The most bodies a scene may hold ([[body]] tables). Body-body contact tests every pair
+// of bodies' bounding boxes each step (B^2 / 2 tests), the CSV has 3 columns per body and
+// every body is meshed by its own TetGen run at start-up; 32 keeps all three small.
+constexpr int kMaxBodies = 32;
 
-  // [body]
+// One body: today's body.* keys, and optionally its own [body.material].
+struct BodyDesc {
+  std::string key = "body";     // how messages name it: "body" ([body]) or "body[i]" ([[body]])
   std::string shape = "torus";  // torus | box | sphere | file
   std::string file;             // surface file for shape = "file"
   double major_radius = 7.5, tube_radius = 2.5;  // torus [units]
@@ -29,6 +32,25 @@ struct Scene {
   std::array<double, 3> position = {0, 0, 0};    // [units]
   std::array<double, 3> rotation_deg = {0, 0, 0};  // about x, then y, then z
   std::array<double, 3> velocity = {0, 0, 0};    // [m/s]
+  // [body.material]: E and rho of this body (nu must equal material.nu); < 0: the scene's.
+  double own_E = -1, own_rho = -1;
+};
+
+// Body 0's keys are the Scene's own (a one-body scene reads and edits them as before);
+// bodies 1.. are in more_bodies.
+struct Scene : BodyDesc {
+  std::string source;      // file it came from (messages, relative paths)
+  double length_unit = 1e-3;  // metres per scene length unit ("mm" by default)
+
+  // [[body]] tables after the first (the first is the BodyDesc base)
+  std::vector<BodyDesc> more_bodies;
+  int body_count() const { return 1 + int(more_bodies.size()); }
+  const BodyDesc& body(int i) const { return i == 0 ? static_cast<const BodyDesc&>(*this) : more_bodies[i - 1]; }
+  BodyDesc& body(int i) { return i == 0 ? static_cast<BodyDesc&>(*this) : more_bodies[i - 1]; }
+  double body_E(int i) const { return body(i).own_E > 0 ? body(i).own_E : E; }
+  double body_rho(int i) const { return body(i).own_rho > 0 ? body(i).own_rho : rho; }
+  // Whether body-body contact runs: contact.bodies (default: true) and >= 2 bodies.
+  bool body_contact() const { return contact_bodies && body_count() >= 2; }
 
   // [mesh]  (TetGen)
   TetgenOptions tetgen;        // max_volume here in [units^3]
@@ -59,6 +81,8 @@ struct Scene {
   ContactMode contact_mode = kSliding;  // sliding | static | coulomb
   double mu = 0.5;
   std::string contact_nodes = "boundary";  // boundary | all
+  bool contact_bodies = true;  // body-body contact (with >= 2 bodies)
+  bool contact_self = false;   // self-contact: parsed, true is refused (not yet supported)
 
   // [time]
   bool dt_auto = true;

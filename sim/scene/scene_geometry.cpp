@@ -1,9 +1,12 @@
 #include "sim/scene/scene_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "sim/core/body_view.h"
 #include "sim/mesh/surface_generators.h"
@@ -11,13 +14,15 @@
 
 namespace softtled {
 
-SurfaceMesh scene_shape_surface(const Scene& s) {
+SurfaceMesh scene_shape_surface(const Scene& sc, int body) {
+  const BodyDesc& s = sc.body(body);
+  const std::string& K = s.key;
   SurfaceMesh m;
   // Generator and loader errors are prefixed with the scene file and the keys behind them.
-  const std::string keys = s.shape == "torus"    ? "body.major_radius/body.tube_radius/body.segments"
-                           : s.shape == "box"    ? "body.size/body.divisions"
-                           : s.shape == "sphere" ? "body.radius/body.subdivisions"
-                                                 : "body.file";
+  const std::string keys = s.shape == "torus"    ? K + ".major_radius/" + K + ".tube_radius/" + K + ".segments"
+                           : s.shape == "box"    ? K + ".size/" + K + ".divisions"
+                           : s.shape == "sphere" ? K + ".radius/" + K + ".subdivisions"
+                                                 : K + ".file";
   try {
     if (s.shape == "torus") {
       m = make_torus(s.major_radius, s.tube_radius, s.segments[0], s.segments[1]);
@@ -27,18 +32,19 @@ SurfaceMesh scene_shape_surface(const Scene& s) {
       m = make_sphere(s.radius, s.subdivisions);
     } else {
       std::string path = s.file;
-      const auto slash = s.source.find_last_of('/');
-      if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = s.source.substr(0, slash + 1) + path;
+      const auto slash = sc.source.find_last_of('/');
+      if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = sc.source.substr(0, slash + 1) + path;
       m = load_surface(path);
       for (double& v : m.xyz) v *= s.scale;
     }
   } catch (const InputError& e) {
-    throw InputError(s.source + ": " + keys + ": " + e.what());
+    throw InputError(sc.source + ": " + keys + ": " + e.what());
   }
   return m;
 }
 
-void place_surface(const Scene& s, SurfaceMesh& m) {
+void place_surface(const Scene& sc, SurfaceMesh& m, int body) {
+  const BodyDesc& s = sc.body(body);
   const double pi = 3.14159265358979323846;
   const double ax = s.rotation_deg[0] * pi / 180, ay = s.rotation_deg[1] * pi / 180, az = s.rotation_deg[2] * pi / 180;
   for (int i = 0; i < m.npoint(); ++i) {
@@ -51,24 +57,26 @@ void place_surface(const Scene& s, SurfaceMesh& m) {
     x = p[0] * std::cos(az) - p[1] * std::sin(az);
     y = p[0] * std::sin(az) + p[1] * std::cos(az);
     p[0] = x, p[1] = y;
-    for (int k = 0; k < 3; ++k) p[k] = (p[k] + s.position[k]) * s.length_unit;
+    for (int k = 0; k < 3; ++k) p[k] = (p[k] + s.position[k]) * sc.length_unit;
   }
 }
 
-SurfaceMesh scene_surface(const Scene& s) {
-  SurfaceMesh m = scene_shape_surface(s);
+SurfaceMesh scene_surface(const Scene& sc, int body) {
+  const BodyDesc& s = sc.body(body);
+  const std::string& K = s.key;
+  SurfaceMesh m = scene_shape_surface(sc, body);
   {  // the body's own shape in metres, before it is placed: its size comes from these keys
     SurfaceMesh metres = m;
-    for (double& v : metres.xyz) v *= s.length_unit;
-    const char* keys = s.shape == "torus"  ? "body.major_radius/body.tube_radius/body.segments"
-                       : s.shape == "box"  ? "body.size/body.divisions"
-                       : s.shape == "sphere" ? "body.radius/body.subdivisions"
-                                           : "body.file/body.scale";
-    check_surface_for_meshing(metres, s.source + ": " + keys + " (units = \"" + (s.length_unit == 1 ? "m" : "mm") +
+    for (double& v : metres.xyz) v *= sc.length_unit;
+    const std::string keys = s.shape == "torus"  ? K + ".major_radius/" + K + ".tube_radius/" + K + ".segments"
+                       : s.shape == "box"  ? K + ".size/" + K + ".divisions"
+                       : s.shape == "sphere" ? K + ".radius/" + K + ".subdivisions"
+                                           : K + ".file/" + K + ".scale";
+    check_surface_for_meshing(metres, sc.source + ": " + keys + " (units = \"" + (sc.length_unit == 1 ? "m" : "mm") +
                                           "\"): surface to mesh");
   }
-  place_surface(s, m);
-  check_surface_for_meshing(m, s.source + ": body.position/body.rotation_deg: surface to mesh");
+  place_surface(sc, m, body);
+  check_surface_for_meshing(m, sc.source + ": " + K + ".position/" + K + ".rotation_deg: surface to mesh");
   return m;
 }
 
@@ -239,6 +247,89 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
                          (obstacles[o].shape == kObstacleCapsule ? "end a" : "centre") + " lies in element " +
                          std::to_string(e) + "); move body.position or the obstacle");
     }
+  }
+}
+
+}  // namespace softtled
+
+namespace softtled {
+
+void check_bodies_apart(const Scene& s, const TetMesh& m) {
+  const int nb = m.nbody();
+  if (nb < 2) return;
+  // Bounding box of each body's nodes; the surface nodes inside another body's box go
+  // into a grid (cell: twice the mean element box), then each element is tested against
+  // the other bodies' nodes in the cells its box covers.
+  std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()), hi(3 * nb, -std::numeric_limits<double>::infinity());
+  for (int i = 0; i < m.nnode(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int b = m.node_body[i];
+      lo[3 * b + k] = std::min(lo[3 * b + k], m.X[3 * i + k]);
+      hi[3 * b + k] = std::max(hi[3 * b + k], m.X[3 * i + k]);
+    }
+  auto in_box = [&](const double* x, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (x[k] < lo[3 * b + k] || x[k] > hi[3 * b + k]) return false;
+    return true;
+  };
+  auto tet_box = [&](int e, double* elo, double* ehi) {
+    const int* t = &m.tet[4 * e];
+    for (int k = 0; k < 3; ++k) {
+      elo[k] = std::min(std::min(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::min(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
+      ehi[k] = std::max(std::max(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::max(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
+    }
+  };
+  double extent = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    extent += std::max(ehi[0] - elo[0], std::max(ehi[1] - elo[1], ehi[2] - elo[2]));
+  }
+  const double h = 2 * extent / std::max(1, m.ntet());
+  if (!(h > 0)) return;
+  auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
+  auto key = [](long long x, long long y, long long z) {  // unsigned: wraps, never overflows
+    return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
+           (static_cast<unsigned long long>(z) * 83492791ull);
+  };
+  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
+  for (int i : m.surface_nodes) {
+    const double* x = &m.X[3 * i];
+    bool near = false;
+    for (int b = 0; b < nb && !near; ++b) near = b != m.node_body[i] && in_box(x, b);
+    if (near) grid[key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
+  }
+  if (grid.empty()) return;
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    const int be = m.tet_body[e];
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    bool near = false;
+    for (int b = 0; b < nb && !near; ++b) {
+      if (b == be) continue;
+      near = true;
+      for (int k = 0; k < 3; ++k) near = near && elo[k] <= hi[3 * b + k] && ehi[k] >= lo[3 * b + k];
+    }
+    if (!near) continue;
+    for (long long cx = cell(elo[0]); cx <= cell(ehi[0]); ++cx)
+      for (long long cy = cell(elo[1]); cy <= cell(ehi[1]); ++cy)
+        for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
+          const auto it = grid.find(key(cx, cy, cz));
+          if (it == grid.end()) continue;
+          for (int i : it->second) {
+            const int b = m.node_body[i];
+            if (b == be) continue;
+            const double* x = &m.X[3 * i];
+            bool in = true;
+            for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
+            if (in && in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
+              throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key +
+                               " overlap at the start (a node of " + s.body(b).key + " lies in element " +
+                               std::to_string(e) + " of " + s.body(be).key + "); move " + s.body(b).key +
+                               ".position or " + s.body(be).key + ".position");
+          }
+        }
   }
 }
 

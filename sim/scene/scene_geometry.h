@@ -18,9 +18,10 @@ namespace softtled {
 // place_surface (body.rotation_deg about x, y, z, then body.position, then to metres).
 // Both stages are checked fit for TetGen (check_surface_for_meshing): InputErrors start
 // with "SCENE: body.scale: ..." (the shape's keys) or "SCENE: body.position/body.rotation_deg: ".
-SurfaceMesh scene_surface(const Scene& s);
-SurfaceMesh scene_shape_surface(const Scene& s);
-void place_surface(const Scene& s, SurfaceMesh& m);
+// body: which body (0-based, file order); messages name its keys (body.* or body[i].*).
+SurfaceMesh scene_surface(const Scene& s, int body = 0);
+SurfaceMesh scene_shape_surface(const Scene& s, int body = 0);
+void place_surface(const Scene& s, SurfaceMesh& m, int body = 0);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);
@@ -44,5 +45,8 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
 // (signed distance < 0) or its centre (a capsule: its end a) lies in one of the body's
 // elements (a small obstacle between the nodes).
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles);
+// Bodies must not overlap at the start (body-body contact would shoot them apart):
+// InputError naming both bodies when a node of one lies in an element of another.
+void check_bodies_apart(const Scene& s, const TetMesh& m);
 
 }  // namespace softtled

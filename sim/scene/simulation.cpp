@@ -35,12 +35,34 @@ double dilatational_wave_speed(double E, double nu, double rho) {
 }
 
 Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(scene) {
-  const SurfaceMesh surface = scene_surface(scene_);
-  mesh_ = scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
-                            : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
+  // Each body meshed by itself (TetGen, cached), then one mesh of disconnected bodies.
+  auto mesh_body = [&](int b) {
+    const SurfaceMesh surface = scene_surface(scene_, b);
+    return scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
+                             : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
+  };
+  std::string backend_used = backend;
+  if (scene_.body_count() == 1) {
+    mesh_ = mesh_body(0);
+  } else {
+    if (scene_.body_contact() && backend == "cuda")
+      throw InputError(scene_.source + ": contact.bodies: body-body contact runs on the CPU backend only for now; "
+                       "use --backend cpu (or auto), or set contact.bodies = false");
+    if (scene_.body_contact() && backend == "auto") backend_used = "cpu";
+    std::vector<TetMesh> parts;
+    std::vector<double> rho_scale, E_scale;
+    for (int b = 0; b < scene_.body_count(); ++b) {
+      parts.push_back(mesh_body(b));
+      rho_scale.push_back(scene_.body_rho(b) / scene_.rho);
+      E_scale.push_back(scene_.body_E(b) / scene_.E);
+      c_factor_ = std::max(c_factor_, std::sqrt(E_scale.back() / rho_scale.back()));
+    }
+    mesh_ = concat_bodies(parts, rho_scale, E_scale);
+    check_bodies_apart(scene_, mesh_);
+  }
   flags_ = scene_node_flags(scene_, mesh_, &n_fixed_);
   std::string note;
-  solver_ = make_solver(backend, mesh_, scene_.rho, flags_, scene_.precision, &note);
+  solver_ = make_solver(backend_used, mesh_, scene_.rho, flags_, scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
@@ -57,6 +79,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   check_body_outside_obstacles(scene_, mesh_, params_.obstacles);
   params_.contact_mode = scene_.contact_mode;
   params_.mu = scene_.mu;
+  params_.body_contact = scene_.body_contact();
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
   params_.dt_auto = scene_.dt_auto;
   params_.dt_adaptive = scene_.dt_adaptive;
@@ -89,12 +112,20 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 std::string Simulation::set_params(const PhysicsParams& p) {
   drop_estimate();  // of the old parameters
   PhysicsParams q = p;
+  // Body-body contact: only between several bodies, only on the CPU backend.
+  if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
+  if (q.body_contact && !params_.body_contact && solver_->backend().rfind("cuda", 0) == 0)
+    throw InputError("contact.bodies: body-body contact runs on the CPU backend only for now");
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
   if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||
       !(q.beta >= 0 && std::isfinite(q.beta)))
     throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, finite alpha, finite beta >= 0");
+  // With per-body materials the fastest body's wave speed (c_factor_: max sqrt(E_b rho /
+  // (E rho_b))) with the smallest element anywhere: conservative. 2/omega_max below sees
+  // every body's own material (the rest state's scales).
   ts_.c = dilatational_wave_speed(q.E, q.nu, scene_.rho);
+  if (c_factor_ != 1.0) ts_.c *= c_factor_;
   if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
   ts_.dt_le = ts_.min_Le / ts_.c;
   if (q.nu != eigen_nu_ || q.material_model != eigen_model_) {
@@ -287,6 +318,10 @@ void Simulation::apply_initial_state() {
     const double a0 = params_.g[k] - params_.alpha * scene_.velocity[k];
     for (int i = 0; i < n; ++i)
       s.du[k * n + i] = (flags_[i] & kNodeFixed) ? 0.0 : scene_.velocity[k] * dt - 0.5 * a0 * dt * dt;
+    for (int i = 0; i < n && !mesh_.node_body.empty(); ++i) {  // several bodies: each its own velocity
+      const double v = scene_.body(mesh_.node_body[i]).velocity[k], a = params_.g[k] - params_.alpha * v;
+      s.du[k * n + i] = (flags_[i] & kNodeFixed) ? 0.0 : v * dt - 0.5 * a * dt * dt;
+    }
   }
   solver_->set_state(s);
   state_changed();

@@ -183,6 +183,7 @@ class Simulation {
   // work_ [J] done up to the displacements work_u_.
   std::vector<double> fext_, work_u_;
   double work_ = 0;
+  double c_factor_ = 1;  // per-body materials: the fastest body's wave speed / the scene's
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
   int eigen_model_ = -1;
   long total_steps_ = 0, last_good_total_ = 0;

@@ -18,6 +18,7 @@
 #include <utility>
 #include <stdexcept>
 
+#include "sim/contact/body_contact_cpu.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/fem/stiffness_probe.h"
 #include "sim/fem/surface_render.h"
@@ -38,7 +39,8 @@ template <class T>
 class CpuSolver final : public Solver {
  public:
   CpuSolver(const TetMesh& mesh, double rho, const std::vector<std::uint8_t>& flags, int threads)
-      : rest_(build_rest_state<T>(mesh, rho, flags)), surf_(build_surface_topology(mesh)) {
+      : rest_(build_rest_state<T>(mesh, rho, flags)), surf_(build_surface_topology(mesh)),
+        bodies_(mesh, rest_.inv_mass) {
     set_cpu_threads(threads);
     const int n = rest_.nnode;
     u_.assign(3 * n, T(0));
@@ -86,15 +88,38 @@ class CpuSolver final : public Solver {
     // The first step after a change of dt spans the midpoint step (change_step).
     const StepParams<T> first = dt_mid_ > 0 ? step_params_from<T>(params_, dt_mid_) : c.step;
     if (nsteps > 0) dt_mid_ = 0;
+    // Body-body contact (body_contact_cpu.h): one thread, after the node stage's barrier.
+    const bool bodies = params_.body_contact && !bodies_.empty();
+    CpuBodyContact<T>& bc = bodies_;
     if (simd_) {
       const CpuBlocks<T>& k = blocks_;
       const SimdAnpScratch<T> sa = simd_scratch();
       BodyStateView<T> bb = b;
       bb.fcorner = fblk_.data();
+      if (bodies) {  // a loop of its own: the one-body loop below stays as it was
+#pragma omp parallel num_threads(threads_)
+        for (long s = 0; s < nsteps; ++s) {
+          cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
+          cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
+#pragma omp single
+          bc.apply(m.X0, bb.u, bb.du, bb.ub, c.step.beta_dt, bb.contact, c.step.contact.mode, c.step.contact.mu);
+        }
+        return;
+      }
 #pragma omp parallel num_threads(threads_)
       for (long s = 0; s < nsteps; ++s) {
         cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
         cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
+      }
+      return;
+    }
+    if (bodies) {
+#pragma omp parallel num_threads(threads_)
+      for (long s = 0; s < nsteps; ++s) {
+        cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
+        cpu_node_stage(m, b, s == 0 ? first : c.step);
+#pragma omp single
+        bc.apply(m.X0, b.u, b.du, b.ub, c.step.beta_dt, b.contact, c.step.contact.mode, c.step.contact.mu);
       }
       return;
     }
@@ -258,6 +283,7 @@ class CpuSolver final : public Solver {
   bool simd_ = true;  // the SIMD stages (cpu_simd.h), else the scalar ones (cpu_step.h)
   RestArrays<T> rest_;
   SurfaceTopology surf_;
+  CpuBodyContact<T> bodies_;  // several bodies: body-body contact (empty for one body)
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty

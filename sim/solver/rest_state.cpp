@@ -31,8 +31,13 @@ RestArrays<T> build_rest_state(const TetMesh& m, double rho, const std::vector<s
     if (!(det > 0)) throw InputError("element " + std::to_string(e) + " has non-positive rest volume");
     for (int c = 0; c < 12; ++c) r.dhdX[c * ne + e] = T(g[c]);
     const double V0 = det / 6.0;
-    r.vol[e] = T(V0);
-    for (int a = 0; a < 4; ++a) r.mass[t[a]] += rho * V0 / 4.0;
+    if (m.E_scale.empty()) {  // one material: exactly the one-body rest state
+      r.vol[e] = T(V0);
+      for (int a = 0; a < 4; ++a) r.mass[t[a]] += rho * V0 / 4.0;
+    } else {  // per-body material (tet_mesh.h): stiffness through the volume, density per element
+      r.vol[e] = T(V0 * m.E_scale[e]);
+      for (int a = 0; a < 4; ++a) r.mass[t[a]] += rho * m.rho_scale[e] * V0 / 4.0;
+    }
   }
   r.flags = flags;
   r.inv_mass.resize(n);

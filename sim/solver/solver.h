@@ -84,6 +84,9 @@ struct PhysicsParams {
   std::vector<ObstacleSpec> obstacles;
   ContactMode contact_mode = kSliding;
   double mu = 0.5;             // Coulomb coefficient
+  // Body-body contact (body_contact.h) between the mesh's bodies (TetMesh::node_body);
+  // the CPU backend runs it, the Simulation refuses it on CUDA.
+  bool body_contact = false;
 };
 
 // Host copy of the live state, struct-of-arrays, always in double.
