@@ -66,8 +66,12 @@ int stop_signal() { return int(g_stop); }
 
 int exit_code_for_signal(int sig) { return sig == SIGINT ? kExitSigint : sig == SIGTERM ? kExitSigterm : 128 + sig; }
 
-std::string resolve_backend(const std::string& requested) {
+std::string resolve_backend(const std::string& requested, const Scene* scene) {
   if (requested != "auto") return requested;
+  if (scene && scene->body_count() > 1 && scene->body_contact()) {  // a stage with no GPU version yet
+    if (g_verbose) std::fprintf(stderr, "backend auto: body-body contact runs on the CPU only; running on the CPU\n");
+    return "cpu";
+  }
 #if defined(SOFTTLED_HAVE_CUDA)
   std::string why;
   if (cuda::device_count(&why) > 0) return "cuda";
@@ -80,7 +84,7 @@ std::string resolve_backend(const std::string& requested) {
 
 std::unique_ptr<Simulation> make_simulation(const Scene& s, const std::string& backend) {
   try {
-    return std::make_unique<Simulation>(s, resolve_backend(backend));
+    return std::make_unique<Simulation>(s, resolve_backend(backend, &s));
   } catch (const InputError& e) {
     const std::string what = e.what();
     if (what.compare(0, s.source.size(), s.source) == 0) throw;
