@@ -92,7 +92,7 @@ void DragSpring::forces(const TetMesh& m, const HostState& s, double dt, std::ve
   const int n = m.nnode();
   f.assign(3 * std::size_t(n), 0.0);
   if (!active) return;
-  const double c = std::sqrt(double(stiffness) * std::max(grabbed_mass, 1e-12f));  // half of critical: 2 sqrt(k m) / 2
+  const double c = damper();
   // Cap the total pull (the spring stretched far off-screen must not fling the body).
   const Vec3 stretch = target - grab_point(m, s);
   const float pull = stiffness * length(stretch);
@@ -108,13 +108,17 @@ void DragSpring::forces(const TetMesh& m, const HostState& s, double dt, std::ve
   }
 }
 
+double DragSpring::damper() const {
+  return std::sqrt(double(stiffness) * std::max(grabbed_mass, 1e-12f));  // half of critical: 2 sqrt(k m) / 2
+}
+
 double DragSpring::max_hold_time() const {
   // A force held for a time h from the state at its start: a spring k_j on mass m_j stays
   // stable for h sqrt(k_j / m_j) well below 2 (0.3 keeps the pull smooth), a damper c_j for
   // h c_j / m_j below 2 (0.5 keeps it from overshooting). A node near the grab point can
   // carry a large weight and a small mass: with the body's total mass instead, a light
   // rim node's held damper overshot, rang and inverted its elements (T4ANP, E = 3 kPa).
-  const double c = std::sqrt(double(stiffness) * std::max(double(grabbed_mass), 1e-12));
+  const double c = damper();
   double h = 5e-4;
   for (std::size_t j = 0; j < nodes.size(); ++j) {
     const double mj = std::max(double(node_mass[j]), 1e-12), wj = weight[j];

@@ -56,6 +56,7 @@ struct DragSpring {
   // per grabbed node, its share of the spring (k w_j) and of the damper (c w_j) against
   // its own mass, since the weights follow distance, not mass.
   double max_hold_time() const;
+  double damper() const;  // the damping constant c [N s/m] of forces()
 };
 
 }  // namespace softtled

@@ -84,27 +84,4 @@ SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], con
   return r;
 }
 
-// Signed distance of x from the triangle (a, b, c) (outward normal by the corner order) when
-// its projection falls inside the triangle; false otherwise. Diagnostics and tests.
-template <class T>
-inline bool distance_to_triangle_plane(const T x[3], const T a[3], const T b[3], const T c[3], T* dist) {
-  const T e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const T e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  T n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-  const T nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(nn > T(0))) return false;
-  const T q[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
-  const T d11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-  const T d12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
-  const T d22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-  const T q1 = q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2];
-  const T q2 = q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2];
-  const T den = d11 * d22 - d12 * d12;
-  if (!(den > T(0))) return false;
-  const T wb = (d22 * q1 - d12 * q2) / den, wc = (d11 * q2 - d12 * q1) / den, wa = T(1) - wb - wc;
-  if (wa < T(0) || wb < T(0) || wc < T(0)) return false;
-  *dist = (n[0] * q[0] + n[1] * q[1] + n[2] * q[2]) / nn;
-  return true;
-}
-
 }  // namespace softtled

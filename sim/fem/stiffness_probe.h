@@ -4,7 +4,7 @@
 // matrix-vector product is a directional difference of the internal force,
 //   K(u) v ~ (f(u + a v) - f(u)) / a,
 // the element and gather stages of the step run on a perturbed displacement. These are
-// its per-node value functions; the backends' loops (CpuSolver::estimate_omega_max, the
+// its per-node value functions; the backends' loops (CpuSolver::power_iteration, the
 // CUDA probe kernels in cuda/tled_probe.cu) call them.
 //
 // The estimate ||M^-1 K v||_M / ||v||_M (M-weighted norms: the ratio for the symmetric

@@ -22,6 +22,14 @@ double tet_signed_volume(const double* a, const double* b, const double* c, cons
           u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
 }
 
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
+  const double v = tet_signed_volume(a, b, c, d);
+  if (v == 0) return false;
+  const double l[4] = {tet_signed_volume(x, b, c, d) / v, tet_signed_volume(a, x, c, d) / v,
+                       tet_signed_volume(a, b, x, d) / v, tet_signed_volume(a, b, c, x) / v};
+  return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
+}
+
 double tet_mesh_volume(const TetMesh& m) {
   double v = 0;
   for (int e = 0; e < m.ntet(); ++e) {

@@ -40,6 +40,9 @@ TetMesh concat_bodies(const std::vector<TetMesh>& bodies, const std::vector<doub
 TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet);
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
+// Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four
+// sub-volumes (barycentric coordinates); false for a degenerate tet.
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x);
 // Sum of the signed element volumes [m^3].
 double tet_mesh_volume(const TetMesh& m);
 

@@ -202,26 +202,6 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
   }
 }
 
-}  // namespace softtled
-
-namespace softtled {
-
-namespace {
-// Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four
-// sub-volumes (barycentric coordinates).
-bool in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
-  auto vol = [](const double* p, const double* q, const double* r, const double* s) {
-    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]},
-                 w[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
-    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
-  };
-  const double v = vol(a, b, c, d);
-  if (v == 0) return false;
-  const double l[4] = {vol(x, b, c, d) / v, vol(a, x, c, d) / v, vol(a, b, x, d) / v, vol(a, b, c, x) / v};
-  return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
-}
-}  // namespace
-
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles) {
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
@@ -242,7 +222,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     const double* c = obstacles[o].center;
     for (int e = 0; e < m.ntet(); ++e) {
       const int* t = &m.tet[4 * e];
-      if (in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], c))
+      if (point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], c))
         throw InputError(key + ": the obstacle starts inside the body (its " +
                          (obstacles[o].shape == kObstacleCapsule ? "end a" : "centre") + " lies in element " +
                          std::to_string(e) + "); move body.position or the obstacle");
@@ -323,7 +303,7 @@ void check_bodies_apart(const Scene& s, const TetMesh& m) {
             const double* x = &m.X[3 * i];
             bool in = true;
             for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
-            if (in && in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
+            if (in && point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
               throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key +
                                " overlap at the start (a node of " + s.body(b).key + " lies in element " +
                                std::to_string(e) + " of " + s.body(be).key + "); move " + s.body(b).key +

@@ -1,7 +1,6 @@
 #include "sim/scene/simulation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>

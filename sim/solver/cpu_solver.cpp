@@ -144,6 +144,46 @@ class CpuSolver final : public Solver {
   }
   OmegaEstimate end_omega_max() override { return omega_; }
 
+  void get_state(HostState& s) const override {
+    s.u.assign(u_.begin(), u_.end());
+    s.du.assign(du_.begin(), du_.end());
+    s.contact = contact_;
+  }
+
+  void set_state(const HostState& s) override {
+    if (s.u.size() != u_.size() || s.du.size() != du_.size()) throw std::invalid_argument("set_state: size");
+    std::transform(s.u.begin(), s.u.end(), u_.begin(), [](double v) { return T(v); });
+    std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
+    if (s.contact.size() == contact_.size()) contact_ = s.contact;
+    refresh_ub();
+    dt_mid_ = 0;
+  }
+
+  double strain_energy() const override {
+    return cpu_strain_energy(mesh_, cfg_.mat, cfg_.element, u_.data(), energy_vol_, energy_, threads_);
+  }
+
+  void set_external_forces(const std::vector<double>& f) override {
+    if (f.empty()) {
+      fext_.clear();
+      return;
+    }
+    if (f.size() != u_.size()) throw std::invalid_argument("set_external_forces: size");
+    fext_.assign(f.begin(), f.end());
+  }
+
+  const std::vector<double>& lumped_mass() const override { return rest_.mass; }
+  const std::vector<std::uint8_t>& node_flags() const override { return rest_.flags; }
+
+  bool render_buffer_on_device() const override { return false; }
+  void write_render_vertices(float* dst) override {
+    const SurfaceView sv = surf_.view();
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
+  }
+
+ private:
+  // The power iteration of stiffness_probe.h on this backend's own element stage and gather.
   double power_iteration(int iterations, double a, bool restart) {
     const int n = rest_.nnode;
     const std::size_t n3 = 3 * std::size_t(n);
@@ -186,45 +226,6 @@ class CpuSolver final : public Solver {
     return std::sqrt(lambda);
   }
 
-  void get_state(HostState& s) const override {
-    s.u.assign(u_.begin(), u_.end());
-    s.du.assign(du_.begin(), du_.end());
-    s.contact = contact_;
-  }
-
-  void set_state(const HostState& s) override {
-    if (s.u.size() != u_.size() || s.du.size() != du_.size()) throw std::invalid_argument("set_state: size");
-    std::transform(s.u.begin(), s.u.end(), u_.begin(), [](double v) { return T(v); });
-    std::transform(s.du.begin(), s.du.end(), du_.begin(), [](double v) { return T(v); });
-    if (s.contact.size() == contact_.size()) contact_ = s.contact;
-    refresh_ub();
-    dt_mid_ = 0;
-  }
-
-  double strain_energy() const override {
-    return cpu_strain_energy(mesh_, cfg_.mat, cfg_.element, u_.data(), energy_vol_, energy_, threads_);
-  }
-
-  void set_external_forces(const std::vector<double>& f) override {
-    if (f.empty()) {
-      fext_.clear();
-      return;
-    }
-    if (f.size() != u_.size()) throw std::invalid_argument("set_external_forces: size");
-    fext_.assign(f.begin(), f.end());
-  }
-
-  const std::vector<double>& lumped_mass() const override { return rest_.mass; }
-  const std::vector<std::uint8_t>& node_flags() const override { return rest_.flags; }
-
-  bool render_buffer_on_device() const override { return false; }
-  void write_render_vertices(float* dst) override {
-    const SurfaceView sv = surf_.view();
-#pragma omp parallel for schedule(static) num_threads(threads_)
-    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
-  }
-
- private:
   // Summed internal force per node (3 x nnode) at displacement u: the step's element
   // stage and gather. Uses fcorner_ and the T4ANP scratch, which the next step rewrites.
   void internal_forces(const T* u, T* f) {
@@ -287,7 +288,7 @@ class CpuSolver final : public Solver {
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty
-  // estimate_omega_max: the warm vector v (max-norm 1), f(u), M^-1 K v, u + a v (3 x nnode)
+  // power_iteration: the warm vector v (max-norm 1), f(u), M^-1 K v, u + a v (3 x nnode)
   std::vector<T> probe_v_, probe_f0_, probe_w_, probe_up_;
   OmegaEstimate omega_;  // begin_omega_max's result
   PhysicsParams params_;

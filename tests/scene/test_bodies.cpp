@@ -64,18 +64,6 @@ double point_triangle_distance(const double p[3], const double a[3], const doubl
   return std::sqrt(dot(d, d));
 }
 
-bool in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
-  auto vol = [](const double* p, const double* q, const double* r, const double* s) {
-    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]},
-                 w[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
-    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
-  };
-  const double v = vol(a, b, c, d);
-  if (v == 0) return false;
-  const double l[4] = {vol(x, b, c, d) / v, vol(a, x, c, d) / v, vol(a, b, x, d) / v, vol(a, b, c, x) / v};
-  return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
-}
-
 // Deepest penetration of a surface node of one body into another body now [m]: a node
 // inside an element of another body is that far from the other body's boundary (the
 // nearest boundary triangle); 0 when no node is inside another body.
@@ -104,7 +92,7 @@ double max_penetration(Simulation& sim) {
       for (int e = 0; e < m.ntet() && !inside; ++e) {
         if (m.tet_body[e] != b) continue;
         const int* t = &m.tet[4 * e];
-        inside = in_tet(&x[3 * t[0]], &x[3 * t[1]], &x[3 * t[2]], &x[3 * t[3]], p);
+        inside = point_in_tet(&x[3 * t[0]], &x[3 * t[1]], &x[3 * t[2]], &x[3 * t[3]], p);
       }
       if (!inside) continue;
       double depth = 1e300;

@@ -364,7 +364,7 @@ class CudaSolver final : public CudaSolverApi {
   // one graph and an asynchronous download, which end_omega_max waits for.
   void begin_omega_max(int iterations, double a, bool restart) override {
     const int n3 = 3 * n_;
-    // Without PDL: with it (every probe kernel waits before its live reads) the lane
+    // Without PDL: with it (each probe kernel waiting before its live reads) the lane
     // gathers returned racy estimates on the H100, and the estimate was no faster (39.5 vs
     // 38.8 us device time).
     const bool pdl = false;
@@ -404,7 +404,7 @@ class CudaSolver final : public CudaSolverApi {
                           at.b.u = live_.u.data();  // f0 = f(u)
                           SOFTTLED_CUDA_CHECK(launch_element_stage(at, pdl));
                           SOFTTLED_CUDA_CHECK(
-                              launch_probe_f0<T>(stream_, pdl, rest_.view, live_.fcorner.data(), probe_.f0.data()));
+                              launch_probe_f0<T>(stream_, rest_.view, live_.fcorner.data(), probe_.f0.data()));
                           at.b.u = probe_.up.data();
                           for (int k = 0; k < iterations; ++k) {
                             SOFTTLED_CUDA_CHECK(launch_probe_displace<T>(stream_, s3, n3, live_.u.data(),
@@ -412,7 +412,7 @@ class CudaSolver final : public CudaSolverApi {
                                                                          probe_.v.data(), ta, probe_.up.data()));
                             SOFTTLED_CUDA_CHECK(launch_element_stage(at, pdl));
                             SOFTTLED_CUDA_CHECK(launch_probe_product<T>(
-                                stream_, pdl, rest_.view, live_.fcorner.data(), probe_.f0.data(), probe_.v.data(),
+                                stream_, rest_.view, live_.fcorner.data(), probe_.f0.data(), probe_.v.data(),
                                 probe_.mass.data(), inv_a, probe_.w.data(), probe_.partials.data(),
                                 probe_.ticket.data(), probe_.sums.data()));
                           }
@@ -717,7 +717,7 @@ class CudaSolver final : public CudaSolverApi {
   StepConfig<T> cfg_;
   PhysicsParams params_;
   double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)
-  // estimate_omega_max: warm vector v, f(u), M^-1 K v, u + a v (3 x nnode, T), the
+  // begin_omega_max: warm vector v, f(u), M^-1 K v, u + a v (3 x nnode, T), the
   // product's per-block partials and sums (num, den, max |w|) with the last-block ticket,
   // masses in double and the original node order (start vector)
   struct Probe {
@@ -735,7 +735,7 @@ class CudaSolver final : public CudaSolverApi {
   using GraphKey = std::pair<double, int>;
   static constexpr std::size_t kMaxGraphs = 96;
   std::map<GraphKey, cudaGraphExec_t> graphs_;
-  // estimate_omega_max's kernels per iteration count, for the amplitude probe_a_.
+  // begin_omega_max's kernels per iteration count, for the amplitude probe_a_.
   std::map<int, cudaGraphExec_t> probe_graphs_;
   double probe_a_ = 0;
 };

@@ -125,9 +125,9 @@ cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, 
 // launch_probe_product (w = M^-1 (f(up) - f0) / a and sums = (sum m|w|^2, sum m|v|^2,
 // max|w|), reduced in fixed order by the last block; partials: 3 x probe_blocks(nnode),
 // ticket: one zeroed counter); the gathers with kProbeLanes lanes per node. ls: one thread
-// per entry (3 x nnode); every probe kernel waits for its predecessor (PDL-safe). launch_probe_start: the deterministic
-// start vector (0 on fixed nodes), in the original node order node_old; with sums[2] = 0
-// the next displace keeps it. launch_scale: x *= scale (du on a change of dt).
+// per entry (3 x nnode). Launched without PDL (cuda_solver.cpp says why).
+// launch_probe_start: the deterministic start vector (0 on fixed nodes), in the original
+// node order node_old; with sums[2] = 0 the next displace keeps it. launch_scale: x *= scale (du on a change of dt).
 constexpr int kProbeThreads = 256, kProbeLanes = 8;  // threads per block, lanes per node
 inline int probe_blocks(int nnode) {
   return nnode > 0 ? (nnode * kProbeLanes + kProbeThreads - 1) / kProbeThreads : 1;
@@ -138,9 +138,9 @@ template <class T>
 cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3, const T* u, const T* w,
                                   const double* sums, T* v, T a, T* up);
 template <class T>
-cudaError_t launch_probe_f0(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, T* f0);
+cudaError_t launch_probe_f0(cudaStream_t s, const TetMeshView<T>& m, const T* fcorner, T* f0);
 template <class T>
-cudaError_t launch_probe_product(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, const T* f0,
+cudaError_t launch_probe_product(cudaStream_t s, const TetMeshView<T>& m, const T* fcorner, const T* f0,
                                  const T* v, const double* mass, T inv_a, T* w, double* partials, unsigned* ticket,
                                  double* sums);
 template <class T>

@@ -30,9 +30,7 @@ __global__ void probe_start_kernel(int n, const T* __restrict__ inv_mass, const 
 template <class T>
 __global__ void probe_displace_kernel(int n3, const T* __restrict__ u, const T* __restrict__ w,
                                       const double* __restrict__ sums, T* __restrict__ v, T a, T* __restrict__ up) {
-  pdl_launch_dependents();
   const int j = blockIdx.x * blockDim.x + threadIdx.x;
-  pdl_wait();  // w and sums come from the previous product, u from the last step
   if (j >= n3) return;
   const double wmax = sums[2];
   T vj = wmax > 0 ? w[j] * T(1.0 / wmax) : v[j], uj;
@@ -44,9 +42,7 @@ __global__ void probe_displace_kernel(int n3, const T* __restrict__ u, const T* 
 // f0 = the summed internal force at u (the product's reference). kProbeLanes per node.
 template <class T>
 __global__ void probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0) {
-  pdl_launch_dependents();
   const LaneSlots<kProbeLanes> g = lane_slots<T, kProbeLanes>(m, blockIdx.x * blockDim.x + threadIdx.x);
-  pdl_wait();  // fcorner is written by the element stage
   T f[3];
   lane_gather_force<T, kProbeLanes>(m, fcorner, g, f);
   if (g.lane == 0 && g.i < m.nnode)
@@ -65,10 +61,8 @@ __global__ void __launch_bounds__(kProbeThreads)
                          double* __restrict__ partials, unsigned* __restrict__ ticket, double* __restrict__ sums) {
   __shared__ double sh[3][kProbeThreads];
   __shared__ bool last;
-  pdl_launch_dependents();
   const LaneSlots<kProbeLanes> ls = lane_slots<T, kProbeLanes>(m, blockIdx.x * blockDim.x + threadIdx.x);
   const int n = m.nnode, t = int(threadIdx.x), i = ls.i;
-  pdl_wait();  // fcorner is written by the element stage
   T f[3];
   lane_gather_force<T, kProbeLanes>(m, fcorner, ls, f);
   double sw = 0, sv = 0, wm = 0;
@@ -134,22 +128,20 @@ cudaError_t launch_probe_displace(cudaStream_t s, const LaunchShape& ls, int n3,
 }
 
 template <class T>
-cudaError_t launch_probe_f0(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, T* f0) {
+cudaError_t launch_probe_f0(cudaStream_t s, const TetMeshView<T>& m, const T* fcorner, T* f0) {
   LaunchShape ls;
   ls.grid = probe_blocks(m.nnode);
   ls.block = kProbeThreads;
-  ls.pdl = pdl;
   return launch(s, ls, probe_f0_kernel<T>, m, fcorner, f0);
 }
 
 template <class T>
-cudaError_t launch_probe_product(cudaStream_t s, bool pdl, const TetMeshView<T>& m, const T* fcorner, const T* f0,
+cudaError_t launch_probe_product(cudaStream_t s, const TetMeshView<T>& m, const T* fcorner, const T* f0,
                                  const T* v, const double* mass, T inv_a, T* w, double* partials, unsigned* ticket,
                                  double* sums) {
   LaunchShape ls;
   ls.grid = probe_blocks(m.nnode);
   ls.block = kProbeThreads;
-  ls.pdl = pdl;
   return launch(s, ls, probe_product_kernel<T>, m, fcorner, f0, v, mass, inv_a, w, partials, ticket, sums);
 }
 
@@ -162,8 +154,8 @@ cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale,
   template cudaError_t launch_probe_start<T>(cudaStream_t, const LaunchShape&, int, const T*, const int*, T*);        \
   template cudaError_t launch_probe_displace<T>(cudaStream_t, const LaunchShape&, int, const T*, const T*,           \
                                                 const double*, T*, T, T*);                                            \
-  template cudaError_t launch_probe_f0<T>(cudaStream_t, bool, const TetMeshView<T>&, const T*, T*);                   \
-  template cudaError_t launch_probe_product<T>(cudaStream_t, bool, const TetMeshView<T>&, const T*, const T*,          \
+  template cudaError_t launch_probe_f0<T>(cudaStream_t, const TetMeshView<T>&, const T*, T*);                   \
+  template cudaError_t launch_probe_product<T>(cudaStream_t, const TetMeshView<T>&, const T*, const T*,          \
                                                const T*, const double*, T, T*, double*, unsigned*, double*);          \
   template cudaError_t launch_scale<T>(cudaStream_t, const LaunchShape&, int, T, T*);
 SOFTTLED_INSTANTIATE(float)
