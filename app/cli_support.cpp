@@ -68,10 +68,6 @@ int exit_code_for_signal(int sig) { return sig == SIGINT ? kExitSigint : sig == 
 
 std::string resolve_backend(const std::string& requested, const Scene* scene) {
   if (requested != "auto") return requested;
-  if (scene && scene->body_count() > 1 && scene->body_contact()) {  // a stage with no GPU version yet
-    if (g_verbose) std::fprintf(stderr, "backend auto: body-body contact runs on the CPU only; running on the CPU\n");
-    return "cpu";
-  }
 #if defined(SOFTTLED_HAVE_CUDA)
   std::string why;
   if (cuda::device_count(&why) > 0) return "cuda";

@@ -1,21 +1,50 @@
 #pragma once
-// Body-body contact: a surface node of one body against a boundary triangle of another,
-// by the projection rule of plane_contact.h (project_step), with the correction shared
-// between the node and the triangle's three nodes.
+// Body-body and self-contact: a surface node of one body against a boundary triangle of
+// another (or, with contact.self, of its own body outside the node's 1-ring), by the
+// projection rule of plane_contact.h (project_step), with the correction shared between
+// the node and the triangle's three nodes. The value functions here are what both
+// backends run: body_contact_cpu.cpp loops over them, tled_contact.cu launches them.
 //
-// The support is the triangle's plane at time t. The node's point on it (barycentric
-// weights w of the node's position at t, projected) moves with the triangle as
-// w_a du_a + w_b du_b + w_c du_c, and the step projected is the node's step relative to
-// that point (a moving obstacle's rule in node_contact.h, with the triangle as the
-// obstacle). project_step returns the relative step that lands on the plane (normal) with
-// the scene's sliding / static / Coulomb rule applied to the relative tangential motion.
-// The change Delta of the relative step is then made by one impulse-like correction p:
+// One pair (node_triangle_contact). The support is the triangle's plane at time t. The
+// node's point on it (barycentric weights w of the node's position at t, projected) moves
+// with the triangle as w_a du_a + w_b du_b + w_c du_c, and the step projected is the
+// node's step relative to that point (a moving obstacle's rule in node_contact.h, with the
+// triangle as the obstacle). project_step returns the relative step that lands on the
+// plane (normal) with the scene's sliding / static / Coulomb rule applied to the relative
+// tangential motion. The change Delta of the relative step is then made by one
+// impulse-like correction p:
 //   node:            du_p += p / m_p
 //   triangle node j: du_j -= w_j p / m_j
 // p = Delta / (1/m_p + sum_j w_j^2 / m_j), so the relative step changes by exactly Delta
 // and sum_i m_i du_i changes by p (1 - sum_j w_j) = 0: linear momentum is conserved to
 // rounding, with or without friction (the friction part of Delta is shared the same way).
 // A fixed node (1/m = 0) takes no share; the others take all of it.
+//
+// All pairs of a step (Jacobi, with shares). Every accepted pair is computed from the same
+// state (the node stage's predicted steps), and node i, in c_i accepted pairs, receives
+// the sum of its pairs' corrections, each scaled by
+//   s = 1 / max(c_p, c_a, c_b, c_c)            (pair_share)
+// so a node never moves by more than the mean of its pairs' corrections (a triangle
+// touched by three nodes is not pushed three times over) and each pair is still scaled as
+// a whole, on all four nodes alike: momentum stays conserved pair by pair. The sums run in
+// the order of the pairs' keys (node, triangle), ascending, on both backends, so the
+// result does not depend on the order in which pairs are found: runs repeat bit for bit,
+// and CPU and GPU sum the same terms in the same order. (The mass-splitting idea is that
+// of position-based dynamics' Jacobi solvers: Macklin et al. 2014, "Unified particle
+// physics for real-time applications", sec. 4.2, which divides by the constraint count.)
+//
+// One sweep of shares under-corrects where nodes share pairs (a ring resting on another:
+// 0.065 mm deepest penetration in torus_stack, beyond the 0.05 mm asked); sweeps from the
+// corrected state converge towards the sequential answer. Measured on torus_stack (CPU,
+// float, deepest penetration over the run): 1 sweep 0.065 mm, 2 sweeps 0.235 mm (a node
+// slipped past an edge), 3 sweeps 0.0036 mm, 4 sweeps 0.0010 mm, 5 sweeps 0.042 mm; two
+// rings: 0.018, 0.008, 0.004, 0.0016, 0.0009 mm. Four, with the sweeps' cost in the bench.
+//
+// Broad phase: a uniform hash grid of the triangles' swept boxes (Teschner et al. 2003,
+// "Optimized spatial hashing for collision detection of deformable objects"); both
+// backends use grid_cell / grid_bucket below, the CPU with temporal coherence
+// (body_contact_cpu.h), the GPU rebuilt every step (tled_contact.cu). Either gives a
+// superset of the pairs node_triangle_contact accepts, so both accept the same pairs.
 #include <cmath>
 #include <cstdint>
 
@@ -24,6 +53,8 @@
 #include "sim/core/sim_hd.h"
 
 namespace softtled {
+
+constexpr int kBodyContactSweeps = 4;
 
 // What one node-triangle contact changes: the four steps' corrections.
 template <class T>
@@ -82,6 +113,60 @@ SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], con
     r.dc[k] = -wc * p * inv_mc;
   }
   return r;
+}
+
+// The share of one accepted pair (see the top): c* are the counts of accepted pairs each
+// of its four nodes takes part in (>= 1).
+template <class T>
+SIM_HD inline T pair_share(int cp, int ca, int cb, int cc) {
+  int c = cp > ca ? cp : ca;
+  c = c > cb ? c : cb;
+  c = c > cc ? c : cc;
+  return T(1) / T(c);
+}
+
+// Self-contact: node p against its own body's triangle (a, b, c) is skipped when p is one
+// of them or a neighbour of one (ring: p's neighbours along boundary edges, ring_start
+// indexed by node): the triangle's own nodes and their 1-ring would otherwise "touch"
+// through the surface they share.
+SIM_HD inline bool in_one_ring(int p, int a, int b, int c, const int* ring_start, const int* ring) {
+  if (p == a || p == b || p == c) return true;
+  for (int r = ring_start[p]; r < ring_start[p + 1]; ++r) {
+    const int q = ring[r];
+    if (q == a || q == b || q == c) return true;
+  }
+  return false;
+}
+
+// The hash grid: cells of size h (cell index floor(x / h), in double on both backends so
+// they agree), hashed with the body into a power-of-two table, so a node looks up only the
+// bodies it may touch and does not wade through its own surface.
+SIM_HD inline long long grid_cell(double x, double inv_h) { return static_cast<long long>(floor(x * inv_h)); }
+SIM_HD inline unsigned grid_bucket(long long ix, long long iy, long long iz, int body, unsigned mask) {
+  const unsigned long long h = (static_cast<unsigned long long>(ix) * 73856093ull) ^
+                               (static_cast<unsigned long long>(iy) * 19349663ull) ^
+                               (static_cast<unsigned long long>(iz) * 83492791ull) ^
+                               (static_cast<unsigned long long>(body) * 2654435761ull);
+  return static_cast<unsigned>(h ^ (h >> 29)) & mask;
+}
+// Whether a box (lo[3], hi[3]) can go into the grid: finite, within the range the cell
+// index takes, and at most kMaxGridCellsPerAxis cells wide. A box that is not belongs to a
+// diverging state (the watchdog's business); it is left out rather than hang the loop over
+// its cells.
+constexpr double kMaxGridCellsPerAxis = 64;
+template <class T>
+SIM_HD inline bool grid_box(const T* b, double inv_h) {
+  for (int k = 0; k < 6; ++k) {
+    const double v = double(b[k]) * inv_h;
+    if (!(v > -1e15 && v < 1e15)) return false;  // also false for NaN
+  }
+  for (int k = 0; k < 3; ++k)
+    if ((double(b[3 + k]) - double(b[k])) * inv_h > kMaxGridCellsPerAxis) return false;
+  return true;
+}
+template <class T>
+SIM_HD inline bool boxes_overlap(const T* a, const T* b) {
+  return a[0] <= b[3] && a[3] >= b[0] && a[1] <= b[4] && a[4] >= b[1] && a[2] <= b[5] && a[5] >= b[2];
 }
 
 }  // namespace softtled

@@ -1,28 +1,30 @@
 #pragma once
-// Body-body contact on the CPU (body_contact.h): broad phase and the serial, fixed-order
-// narrow phase, run after the node stage of every step while contact.bodies is on.
+// Body-body and self-contact on the CPU (body_contact.h): broad phase and the Jacobi
+// narrow phase, run after the node stage of every step while contact.bodies (with >= 2
+// bodies) or contact.self is on.
 //
 // Broad phase (deterministic: no atomics, no thread-dependent order), rebuilt when a
 // surface node's positions at t or t + dt leave its box at the last rebuild by more than
 // half_margin (temporal coherence; every box below carries that half margin, so the kept
 // candidate lists hold every pair the narrow test can accept until then):
-//  1. each body's box over its surface nodes at t and t + dt, inflated by tol; bodies whose
-//     box meets no other body's box take no part (far apart: the stage ends here);
-//  2. a uniform hash grid (cell ~ a boundary-triangle edge at rest; the key holds the
-//     body too, so a node scans only the bodies it may touch) over the
-//     swept, inflated boxes of the boundary triangles that reach into the box of a body
-//     their own body's box meets, filled by a counting sort in triangle order, so each
-//     cell's list is sorted;
-//  3. per surface node, in node order: for each body whose box its swept box (t to
-//     t + dt, not inflated) meets, the cells it covers give that body's triangles, whose
-//     boxes are tested, sorted and deduplicated.
-// Narrow phase: node_triangle_contact per (node, candidate), in that order, each
-// correction applied at once (Gauss-Seidel), so later pairs see earlier corrections.
+//  1. each body's box over its surface nodes at t and t + dt, inflated by tol; a body
+//     takes part when its box meets another body's box (or always, with self-contact);
+//  2. the hash grid (body_contact.h: grid_cell, grid_bucket) over the swept, inflated
+//     boxes of the boundary triangles that reach into the box of a body their own body's
+//     box meets, filled by a counting sort in triangle order, so each cell's list is
+//     sorted;
+//  3. per surface node, in node order: for each body whose box its swept box meets, the
+//     cells it covers give that body's triangles (its own outside its 1-ring, in_one_ring),
+//     whose boxes are tested, sorted and deduplicated.
+// Narrow phase, kBodyContactSweeps Jacobi sweeps: node_triangle_contact on every candidate
+// from the same state, then each node's share-scaled sum of its accepted pairs
+// (pair_share), in key order (node, triangle): the order the candidates are visited in.
 #include <array>
 #include <cstdint>
 #include <vector>
 
-#include "sim/mesh/tet_mesh.h"
+#include "sim/contact/body_contact.h"
+#include "sim/contact/body_contact_tables.h"
 
 namespace softtled {
 
@@ -30,48 +32,56 @@ template <class T>
 class CpuBodyContact {
  public:
   CpuBodyContact() = default;
-  // mesh: several bodies (TetMesh::node_body); inv_mass: nnode (0 = fixed).
+  // inv_mass: nnode (0 = fixed).
   CpuBodyContact(const TetMesh& mesh, const std::vector<T>& inv_mass);
-  bool empty() const { return nbody_ < 2; }
 
   // After the node stage: u = u(t + dt), du = the step (struct-of-arrays, 3 x nnode), X0 the
   // rest positions (SoA). Corrects u and du (and ub = u + beta_dt du when ub is not null)
   // of the nodes in contact; contact[i] takes the node's state when stronger.
-  void apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
+  // bodies: body-body pairs (with >= 2 bodies); self: self-contact.
+  void apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu, bool bodies,
+             bool self);
 
-  T tolerance() const { return tol_; }
+  T tolerance() const { return T(tab_.tol); }
   long rebuilds() const { return rebuilds_; }  // broad-phase rebuilds so far
   // Work of the last apply (the bench's and tests' view of the broad phase).
   int last_candidates() const { return last_candidates_; }
-  int last_contacts() const { return last_contacts_; }
+  int last_contacts() const { return last_contacts_; }  // the most pairs of a sweep
 
  private:
-  int n_ = 0, nbody_ = 0;
-  std::vector<int> node_body_;   // nnode
-  std::vector<int> surf_;        // surface nodes, sorted
-  std::vector<int> tri_;         // 3 x ntri boundary triangles (outward)
-  std::vector<int> tri_body_;    // ntri
+  BodyContactTables tab_;
   std::vector<T> inv_mass_;      // nnode
   T tol_ = T(0), cell_ = T(1);
   // per step scratch
   std::vector<T> x_;             // 3 x nnode positions at t (surface nodes only), interleaved
   std::vector<T> box_;           // 6 per body: lo, hi
   std::vector<std::uint8_t> active_;  // per body
-  std::vector<std::array<int, 2>> partners_;  // pairs of bodies whose boxes meet
+  std::vector<std::array<int, 2>> partners_;  // pairs of bodies (a <= b; a == b: self) whose boxes meet
   std::vector<T> tri_box_;       // 6 per triangle
   std::vector<int> cell_start_grid_, cell_tri_, cell_fill_;
-  // candidate lists (CSR over surf_), valid while lists_valid_ and no node left its box
+  // candidate lists (CSR over tab_.surf), valid while lists_valid_, the same pair kinds are
+  // on, and no node left its box
   std::vector<int> cand_start_, cand_list_;
   std::vector<T> node_box_;      // 6 per surface node: its swept box at the last rebuild
-  std::vector<int> surf_index_;  // nnode: position in surf_, -1 inside
+  std::vector<int> surf_index_;  // nnode: position in surf, -1 inside
   T half_margin_ = T(0);
-  bool lists_valid_ = false;
+  bool lists_valid_ = false, lists_bodies_ = false, lists_self_ = false;
   long rebuilds_ = 0;
-  void rebuild(const T* X0, const T* u);
+  void rebuild(const T* X0, const T* u, bool bodies, bool self);
+  void sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
   std::vector<std::array<unsigned, 2>> entries_;  // (cell, triangle) in triangle order
   std::vector<int> cand_;
+  // narrow phase: the accepted pairs of this step (node, triangle, correction), in key
+  // order, and each node's count of them
+  struct Accepted {
+    int p, t;
+    NodeTriangleCorrection<T> r;
+  };
+  std::vector<Accepted> accepted_;
+  std::vector<int> count_;       // nnode
+  std::vector<T> acc_;           // 3 x nnode: this step's summed corrections
+  std::vector<int> touched_;     // nodes with a correction this step
   int last_candidates_ = 0, last_contacts_ = 0;
-
 };
 
 }  // namespace softtled

@@ -552,8 +552,6 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
   s.contact_bodies = r.boolean("contact.bodies", true);
   s.contact_self = r.boolean("contact.self", false);
-  if (s.contact_self)
-    r.fail("contact.self", "self-contact is not yet supported (body-body contact is: contact.bodies)");
 
   {
     const toml::node* dt = r.get("time.dt");

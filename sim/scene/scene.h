@@ -82,7 +82,7 @@ struct Scene : BodyDesc {
   double mu = 0.5;
   std::string contact_nodes = "boundary";  // boundary | all
   bool contact_bodies = true;  // body-body contact (with >= 2 bodies)
-  bool contact_self = false;   // self-contact: parsed, true is refused (not yet supported)
+  bool contact_self = false;   // self-contact of each body (body_contact.h)
 
   // [time]
   bool dt_auto = true;

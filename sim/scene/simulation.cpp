@@ -44,10 +44,6 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   if (scene_.body_count() == 1) {
     mesh_ = mesh_body(0);
   } else {
-    if (scene_.body_contact() && backend == "cuda")
-      throw InputError(scene_.source + ": contact.bodies: body-body contact runs on the CPU backend only for now; "
-                       "use --backend cpu (or auto), or set contact.bodies = false");
-    if (scene_.body_contact() && backend == "auto") backend_used = "cpu";
     std::vector<TetMesh> parts;
     std::vector<double> rho_scale, E_scale;
     for (int b = 0; b < scene_.body_count(); ++b) {
@@ -79,6 +75,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.contact_mode = scene_.contact_mode;
   params_.mu = scene_.mu;
   params_.body_contact = scene_.body_contact();
+  params_.self_contact = scene_.contact_self;
   params_.dt = scene_.dt_auto ? 0 : scene_.dt;
   params_.dt_auto = scene_.dt_auto;
   params_.dt_adaptive = scene_.dt_adaptive;
@@ -111,10 +108,8 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 std::string Simulation::set_params(const PhysicsParams& p) {
   drop_estimate();  // of the old parameters
   PhysicsParams q = p;
-  // Body-body contact: only between several bodies, only on the CPU backend.
+  // Body-body contact: only between several bodies.
   if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
-  if (q.body_contact && !params_.body_contact && solver_->backend().rfind("cuda", 0) == 0)
-    throw InputError("contact.bodies: body-body contact runs on the CPU backend only for now");
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
   if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||

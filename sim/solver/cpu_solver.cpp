@@ -88,8 +88,9 @@ class CpuSolver final : public Solver {
     // The first step after a change of dt spans the midpoint step (change_step).
     const StepParams<T> first = dt_mid_ > 0 ? step_params_from<T>(params_, dt_mid_) : c.step;
     if (nsteps > 0) dt_mid_ = 0;
-    // Body-body contact (body_contact_cpu.h): one thread, after the node stage's barrier.
-    const bool bodies = params_.body_contact && !bodies_.empty();
+    // Body-body and self-contact (body_contact_cpu.h): one thread, after the node stage's barrier.
+    const bool bodies = params_.body_contact || params_.self_contact;
+    const bool pb = params_.body_contact, ps = params_.self_contact;
     CpuBodyContact<T>& bc = bodies_;
     if (simd_) {
       const CpuBlocks<T>& k = blocks_;
@@ -102,7 +103,7 @@ class CpuSolver final : public Solver {
           cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
           cpu_simd_node_stage(m, k, bb, s == 0 ? first : c.step);
 #pragma omp single
-          bc.apply(m.X0, bb.u, bb.du, bb.ub, c.step.beta_dt, bb.contact, c.step.contact.mode, c.step.contact.mu);
+          bc.apply(m.X0, bb.u, bb.du, bb.ub, c.step.beta_dt, bb.contact, c.step.contact.mode, c.step.contact.mu, pb, ps);
         }
         return;
       }
@@ -119,7 +120,7 @@ class CpuSolver final : public Solver {
         cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
         cpu_node_stage(m, b, s == 0 ? first : c.step);
 #pragma omp single
-        bc.apply(m.X0, b.u, b.du, b.ub, c.step.beta_dt, b.contact, c.step.contact.mode, c.step.contact.mu);
+        bc.apply(m.X0, b.u, b.du, b.ub, c.step.beta_dt, b.contact, c.step.contact.mode, c.step.contact.mu, pb, ps);
       }
       return;
     }
@@ -284,7 +285,7 @@ class CpuSolver final : public Solver {
   bool simd_ = true;  // the SIMD stages (cpu_simd.h), else the scalar ones (cpu_step.h)
   RestArrays<T> rest_;
   SurfaceTopology surf_;
-  CpuBodyContact<T> bodies_;  // several bodies: body-body contact (empty for one body)
+  CpuBodyContact<T> bodies_;  // body-body and self-contact
   TetMeshView<T> mesh_;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty

@@ -84,9 +84,10 @@ struct PhysicsParams {
   std::vector<ObstacleSpec> obstacles;
   ContactMode contact_mode = kSliding;
   double mu = 0.5;             // Coulomb coefficient
-  // Body-body contact (body_contact.h) between the mesh's bodies (TetMesh::node_body);
-  // the CPU backend runs it, the Simulation refuses it on CUDA.
+  // Body-body contact (body_contact.h) between the mesh's bodies (TetMesh::node_body), and
+  // self-contact of each body with itself: a stage after the node stage, run only when on.
   bool body_contact = false;
+  bool self_contact = false;
 };
 
 // Host copy of the live state, struct-of-arrays, always in double.

@@ -2,12 +2,13 @@
 // contact (body_contact.h) on the CPU, and the two shipped scenes' physics:
 // two_ring_collision (momentum conserved, kinetic energy only lost, the rings separate)
 // and torus_stack (no interpenetration beyond 0.05 mm, it settles). Bad input: overlapping
-// bodies, too many bodies, unknown keys, contact.self = true.
+// bodies, too many bodies, unknown keys, a non-boolean contact.self.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "backends.h"
@@ -198,22 +199,15 @@ TEST(Bodies, BadInputNamesTheKey) {
   EXPECT_NE(e4.find("body[0].material.model: unknown key"), std::string::npos) << e4;
   const std::string e4b = error_of("[body]\nshape = \"box\"\nsegmnts = [3, 3]\n");
   EXPECT_NE(e4b.find("bad.toml: body.segmnts: unknown key"), std::string::npos) << e4b;
-  // Self-contact is not in this phase.
-  const std::string e5 = error_of(two + "[contact]\nself = true\n");
-  EXPECT_NE(e5.find("contact.self: self-contact is not yet supported"), std::string::npos) << e5;
-  EXPECT_EQ(error_of(two + "[contact]\nself = false\n"), "");
+  // contact.self takes a boolean.
+  const std::string e5 = error_of(two + "[contact]\nself = 1\n");
+  EXPECT_NE(e5.find("contact.self"), std::string::npos) << e5;
+  EXPECT_EQ(error_of(two + "[contact]\nself = true\n"), "");
   // A body's own nu, and per-body materials with T4ANP, are refused.
   const std::string e6 = error_of(two, {"body.1.material.nu=0.3"});
   EXPECT_NE(e6.find("body[1].material.nu"), std::string::npos) << e6;
   const std::string e7 = error_of(two, {"body.1.material.E=5000", "material.element=T4ANP"});
   EXPECT_NE(e7.find("body[1].material"), std::string::npos) << e7;
-  // The CUDA backend refuses body-body contact (before it looks for a device).
-  try {
-    Simulation sim(parse_scene(two, "bad.toml"), "cuda");
-    ADD_FAILURE() << "cuda accepted body-body contact";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("contact.bodies"), std::string::npos) << e.what();
-  }
 }
 
 // Per-body material: the mass follows each body's rho, and a stiffer body is stiffer.
@@ -235,9 +229,12 @@ TEST(Bodies, PerBodyMaterialSetsMassAndStiffness) {
 
 // ---- body-body contact ----
 
-TEST(Bodies, TwoRingCollisionConservesMomentumLosesEnergyAndSeparates) {
+class BodyContactOnEachBackend : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(BodyContactOnEachBackend);
+
+TEST_P(BodyContactOnEachBackend, TwoRingCollisionConservesMomentumLosesEnergyAndSeparates) {
   Scene s = asset("two_ring_collision.toml");
-  Simulation sim(s, "cpu");
+  Simulation sim(s, backend());
   double P0[3];
   momentum(sim, P0);
   const double p0 = std::sqrt(P0[0] * P0[0] + P0[1] * P0[1] + P0[2] * P0[2]);
@@ -282,9 +279,9 @@ TEST(Bodies, WithoutBodyContactTheRingsInterpenetrate) {
   EXPECT_GT(worst, 0.5e-3) << worst;
 }
 
-TEST(Bodies, TorusStackSettlesWithoutInterpenetration) {
+TEST_P(BodyContactOnEachBackend, TorusStackSettlesWithoutInterpenetration) {
   Scene s = asset("torus_stack.toml");
-  Simulation sim(s, "cpu");
+  Simulation sim(s, backend());
   double peak = 0, worst = 0, ke = 0;
   const long every = std::max(1L, std::lround(2e-3 / sim.params().dt));
   while (sim.time() < s.duration) {
@@ -322,6 +319,37 @@ TEST(Bodies, BodyContactIsBitwiseRepeatable) {
   EXPECT_EQ(a.state().u, b.state().u);
   EXPECT_EQ(a.state().du, b.state().du);
   EXPECT_EQ(a.state().u, c.state().u);
+}
+
+// The GPU's contact stage (tled_contact.cu) against the CPU's (body_contact_cpu.cpp): the
+// same pairs, shares and sums, so the rings agree to float tolerance through the impact;
+// and every CUDA mode gives the same bits, run after run.
+TEST(Bodies, BodyContactOnTheGpuMatchesTheCpuAndRepeats) {
+  const std::string why = backend_unavailable("cuda");
+  if (!why.empty()) GTEST_SKIP() << why;
+  const Scene s = asset("two_ring_collision.toml", {"time.duration=0.01"});
+  Simulation cpu(s, "cpu");
+  const long n = std::lround(0.006 / cpu.params().dt);  // through the first contact
+  cpu.step(n);
+  ASSERT_GT(cpu.diagnostics().n_contact, 10);
+  std::vector<std::vector<double>> runs;
+  for (const char* mode : {"fused", "graph-pdl", "fused"}) {
+    setenv("SOFTTLED_CUDA_MODE", mode, 1);
+    Simulation gpu(s, "cuda");
+    unsetenv("SOFTTLED_CUDA_MODE");
+    gpu.step(n);
+    runs.push_back(gpu.state().u);
+  }
+  EXPECT_EQ(runs[0], runs[1]) << "fused and graph-pdl differ";
+  EXPECT_EQ(runs[0], runs[2]) << "two fused runs differ";
+  double worst = 0, umax = 0;
+  const std::vector<double>& uc = cpu.state().u;
+  for (std::size_t k = 0; k < uc.size(); ++k) {
+    worst = std::max(worst, std::fabs(runs[0][k] - uc[k]));
+    umax = std::max(umax, std::fabs(uc[k]));
+  }
+  std::printf("two rings after %ld steps: max |u_gpu - u_cpu| = %.3g m (max |u| %.3g m)\n", n, worst, umax);
+  EXPECT_LT(worst, 1e-4 * umax);
 }
 
 // The value function alone: a node falling onto a triangle lands on its plane and the

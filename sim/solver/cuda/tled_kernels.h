@@ -7,6 +7,7 @@
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
 //                   update_node (central_difference.h; plane contact fused in)
+//   tled_contact.cu body-body and self-contact after the node stage (body_contact.h)
 //   tled_output.cu  render vertices (surface_render.h), strain-energy terms, deterministic sum
 // Every kernel calls the SIM_HD value functions the CPU backend (cpu_step.h) loops over.
 // Launchers return the launch's cudaError_t; the caller checks it.
@@ -145,6 +146,51 @@ cudaError_t launch_probe_product(cudaStream_t s, const TetMeshView<T>& m, const 
                                  double* sums);
 template <class T>
 cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale, T* x);
+
+// ---- body-body and self-contact (tled_contact.cu, body_contact.h) ----
+// The device tables of body_contact_tables.h (nodes renumbered), the grid and the per-step
+// scratch. Fixed capacities keep every list in place (no allocation, no host round trip);
+// exceeding one sets a bit of *overflow, which the solver reports as an error.
+constexpr int kContactBucketCap = 128;  // triangles per grid bucket (52 measured on torus_stack)
+constexpr int kContactCandCap = 48;     // candidate triangles per surface node
+constexpr int kContactInCap = 64;       // accepted pairs per node
+constexpr int kContactMaxCells = 64;    // grid cells one triangle's swept box may cover
+enum : unsigned {
+  kContactOverflowBucket = 1,
+  kContactOverflowCand = 2,
+  kContactOverflowIncoming = 4,
+  kContactOverflowCells = 8,
+};
+template <class T>
+struct BodyContactView {
+  int nsurf = 0, ntri = 0, nbody = 1;
+  bool bodies = false, self = false;  // which pairs this step tests
+  const int* surf = nullptr;        // nsurf surface nodes, in the original mesh's order
+  const int* tri = nullptr;         // 3 x ntri boundary triangles
+  const int* tri_body = nullptr;    // ntri
+  const int* node_body = nullptr;   // nnode
+  const int* ring_start = nullptr;  // nnode + 1
+  const int* ring = nullptr;        // neighbours along boundary edges
+  T tol = T(0), half_margin = T(0);
+  double inv_h = 1;                 // 1 / grid cell
+  unsigned mask = 0;                // buckets - 1 (a power of two)
+  unsigned* bucket_count = nullptr; // buckets
+  int* bucket_tri = nullptr;        // buckets x kContactBucketCap
+  T* tri_box = nullptr;             // 6 x ntri
+  int* ncand = nullptr;             // nsurf
+  int* cand = nullptr;              // nsurf x kContactCandCap, sorted
+  std::uint8_t* pair_state = nullptr;  // nsurf x kContactCandCap
+  T* pair_corr = nullptr;           // 12 per pair slot: the node's, then a, b, c's corrections
+  int* count0 = nullptr;            // nnode: accepted pairs per node (even sweeps)
+  int* count1 = nullptr;            // nnode: (odd sweeps)
+  int* in_count = nullptr;          // nnode
+  int* in_list = nullptr;           // nnode x kContactInCap: slot * 4 + role
+  unsigned* overflow = nullptr;     // one word
+};
+// The contact stage on the state after a node stage: (u, du, ub) corrected in place.
+template <class T>
+cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m, const BodyContactView<T>& c, T* u,
+                                T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
 
 // ---- outside the step (tled_output.cu) ----
 template <class T>

@@ -1,0 +1,33 @@
+#pragma once
+// What body-body and self-contact (body_contact.h) need of the mesh, built once at start-up
+// and shared by both backends (the CUDA one renumbers the nodes as it uploads them), so
+// both test the same triangles with the same tolerance and grid cell.
+#include <vector>
+
+#include "sim/mesh/tet_mesh.h"
+
+namespace softtled {
+
+struct BodyContactTables {
+  int nnode = 0, nbody = 1;
+  std::vector<int> node_body;   // nnode (all 0 for one body)
+  std::vector<int> surf;        // surface nodes, sorted
+  std::vector<int> tri;         // 3 x ntri boundary triangles (outward), the mesh's order
+  std::vector<int> tri_body;    // ntri
+  // Self-contact's exclusion (in_one_ring): each node's neighbours along boundary edges,
+  // sorted; ring_start: nnode + 1.
+  std::vector<int> ring_start, ring;
+  // Contact thickness: a node up to tol behind a triangle is pushed back (an earlier step's
+  // residual penetration); deeper means it is on the other side of a thin part, or not this
+  // triangle's. A tenth of the mean boundary edge (residual penetrations measured at
+  // ~0.1 um in the shipped scenes). It also inflates the broad phase's boxes.
+  double tol = 0;
+  // Grid cell: between the mean and the longest boundary edge (fewest entries scanned on
+  // the coarse tori).
+  double cell = 1;
+  int ntri() const { return static_cast<int>(tri_body.size()); }
+};
+
+BodyContactTables build_body_contact_tables(const TetMesh& m);
+
+}  // namespace softtled

@@ -1,0 +1,251 @@
+// Body-body and self-contact on the GPU (body_contact.h): the same broad-phase grid, pair
+// test, shares and key-ordered sums as body_contact_cpu.cpp, so both backends accept the
+// same pairs and sum the same terms in the same order. Per step, after the node stage:
+//   contact_grid_kernel    per triangle: its swept box (t to t + dt, inflated as on the
+//                          CPU) into the hash grid's buckets (atomicAdd picks a slot, so a
+//                          bucket's order varies from run to run; the candidate lists
+//                          below are sorted, so nothing downstream sees that order)
+//   contact_cand_kernel    per surface node: the triangles of the buckets its swept box
+//                          covers whose boxes meet it, sorted by triangle, deduplicated
+// then kBodyContactSweeps times:
+//   contact_pairs_kernel   per surface node: node_triangle_contact on each candidate; an
+//                          accepted pair is kept in the node's own slot (node, candidate)
+//                          and its slot appended to its four nodes' incoming lists
+//   contact_apply_kernel   per surface node: its incoming slots sorted (slot order is the
+//                          key order (node, triangle) the CPU sums in), share-scaled and
+//                          summed, added to u, du (and ub)
+// Counts are atomic increments (the same total in any order); no float is ever summed by
+// an atomic, so runs repeat bit for bit. The grid is rebuilt every step (no host round
+// trip decides when a rebuild is due).
+#include "sim/contact/body_contact.h"
+#include "sim/fem/central_difference.h"
+#include "sim/solver/cuda/kernel_support.cuh"
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled::cuda {
+namespace {
+
+template <class T>
+__device__ __forceinline__ void swept_box(const TetMeshView<T>& m, const T* u, const T* du, int i, T lo[3], T hi[3]) {
+  const int n = m.nnode;
+  for (int k = 0; k < 3; ++k) {
+    const T x = m.X0[k * n + i] + (u[k * n + i] - du[k * n + i]);  // at t
+    const T y = m.X0[k * n + i] + u[k * n + i];                     // at t + dt
+    lo[k] = x < y ? x : y;
+    hi[k] = x < y ? y : x;
+  }
+}
+
+template <class T>
+__global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
+                                    const T* __restrict__ du) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t >= c.ntri) return;
+  T b[6];
+  for (int k = 0; k < 3; ++k) b[k] = T(INFINITY), b[3 + k] = T(-INFINITY);
+  for (int v = 0; v < 3; ++v) {
+    T lo[3], hi[3];
+    swept_box(m, u, du, c.tri[3 * t + v], lo, hi);
+    for (int k = 0; k < 3; ++k) {
+      b[k] = lo[k] < b[k] ? lo[k] : b[k];
+      b[3 + k] = hi[k] > b[3 + k] ? hi[k] : b[3 + k];
+    }
+  }
+  for (int k = 0; k < 3; ++k) b[k] -= c.tol + c.half_margin, b[3 + k] += c.tol + c.half_margin;
+  for (int k = 0; k < 6; ++k) c.tri_box[6 * t + k] = b[k];
+  if (!grid_box(b, c.inv_h)) {
+    c.tri_box[6 * t] = T(NAN);  // never meets a box
+    return;
+  }
+  const long long x0 = grid_cell(b[0], c.inv_h), x1 = grid_cell(b[3], c.inv_h);
+  const long long y0 = grid_cell(b[1], c.inv_h), y1 = grid_cell(b[4], c.inv_h);
+  const long long z0 = grid_cell(b[2], c.inv_h), z1 = grid_cell(b[5], c.inv_h);
+  if ((x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1) > kContactMaxCells) {
+    atomicOr(c.overflow, kContactOverflowCells);
+    return;
+  }
+  const int body = c.tri_body[t];
+  int done = 0;
+  for (long long ix = x0; ix <= x1; ++ix)
+    for (long long iy = y0; iy <= y1; ++iy)
+      for (long long iz = z0; iz <= z1; ++iz, ++done) {
+        const unsigned h = grid_bucket(ix, iy, iz, body, c.mask);
+        // Once per bucket: an earlier cell of this box may hash to the same bucket.
+        bool seen = false;
+        int q = 0;
+        for (long long jx = x0; jx <= x1 && !seen; ++jx)
+          for (long long jy = y0; jy <= y1 && !seen; ++jy)
+            for (long long jz = z0; jz <= z1 && !seen && q < done; ++jz, ++q)
+              seen = grid_bucket(jx, jy, jz, body, c.mask) == h;
+        if (seen) continue;
+        const unsigned slot = atomicAdd(c.bucket_count + h, 1u);
+        if (slot < unsigned(kContactBucketCap))
+          c.bucket_tri[std::size_t(h) * kContactBucketCap + slot] = t;
+        else
+          atomicOr(c.overflow, kContactOverflowBucket);
+      }
+}
+
+template <class T>
+__global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
+                                    const T* __restrict__ du) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= c.nsurf) return;
+  const int i = c.surf[s];
+  const int bi = c.node_body[i];
+  int* list = c.cand + std::size_t(s) * kContactCandCap;
+  int nc = 0;
+  T nb[6];
+  swept_box(m, u, du, i, nb, nb + 3);
+  for (int k = 0; k < 3; ++k) nb[k] -= c.half_margin, nb[3 + k] += c.half_margin;
+  if (grid_box(nb, c.inv_h)) {
+    const long long x0 = grid_cell(nb[0], c.inv_h), x1 = grid_cell(nb[3], c.inv_h);
+    const long long y0 = grid_cell(nb[1], c.inv_h), y1 = grid_cell(nb[4], c.inv_h);
+    const long long z0 = grid_cell(nb[2], c.inv_h), z1 = grid_cell(nb[5], c.inv_h);
+    for (int o = 0; o < c.nbody; ++o) {
+      if (o == bi ? !c.self : !c.bodies) continue;
+      for (long long ix = x0; ix <= x1; ++ix)
+        for (long long iy = y0; iy <= y1; ++iy)
+          for (long long iz = z0; iz <= z1; ++iz) {
+            const unsigned h = grid_bucket(ix, iy, iz, o, c.mask);
+            const unsigned nh = min(c.bucket_count[h], unsigned(kContactBucketCap));
+            for (unsigned q = 0; q < nh; ++q) {
+              const int t = c.bucket_tri[std::size_t(h) * kContactBucketCap + q];
+              if (c.tri_body[t] != o || !boxes_overlap(nb, c.tri_box + 6 * t)) continue;
+              if (o == bi && in_one_ring(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2], c.ring_start, c.ring))
+                continue;
+              // Insert in order; a triangle met again through another cell is kept once.
+              int pos = nc;
+              while (pos > 0 && list[pos - 1] > t) --pos;
+              if (pos > 0 && list[pos - 1] == t) continue;
+              if (nc == kContactCandCap) {
+                atomicOr(c.overflow, kContactOverflowCand);
+                continue;
+              }
+              for (int r = nc; r > pos; --r) list[r] = list[r - 1];
+              list[pos] = t;
+              ++nc;
+            }
+          }
+    }
+  }
+  c.ncand[s] = nc;
+}
+
+template <class T>
+__global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
+                                     const T* __restrict__ du, int mode, T mu, int* __restrict__ count) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= c.nsurf) return;
+  const int n = m.nnode;
+  const int i = c.surf[s];
+  const int nc = c.ncand[s];
+  for (int q = 0; q < nc; ++q) {
+    const int slot = s * kContactCandCap + q;
+    const int t = c.cand[slot];
+    const int j[4] = {i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
+    T x[4][3], d[4][3];
+    for (int a = 0; a < 4; ++a)
+      for (int k = 0; k < 3; ++k) {
+        d[a][k] = du[k * n + j[a]];
+        x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
+      }
+    const NodeTriangleCorrection<T> r =
+        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
+                              m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
+    c.pair_state[slot] = r.state;
+    if (r.state == kFree) continue;
+    T* corr = c.pair_corr + std::size_t(slot) * 12;
+    for (int k = 0; k < 3; ++k) {
+      corr[k] = r.dp[k];
+      corr[3 + k] = r.da[k];
+      corr[6 + k] = r.db[k];
+      corr[9 + k] = r.dc[k];
+    }
+    for (int a = 0; a < 4; ++a) {
+      atomicAdd(count + j[a], 1);
+      const int e = atomicAdd(c.in_count + j[a], 1);
+      if (e < kContactInCap)
+        c.in_list[std::size_t(j[a]) * kContactInCap + e] = slot * 4 + a;
+      else
+        atomicOr(c.overflow, kContactOverflowIncoming);
+    }
+  }
+}
+
+template <class T>
+__global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactView<T> c, T* __restrict__ u,
+                                     T* __restrict__ du, T* __restrict__ ub, T beta_dt,
+                                     std::uint8_t* __restrict__ contact, const int* __restrict__ count,
+                                     int* __restrict__ count_next) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= c.nsurf) return;
+  const int n = m.nnode;
+  const int i = c.surf[s];
+  count_next[i] = 0;  // the next sweep's counts (its pairs kernel runs after this one)
+  const int ne = min(c.in_count[i], kContactInCap);
+  if (ne == 0) return;
+  c.in_count[i] = 0;
+  int e[kContactInCap];
+  for (int q = 0; q < ne; ++q) {  // sorted by slot: the key order (node, triangle)
+    const int v = c.in_list[std::size_t(i) * kContactInCap + q];
+    int pos = q;
+    while (pos > 0 && e[pos - 1] > v) {
+      e[pos] = e[pos - 1];
+      --pos;
+    }
+    e[pos] = v;
+  }
+  T acc[3] = {T(0), T(0), T(0)};
+  std::uint8_t state = contact[i];
+  for (int q = 0; q < ne; ++q) {
+    const int slot = e[q] >> 2, a = e[q] & 3;
+    const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
+    const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
+    const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
+    for (int k = 0; k < 3; ++k) acc[k] += share * corr[k];
+    if (a == 0 && c.pair_state[slot] > state) state = c.pair_state[slot];
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int q = k * n + i;
+    du[q] += acc[k];
+    u[q] += acc[k];
+    if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
+  }
+  contact[i] = state;
+}
+
+}  // namespace
+
+template <class T>
+cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m, const BodyContactView<T>& c, T* u,
+                                T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu) {
+  if (c.nsurf == 0 || (!c.bodies && !c.self)) return cudaSuccess;
+  cudaError_t e = cudaMemsetAsync(c.bucket_count, 0, sizeof(unsigned) * (std::size_t(c.mask) + 1), s);
+  if (e != cudaSuccess) return e;
+  const LaunchShape lt = shape_for(c.ntri, nsm, false), ls = shape_for(c.nsurf, nsm, false);
+  if ((e = launch(s, lt, contact_grid_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
+  if ((e = launch(s, ls, contact_cand_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
+  // Two count arrays: each sweep's apply kernel clears the one the next sweep fills
+  // (both start cleared, and an even number of sweeps leaves them so).
+  static_assert(kBodyContactSweeps % 2 == 0, "the count arrays alternate");
+  for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
+    int* count = sweep % 2 ? c.count1 : c.count0;
+    int* next = sweep % 2 ? c.count0 : c.count1;
+    if ((e = launch(s, ls, contact_pairs_kernel<T>, m, c, (const T*)u, (const T*)du, mode, mu, count)) != cudaSuccess)
+      return e;
+    if ((e = launch(s, ls, contact_apply_kernel<T>, m, c, u, du, ub, beta_dt, contact, (const int*)count, next)) !=
+        cudaSuccess)
+      return e;
+  }
+  return cudaSuccess;
+}
+
+template cudaError_t launch_body_contact<float>(cudaStream_t, int, const TetMeshView<float>&,
+                                               const BodyContactView<float>&, float*, float*, float*, float,
+                                               std::uint8_t*, int, float);
+template cudaError_t launch_body_contact<double>(cudaStream_t, int, const TetMeshView<double>&,
+                                                const BodyContactView<double>&, double*, double*, double*, double,
+                                                std::uint8_t*, int, double);
+
+}  // namespace softtled::cuda
