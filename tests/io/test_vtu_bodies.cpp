@@ -154,3 +154,14 @@ TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {
   EXPECT_EQ(p.tet, sim.mesh().tet);
   EXPECT_EQ(p.boundary_tri, sim.mesh().boundary_tri);
 }
+
+TEST(VtuBodies, AWholeMeshOfSeveralBodiesSaysWhoseEachElementIs) {
+  // mesh --vtu writes the bodies in one file, with a 'body' cell array equal to tet_body.
+  Simulation sim(two_boxes(), "cpu");
+  const std::string path = ::testing::TempDir() + "vtu_bodies_whole.vtu";
+  write_vtu(path, sim.mesh(), nullptr, 1.0, material_of(sim));
+  const auto body = data_array(read_text(path), "body");
+  ASSERT_EQ(int(body.size()), sim.mesh().ntet());
+  for (int e = 0; e < sim.mesh().ntet(); ++e) EXPECT_EQ(int(body[e]), sim.mesh().tet_body[e]);
+  EXPECT_GT(std::count(body.begin(), body.end(), 1.0), 0);
+}
