@@ -125,7 +125,7 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, c
   for (const Frame& f : frames_)
     for (std::size_t p = 0; p < f.files.size(); ++p) {
       o << "<DataSet timestep=\"" << f.t << "\" ";
-      if (m.nbody() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
+      if (f.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
       o << "file=\"" << f.files[p] << "\"/>\n";
     }
   o << "</Collection>\n</VTKFile>\n";
