@@ -1,20 +1,74 @@
-// `softtled mesh`: tetrahedralize a scene's body or a surface file and report the paper's
-// Table I counts plus element quality and the critical time step.
+// `softtled mesh`: tetrahedralize a scene's bodies or a surface file and report the paper's
+// Table I counts plus element quality and the critical time step (sim/io/mesh_report.h):
+// for one body as a list, for several one row per body and the total.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "app/commands.h"
 #include "sim/scene/scene.h"
-#include "sim/scene/simulation.h"
-#include "sim/solver/stable_step.h"
+#include "sim/scene/scene_geometry.h"
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/io/mesh_report.h"
 #include "sim/io/output_file.h"
 #include "sim/io/vtu_writer.h"
 
 namespace softtled {
+
+namespace {
+
+// A report's keys, the same for the whole mesh and for each body.
+void print_json_fields(const MeshReport& r) {
+  std::printf("\"input_points\": %d, \"input_facets\": %d, \"input_segments\": %ld, \"mesh_points\": %d, "
+              "\"tetrahedra\": %d, \"faces\": %ld, \"edges\": %ld, \"boundary_faces\": %ld, \"boundary_edges\": %ld, "
+              "\"min_Le_m\": %.6g, \"median_Le_m\": %.6g, \"min_dihedral_deg\": %.4g, \"wave_speed_m_s\": %.6g, "
+              "\"dt_le_s\": %.6g, \"dt_eigen_s\": %.6g, \"dt_cr_s\": %.6g",
+              r.input_points, r.input_facets, r.input_segments, r.nodes, r.tets, r.counts.faces, r.counts.edges,
+              r.counts.boundary_faces, r.counts.boundary_edges, r.quality.min_Le, r.quality.median_Le,
+              r.quality.min_dihedral_deg, r.wave_speed, r.dt_le, r.dt_eigen, r.dt_cr);
+}
+
+// One body: a list in the order of the paper's Table I.
+void print_list(const MeshReport& r, const Scene& s) {
+  std::printf("%-18s %10d\n%-18s %10d\n%-18s %10ld\n", "Input points", r.input_points, "Input facets", r.input_facets,
+              "Input segments", r.input_segments);
+  std::printf("%-18s %10d\n%-18s %10d\n%-18s %10ld\n%-18s %10ld\n%-18s %10ld\n%-18s %10ld\n", "Mesh points", r.nodes,
+              "Mesh tetrahedra", r.tets, "Mesh faces", r.counts.faces, "Mesh edges", r.counts.edges, "Boundary faces",
+              r.counts.boundary_faces, "Boundary edges", r.counts.boundary_edges);
+  std::printf("%-18s %10.4g mm (element %d)\n%-18s %10.4g mm\n%-18s %10.3g deg\n", "Min Le", r.quality.min_Le * 1e3,
+              r.quality.worst_element, "Median Le", r.quality.median_Le * 1e3, "Min dihedral", r.quality.min_dihedral_deg);
+  std::printf("%-18s %10.4g m/s (E = %g Pa, nu = %g, rho = %g kg/m^3)\n%-18s %10.4g us\n%-18s %10.4g us\n%-18s %10.4g us\n",
+              "Wave speed c", r.wave_speed, s.E, s.nu, s.rho, "Le/c (eq. 9)", r.dt_le * 1e6, "2/omega_max",
+              r.dt_eigen * 1e6, "dt_cr (smaller)", r.dt_cr * 1e6);
+}
+
+// Several bodies: one row per body (its own E and rho), then the total.
+void print_rows(const std::vector<MeshReport>& rows, const Scene& s) {
+  std::printf("%-9s %8s %8s %8s %8s %8s %8s %8s %8s %9s %9s %8s %9s %8s %8s %8s %8s %8s\n", "", "input", "input",
+              "mesh", "tets", "faces", "edges", "bound.", "bound.", "min Le", "median Le", "min dih.", "E", "rho", "c",
+              "Le/c", "2/omega", "dt_cr");
+  std::printf("%-9s %8s %8s %8s %8s %8s %8s %8s %8s %9s %9s %8s %9s %8s %8s %8s %8s %8s\n", "", "points", "facets",
+              "points", "", "", "", "faces", "edges", "mm", "mm", "deg", "Pa", "kg/m^3", "m/s", "us", "us", "us");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const MeshReport& r = rows[i];
+    const bool total = i + 1 == rows.size();
+    char E[32] = "", rho[32] = "";
+    if (!total) {
+      std::snprintf(E, sizeof E, "%g", s.body_E(int(i)));
+      std::snprintf(rho, sizeof rho, "%g", s.body_rho(int(i)));
+    }
+    std::printf("%-9s %8d %8d %8d %8d %8ld %8ld %8ld %8ld %9.4g %9.4g %8.3g %9s %8s %8.4g %8.4g %8.4g %8.4g\n",
+                total ? "total" : ("body[" + std::to_string(i) + "]").c_str(), r.input_points, r.input_facets, r.nodes,
+                r.tets, r.counts.faces, r.counts.edges, r.counts.boundary_faces, r.counts.boundary_edges,
+                r.quality.min_Le * 1e3, r.quality.median_Le * 1e3, r.quality.min_dihedral_deg, E, rho, r.wave_speed,
+                r.dt_le * 1e6, r.dt_eigen * 1e6, r.dt_cr * 1e6);
+  }
+}
+
+}  // namespace
 
 Command add_mesh_command(CLI::App& app) {
   struct Opts {
@@ -29,7 +83,7 @@ Command add_mesh_command(CLI::App& app) {
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   c->add_flag("--json", o->json, "print JSON instead of a table");
   c->add_option("--write", o->write, "write BASE.node and BASE.ele");
-  c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file");
+  c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file (several bodies: a 'body' cell array)");
   return [o]() {
     // Output paths first: a bad one must fail before minutes of meshing.
     if (!o->write.empty()) {
@@ -38,46 +92,50 @@ Command add_mesh_command(CLI::App& app) {
     }
     if (!o->vtu.empty()) check_output_file(o->vtu, "--vtu");
     Scene s = o->scene.empty() ? parse_scene("", "(defaults)", o->set) : load_scene(o->scene, o->set);
-    if (!o->surface.empty()) {
+    if (!o->surface.empty()) {  // the surface replaces the scene's bodies
+      s.more_bodies.clear();
       s.shape = "file";
       s.file = o->surface;
       s.source = "--surface";  // no directory: the path is used as given
     }
-    const SurfaceMesh surf = scene_surface(s);
     const TetgenOptions topt = scene_tetgen_options(s);
-    TetMesh m;
-    try {
-      m = tetrahedralize_surface(surf, topt);
-    } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
-      throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
+    // Each body meshed by itself, as the Simulation does, then one mesh of the bodies.
+    std::vector<SurfaceMesh> surfaces;
+    std::vector<TetMesh> parts;
+    std::vector<double> rho_scale, E_scale;
+    for (int b = 0; b < s.body_count(); ++b) {
+      surfaces.push_back(scene_surface(s, b));
+      try {
+        parts.push_back(tetrahedralize_surface(surfaces.back(), topt));
+      } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
+        throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
+      }
+      rho_scale.push_back(s.body_rho(b) / s.rho);
+      E_scale.push_back(s.body_E(b) / s.E);
     }
-    const MeshCounts cnt = count_faces_and_edges(m);
-    const MeshQuality q = measure_quality(m);
-    const double c_wave = dilatational_wave_speed(s.E, s.nu, s.rho);
-    const double dt_le = q.min_Le / c_wave;
-    const double dt_eigen = 2.0 / std::sqrt(rest_eigen_scale(m, s.nu, s.material_model) * s.E / s.rho);
-    const double dt_cr = std::min(dt_le, dt_eigen);
-    const long segments = long(surf.ntri()) * 3 / 2;
+    const TetMesh m = parts.size() == 1 ? parts[0] : concat_bodies(parts, rho_scale, E_scale);
+    const std::vector<MeshReport> rows =
+        parts.size() == 1 ? std::vector<MeshReport>{mesh_report(surfaces[0], m, s.E, s.nu, s.rho, s.material_model)}
+                          : body_mesh_reports(s, surfaces, m);
     if (o->json) {
-      std::printf("{\"input_points\": %d, \"input_facets\": %d, \"input_segments\": %ld, \"mesh_points\": %d, "
-                  "\"tetrahedra\": %d, \"faces\": %ld, \"edges\": %ld, \"boundary_faces\": %ld, \"boundary_edges\": %ld, "
-                  "\"min_Le_m\": %.6g, \"median_Le_m\": %.6g, \"min_dihedral_deg\": %.4g, \"wave_speed_m_s\": %.6g, "
-                  "\"dt_le_s\": %.6g, \"dt_eigen_s\": %.6g, \"dt_cr_s\": %.6g, \"tetgen_switches\": \"%s\"}\n",
-                  surf.npoint(), surf.ntri(), segments, m.nnode(), m.ntet(), cnt.faces, cnt.edges, cnt.boundary_faces,
-                  cnt.boundary_edges, q.min_Le, q.median_Le, q.min_dihedral_deg, c_wave, dt_le, dt_eigen, dt_cr,
-                  tetgen_switches(topt).c_str());
+      std::printf("{");
+      print_json_fields(rows.back());
+      std::printf(", \"tetgen_switches\": \"%s\"", tetgen_switches(topt).c_str());
+      if (rows.size() > 1) {
+        std::printf(", \"bodies\": [");
+        for (std::size_t b = 0; b + 1 < rows.size(); ++b) {
+          std::printf("%s{\"body\": %zu, \"E_Pa\": %.6g, \"rho_kg_m3\": %.6g, ", b ? ", " : "", b, s.body_E(int(b)),
+                      s.body_rho(int(b)));
+          print_json_fields(rows[b]);
+          std::printf("}");
+        }
+        std::printf("]");
+      }
+      std::printf("}\n");
     } else {
       std::printf("TetGen -%s\n", tetgen_switches(topt).c_str());
-      std::printf("%-18s %10d\n%-18s %10d\n%-18s %10ld\n", "Input points", surf.npoint(), "Input facets", surf.ntri(),
-                  "Input segments", segments);
-      std::printf("%-18s %10d\n%-18s %10d\n%-18s %10ld\n%-18s %10ld\n%-18s %10ld\n%-18s %10ld\n", "Mesh points", m.nnode(),
-                  "Mesh tetrahedra", m.ntet(), "Mesh faces", cnt.faces, "Mesh edges", cnt.edges, "Boundary faces",
-                  cnt.boundary_faces, "Boundary edges", cnt.boundary_edges);
-      std::printf("%-18s %10.4g mm (element %d)\n%-18s %10.4g mm\n%-18s %10.3g deg\n", "Min Le", q.min_Le * 1e3,
-                  q.worst_element, "Median Le", q.median_Le * 1e3, "Min dihedral", q.min_dihedral_deg);
-      std::printf("%-18s %10.4g m/s (E = %g Pa, nu = %g, rho = %g kg/m^3)\n%-18s %10.4g us\n%-18s %10.4g us\n%-18s %10.4g us\n",
-                  "Wave speed c", c_wave, s.E, s.nu, s.rho, "Le/c (eq. 9)", dt_le * 1e6, "2/omega_max", dt_eigen * 1e6,
-                  "dt_cr (smaller)", dt_cr * 1e6);
+      if (rows.size() == 1) print_list(rows[0], s);
+      else print_rows(rows, s);
     }
     if (!o->write.empty()) write_tetgen_files(m, o->write);
     if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));

@@ -263,6 +263,7 @@ class Viewer {
     st_.nnode = sim_->mesh().nnode();
     st_.ntet = sim_->mesh().ntet();
     st_.nbody = sim_->mesh().nbody();
+    st_.bodies = body_list(sim_->scene());
     st_.nsurf = int(topo_.node.size());
     st_.ntri = int(topo_.tri.size() / 3);
     drag_.release();

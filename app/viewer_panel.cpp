@@ -28,6 +28,13 @@ void plot_component(const char* name, const std::vector<float>& v, ImU32 color) 
 }
 }  // namespace
 
+std::vector<ViewerStats::Body> body_list(const Scene& scene) {
+  std::vector<ViewerStats::Body> list;
+  for (int b = 0; b < scene.body_count(); ++b)
+    list.push_back({scene.body(b).key, scene.body(b).shape, scene.body_E(b) / scene.E, scene.body_rho(b) / scene.rho});
+  return list;
+}
+
 void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int window_h) {
   if (!s.show_panel) return;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
@@ -82,6 +89,13 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::SliderFloat("rho [kg/m3]", &s.rho, 100.f, 5000.f, "%.0f", ImGuiSliderFlags_Logarithmic);
     ImGui::SameLine();
     ImGui::TextDisabled("(rebuild)");
+  }
+
+  if (st.bodies.size() >= 2 && ImGui::CollapsingHeader("Bodies", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Text("%zu bodies", st.bodies.size());
+    for (const ViewerStats::Body& b : st.bodies)
+      ImGui::TextDisabled("%-9s %-7s E %6.0f Pa  rho %5.0f kg/m3", b.name.c_str(), b.shape.c_str(), s.E * b.E_scale,
+                          s.rho * b.rho_scale);
   }
 
   if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {

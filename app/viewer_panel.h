@@ -67,6 +67,13 @@ struct ViewerStats {
   std::string backend, precision, renderer, vertex_path, warning;
   int nnode = 0, ntet = 0, nsurf = 0, ntri = 0;
   int nbody = 1;
+  // Each body as the scene names it, with its material relative to the scene's [material]
+  // (the panel's live E and rho times these give the body's own).
+  struct Body {
+    std::string name, shape;
+    double E_scale = 1, rho_scale = 1;
+  };
+  std::vector<Body> bodies;
   float slope_now = 0;              // slope angle in use (turns towards the panel's) [deg]
   bool slope_turning = false;       // the slope is turning towards the panel's angle
   bool rebuilding = false;
@@ -85,6 +92,9 @@ struct PanelActions {
   bool rebuild = false;
   bool screenshot = false;
 };
+
+// ViewerStats::bodies of a scene.
+std::vector<ViewerStats::Body> body_list(const Scene& scene);
 
 // Draws the panel in the current ImGui frame (pinned to the window's left edge).
 void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int window_h);

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "sim/io/body_split.h"
 #include "sim/io/output_file.h"
 
 #include <cmath>
@@ -76,10 +77,15 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
         const double dij = sig(i, j) - (i == j ? p : 0.0);
         ss += dij * dij;
       }
-    vm[e] = std::sqrt(1.5 * ss);
+    // A body with its own E ([body.material]): the stress scales with E at a fixed nu.
+    vm[e] = std::sqrt(1.5 * ss) * (m.E_scale.empty() ? 1.0 : m.E_scale[e]);
   }
   o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
   for (double v : vm) o << v << '\n';
+  if (!m.tet_body.empty()) {  // several bodies in one file (mesh --vtu): which is whose
+    o << "</DataArray>\n<DataArray type=\"Int32\" Name=\"body\" format=\"ascii\">\n";
+    for (int b : m.tet_body) o << b << '\n';
+  }
   o << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   write_file_atomic(path, o.str());  // PATH.tmp, renamed when complete
 }
@@ -92,13 +98,36 @@ VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
 
 void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, const NeoHookean<double>& mat) {
   char name[64];
-  std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-  write_vtu(dir_ + "/" + name, m, &s, dt, mat);
-  frames_.emplace_back(t, name);
+  Frame frame{t, {}};
+  if (m.nbody() == 1) {
+    std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+    write_vtu(dir_ + "/" + name, m, &s, dt, mat);
+    frame.files.push_back(name);
+  } else {
+    // One file per body; if one fails, the frame's files already written are removed, so
+    // the directory keeps whole frames only.
+    try {
+      for (int b = 0; b < m.nbody(); ++b) {
+        std::snprintf(name, sizeof name, "frame_%05zu_b%d.vtu", frames_.size(), b);
+        const HostState part = body_state(m, s, b);
+        write_vtu(dir_ + "/" + name, body_mesh(m, b), &part, dt, mat);
+        frame.files.push_back(name);
+      }
+    } catch (...) {
+      for (const auto& f : frame.files) std::remove((dir_ + "/" + f).c_str());
+      throw;
+    }
+  }
+  frames_.push_back(std::move(frame));
   std::ostringstream o;
   o.precision(17);
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  for (const auto& [ft, f] : frames_) o << "<DataSet timestep=\"" << ft << "\" file=\"" << f << "\"/>\n";
+  for (const Frame& f : frames_)
+    for (std::size_t p = 0; p < f.files.size(); ++p) {
+      o << "<DataSet timestep=\"" << f.t << "\" ";
+      if (f.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
+      o << "file=\"" << f.files[p] << "\"/>\n";
+    }
   o << "</Collection>\n</VTKFile>\n";
   write_file_atomic(dir_ + "/series.pvd", o.str());  // always a complete index of complete frames
 }

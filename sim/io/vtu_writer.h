@@ -1,6 +1,9 @@
 #pragma once
-// ParaView export: one .vtu (VTK unstructured grid, ASCII) per frame and a .pvd index.
-// Point data: displacement, velocity, contact state; cell data: J and von Mises stress.
+// ParaView export: one .vtu (VTK unstructured grid, ASCII) per frame, or per body and frame
+// for a mesh of several bodies, and a .pvd index.
+// Point data: displacement, velocity, contact state; cell data: J and von Mises stress
+// (scaled by the mesh's E_scale where a body has its own E), and for a mesh of several
+// bodies written as one file (mesh --vtu) the body of each element.
 #include <string>
 #include <vector>
 
@@ -15,7 +18,10 @@ namespace softtled {
 void write_vtu(const std::string& path, const TetMesh& m, const HostState* state, double dt,
                const NeoHookean<double>& mat);
 
-// Collects frames and keeps DIR/series.pvd up to date after each one. Every file is
+// Collects frames and keeps DIR/series.pvd up to date after each one. A one-body mesh gives
+// DIR/frame_NNNNN.vtu per frame; a mesh of several bodies one file per body,
+// DIR/frame_NNNNN_bK.vtu (that body's nodes and elements alone, renumbered from 0), listed
+// in the .pvd with part="K" and the frame's time step. Every file is
 // written to NAME.tmp and renamed when complete (output_file.h), so after any stop the
 // directory holds whole frames and a .pvd that lists exactly those; write errors are
 // ResourceErrors naming the file.
@@ -28,7 +34,11 @@ class VtuSeries {
 
  private:
   std::string dir_;
-  std::vector<std::pair<double, std::string>> frames_;
+  struct Frame {
+    double t;
+    std::vector<std::string> files;  // one, or one per body in body order
+  };
+  std::vector<Frame> frames_;
 };
 
 }  // namespace softtled

@@ -194,6 +194,17 @@ bool normalize(std::array<double, 3>& v) {
   return true;
 }
 
+// "N.rest" of an indexed --set key (body.N.rest, obstacle.N.rest): N (0-based, at most 3
+// digits) and rest, which must not be empty; form is the message for anything else.
+std::pair<std::size_t, std::string> split_index(const std::string& kv, const std::string& leaf, const char* form) {
+  const auto dot = leaf.find('.');
+  const std::string idx = leaf.substr(0, dot);
+  const std::string rest = dot == std::string::npos ? "" : leaf.substr(dot + 1);
+  if (idx.empty() || idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty())
+    throw InputError("--set '" + kv + "': " + form);
+  return {std::stoul(idx), rest};
+}
+
 void apply_override(toml::table& root, const std::string& kv, const std::string& source) {
   const auto eq = kv.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
@@ -213,12 +224,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   // body.N.key / body.N.material.key: the N-th body (0-based, file order) of [[body]]
   // tables, or of the one [body] table (N = 0).
   if (section == "body" && !leaf.empty() && std::isdigit(static_cast<unsigned char>(leaf[0]))) {
-    const auto dot2 = leaf.find('.');
-    const std::string idx = leaf.substr(0, dot2);
-    std::string rest = dot2 == std::string::npos ? "" : leaf.substr(dot2 + 1);
-    if (idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty())
-      throw InputError("--set '" + kv + "': body keys are 'body.N.key' (N = 0, 1, ... in file order)");
-    const std::size_t n = std::stoul(idx);
+    auto [n, rest] = split_index(kv, leaf, "body keys are 'body.N.key' (N = 0, 1, ... in file order)");
     toml::table* body = nullptr;
     if (auto* arr = root["body"].as_array()) {
       if (n < arr->size()) body = (*arr)[n].as_table();
@@ -226,7 +232,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
       if (!root.contains("body")) root.insert("body", toml::table{});
       body = root["body"].as_table();
     }
-    if (!body) throw InputError(source + ": --set " + key + ": the scene has no body " + idx);
+    if (!body) throw InputError(source + ": --set " + key + ": the scene has no body " + std::to_string(n));
     if (rest.rfind("material.", 0) == 0) {
       rest = rest.substr(9);
       if (!body->contains("material")) body->insert("material", toml::table{});
@@ -236,6 +242,22 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     if (rest.empty() || rest.find('.') != std::string::npos)
       throw InputError("--set '" + kv + "': body keys are 'body.N.key' or 'body.N.material.key'");
     body->insert_or_assign(rest, *parsed["v"].node());
+    return;
+  }
+  // obstacle.N.key: the N-th [[obstacle]] table (0-based, file order). Obstacles are only
+  // changed here, never added: a shape needs several keys at once. Which keys the shape
+  // takes is checked where the tables are read (read_obstacles), as for the file's own keys.
+  if (section == "obstacle") {
+    auto [n, rest] = split_index(kv, leaf, "obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
+    if (rest.find('.') != std::string::npos)
+      throw InputError("--set '" + kv + "': obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
+    auto* arr = root["obstacle"].as_array();
+    if (!arr) throw InputError(source + ": --set " + key + ": the scene has no [[obstacle]] tables");
+    toml::table* obstacle = n < arr->size() ? (*arr)[n].as_table() : nullptr;
+    if (!obstacle)
+      throw InputError(source + ": --set " + key + ": the scene has no obstacle " + std::to_string(n) + " (it has " +
+                       std::to_string(arr->size()) + ", numbered from 0)");
+    obstacle->insert_or_assign(rest, *parsed["v"].node());
     return;
   }
   if (section == "body" && root["body"].as_array())

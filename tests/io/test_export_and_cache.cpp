@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/vtu_read.h"
 #include "scene_helpers.h"
 #include "sim/mesh/mesh_cache.h"
 #include "sim/scene/simulation.h"
@@ -16,19 +17,6 @@
 
 using namespace softtled;
 using namespace softtled::test;
-
-namespace {
-std::vector<double> data_array(const std::string& xml, const std::string& name) {
-  const auto at = xml.find("Name=\"" + name + "\"");
-  if (at == std::string::npos) return {};
-  const auto start = xml.find('>', at) + 1, end = xml.find("</DataArray>", start);
-  std::istringstream in(xml.substr(start, end - start));
-  std::vector<double> v;
-  double x;
-  while (in >> x) v.push_back(x);
-  return v;
-}
-}  // namespace
 
 TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   Simulation sim(box_scene("[material]\nnu = 0.3\n"));
@@ -59,10 +47,7 @@ TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   VtuSeries series(dir);
   series.add(0.0, m, st, sim.time_step().dt, mat);
   series.add(0.5, m, st, sim.time_step().dt, mat);
-  std::ifstream f(dir + "/frame_00001.vtu");
-  std::stringstream buf;
-  buf << f.rdbuf();
-  const std::string xml = buf.str();
+  const std::string xml = read_text(dir + "/frame_00001.vtu");
   const auto vm = data_array(xml, "von_mises"), Jc = data_array(xml, "J"), disp = data_array(xml, "displacement"),
              vel = data_array(xml, "velocity");
   ASSERT_EQ(int(vm.size()), m.ntet());
@@ -73,10 +58,7 @@ TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   ASSERT_EQ(int(disp.size()), 3 * n);
   EXPECT_NEAR(disp[3 * 5], st.u[5], 1e-12);
   EXPECT_NEAR(vel[3 * 7], 1e-3, 1e-9);
-  std::ifstream pvd(dir + "/series.pvd");
-  std::stringstream p;
-  p << pvd.rdbuf();
-  EXPECT_NE(p.str().find("timestep=\"0.5\" file=\"frame_00001.vtu\""), std::string::npos);
+  EXPECT_NE(read_text(dir + "/series.pvd").find("timestep=\"0.5\" file=\"frame_00001.vtu\""), std::string::npos);
 }
 
 TEST(MeshCache, SecondMeshingIsACacheHitWithTheSameMesh) {

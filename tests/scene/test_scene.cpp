@@ -197,3 +197,43 @@ TEST(Scene, BadObstaclesNameTheKey) {
   EXPECT_NE(error_of(nine).find("obstacle: at most 8 obstacles, got 9"), std::string::npos);
   EXPECT_NE(error_of("obstacle = 3\n").find("obstacle: expected [[obstacle]] tables"), std::string::npos);
 }
+
+TEST(Scene, SetAddressesObstaclesByIndex) {
+  const std::string two = "[[obstacle]]\nshape = \"sphere\"\ncenter = [0, -8, 0]\nradius = 3\n"
+                          "[[obstacle]]\nshape = \"box\"\ncenter = [20, -8, 0]\nsize = [4, 4, 4]\n";
+  const Scene s = parse_scene(two, "s.toml", {"obstacle.0.center=[5, -9, 1]", "obstacle.1.velocity=[0, 0.5, 0]",
+                                              "obstacle.1.rotation_deg=[0, 45, 0]"});
+  ASSERT_EQ(s.obstacles.size(), 2u);
+  EXPECT_EQ(s.obstacles[0].center, (std::array<double, 3>{5, -9, 1}));
+  EXPECT_EQ(s.obstacles[0].radius, 3) << "keys not set keep the file's values";
+  EXPECT_EQ(s.obstacles[1].center, (std::array<double, 3>{20, -8, 0}));
+  EXPECT_EQ(s.obstacles[1].velocity, (std::array<double, 3>{0, 0.5, 0}));
+  EXPECT_EQ(s.obstacles[1].rotation_deg, (std::array<double, 3>{0, 45, 0}));
+  // The moved obstacle is where the geometry puts it (scene units to metres).
+  EXPECT_DOUBLE_EQ(scene_obstacles(s)[0].center[0], 5e-3);
+  // A set value goes through the same checks as the file's own.
+  EXPECT_NE(error_of(two, {"obstacle.0.radius=-2"}).find("obstacle[0].radius: must be positive, got -2"), std::string::npos);
+  EXPECT_NE(error_of(two, {"obstacle.1.size=[1, 0, 1]"}).find("obstacle[1].size: element 1 must be positive"), std::string::npos);
+  // Changing the shape asks for that shape's keys.
+  EXPECT_NE(error_of(two, {"obstacle.0.shape=box"}).find("obstacle[0].radius: unknown key (a box obstacle takes"),
+            std::string::npos);
+}
+
+TEST(Scene, BadObstacleSetNamesTheKey) {
+  const std::string one = "[[obstacle]]\nshape = \"sphere\"\ncenter = [0, -8, 0]\nradius = 3\n";
+  // An index past the last obstacle, and a scene without [[obstacle]] tables.
+  EXPECT_NE(error_of(one, {"obstacle.1.center=[0, 0, 0]"}).find("--set obstacle.1.center: the scene has no obstacle 1 (it has 1"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"obstacle.0.center=[0, 0, 0]"}).find("--set obstacle.0.center: the scene has no [[obstacle]] tables"),
+            std::string::npos);
+  // No index, a bad index, a nested key.
+  for (const std::string bad : {"obstacle.center=[0, 0, 0]", "obstacle.x.center=[0, 0, 0]", "obstacle.-1.center=[0, 0, 0]",
+                                "obstacle.0=[0, 0, 0]", "obstacle.0.center.x=1", "obstacle.1234.radius=1"}) {
+    const std::string e = error_of(one, {bad});
+    EXPECT_NE(e.find("--set '" + bad + "': obstacle keys are 'obstacle.N.key'"), std::string::npos) << bad << ": " << e;
+  }
+  // An unknown key is named with its obstacle, as in the file.
+  EXPECT_NE(error_of(one, {"obstacle.0.colour=red"}).find("obstacle[0].colour: unknown key (a sphere obstacle takes"),
+            std::string::npos);
+  EXPECT_NE(error_of(one, {"obstacle.0.size=[1, 1, 1]"}).find("obstacle[0].size: unknown key"), std::string::npos);
+}

@@ -1,0 +1,167 @@
+// ParaView export of several bodies (vtu_writer.h, body_split.h): one file per body and
+// frame holding that body's nodes and elements alone, all parts of a frame listed in
+// series.pvd with the frame's time step, and a frame that fails part-way never listed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "io/vtu_read.h"
+#include "sim/io/body_split.h"
+#include "sim/io/output_file.h"
+#include "sim/io/vtu_writer.h"
+#include "sim/scene/simulation.h"
+
+using namespace softtled;
+using namespace softtled::test;
+
+namespace {
+
+// Two boxes side by side, the second twice as stiff and flying at the first, under gravity.
+Scene two_boxes() {
+  return parse_scene("units = \"mm\"\n"
+                     "[[body]]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [2, 2, 2]\n"
+                     "[[body]]\nshape = \"box\"\nsize = [6, 4, 4]\ndivisions = [3, 2, 2]\nposition = [9, 0, 0]\n"
+                     "velocity = [-0.5, 0, 0]\n[body.material]\nE = 6000\n"
+                     "[floor]\nenabled = false\n",
+                     "two_boxes");
+}
+
+std::string frame_file(const std::string& dir, int frame, int body) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/frame_%05d_b%d.vtu", frame, body);
+  return dir + name;
+}
+
+NeoHookean<double> material_of(const Simulation& sim) {
+  return neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model);
+}
+
+}  // namespace
+
+TEST(VtuBodies, OneFilePerBodyHoldsThatBodysNodesAtTheirPositions) {
+  Simulation sim(two_boxes(), "cpu");
+  const TetMesh& m = sim.mesh();
+  ASSERT_EQ(m.nbody(), 2);
+  const std::string dir = ::testing::TempDir() + "vtu_bodies";
+  std::filesystem::remove_all(dir);
+  VtuSeries series(dir);
+  series.add(sim.time(), m, sim.state(), sim.time_step().dt, material_of(sim));
+  sim.advance(300, 100);  // falling and moving: every node away from its rest position
+  const HostState& st = sim.state();
+  const double t1 = sim.time();
+  series.add(t1, m, st, sim.time_step().dt, material_of(sim));
+  EXPECT_EQ(series.size(), 2u);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/frame_00001.vtu")) << "several bodies: no whole-mesh file";
+
+  const int n = m.nnode();
+  int nodes = 0, tets = 0;
+  for (int b = 0; b < 2; ++b) {
+    // The body's nodes and elements, found from node_body / tet_body directly.
+    const int first = int(std::find(m.node_body.begin(), m.node_body.end(), b) - m.node_body.begin());
+    const int count = int(std::count(m.node_body.begin(), m.node_body.end(), b));
+    const int first_tet = int(std::find(m.tet_body.begin(), m.tet_body.end(), b) - m.tet_body.begin());
+    const int tet_count = int(std::count(m.tet_body.begin(), m.tet_body.end(), b));
+    const std::string xml = read_text(frame_file(dir, 1, b));
+    ASSERT_FALSE(xml.empty()) << frame_file(dir, 1, b);
+    EXPECT_NE(xml.find("NumberOfPoints=\"" + std::to_string(count) + "\" NumberOfCells=\"" + std::to_string(tet_count) + "\""),
+              std::string::npos);
+    const auto pts = vtu_points(xml), disp = data_array(xml, "displacement"), conn = data_array(xml, "connectivity"),
+               vm = data_array(xml, "von_mises");
+    ASSERT_EQ(int(pts.size()), 3 * count);
+    ASSERT_EQ(int(disp.size()), 3 * count);
+    ASSERT_EQ(int(conn.size()), 4 * tet_count);
+    ASSERT_EQ(int(vm.size()), tet_count);
+    double moved = 0;
+    for (int i = 0; i < count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int g = first + i;  // the node in the whole mesh
+        const double x = m.X[3 * g + k] + st.u[k * n + g];
+        EXPECT_NEAR(pts[3 * i + k], x, 1e-8 * std::fabs(x) + 1e-12) << "body " << b << " node " << i;
+        EXPECT_NEAR(disp[3 * i + k], st.u[k * n + g], 1e-8 * std::fabs(st.u[k * n + g]) + 1e-15);
+        moved = std::max(moved, std::fabs(st.u[k * n + g]));
+      }
+    EXPECT_GT(moved, 1e-6) << "the check compares moved positions, not the rest mesh";
+    // Element corners renumbered from 0 within the body: the whole mesh's minus its first node.
+    for (int e = 0; e < tet_count; ++e)
+      for (int a = 0; a < 4; ++a) EXPECT_EQ(int(conn[4 * e + a]), m.tet[4 * (first_tet + e) + a] - first);
+    nodes += count;
+    tets += tet_count;
+  }
+  EXPECT_EQ(nodes, m.nnode());
+  EXPECT_EQ(tets, m.ntet());
+
+  // Both parts of each frame in series.pvd, with the frame's time step.
+  const std::string pvd = read_text(dir + "/series.pvd");
+  std::ostringstream t;
+  t.precision(17);
+  t << t1;
+  for (int b = 0; b < 2; ++b) {
+    const std::string entry = "timestep=\"" + t.str() + "\" part=\"" + std::to_string(b) + "\" file=\"frame_00001_b" +
+                              std::to_string(b) + ".vtu\"";
+    EXPECT_NE(pvd.find(entry), std::string::npos) << entry << "\n" << pvd;
+    EXPECT_NE(pvd.find("part=\"" + std::to_string(b) + "\" file=\"frame_00000_b" + std::to_string(b) + ".vtu\""),
+              std::string::npos);
+  }
+}
+
+TEST(VtuBodies, StiffBodysVonMisesScalesWithItsOwnE) {
+  // The same uniform stretch of both bodies: the body with E = 6000 carries twice the
+  // stress of the one with the scene's E = 3000 (Neo-Hookean stress is linear in E at a fixed nu).
+  Simulation sim(two_boxes(), "cpu");
+  const TetMesh& m = sim.mesh();
+  const int n = m.nnode();
+  HostState st = sim.state();
+  for (int i = 0; i < n; ++i) st.u[i] = 0.1 * m.X[3 * i];  // 10 % stretch along x
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_stress";
+  std::filesystem::remove_all(dir);
+  VtuSeries series(dir);
+  series.add(0.0, m, st, sim.time_step().dt, material_of(sim));
+  const auto vm0 = data_array(read_text(frame_file(dir, 0, 0)), "von_mises");
+  const auto vm1 = data_array(read_text(frame_file(dir, 0, 1)), "von_mises");
+  ASSERT_FALSE(vm0.empty());
+  ASSERT_FALSE(vm1.empty());
+  EXPECT_GT(vm0[0], 10.0);  // Pa: a 10 % stretch of a 3 kPa body
+  for (double v : vm0) EXPECT_NEAR(v, vm0[0], 1e-6 * vm0[0]);
+  for (double v : vm1) EXPECT_NEAR(v, 2 * vm0[0], 1e-6 * vm0[0]);
+}
+
+TEST(VtuBodies, AFrameThatFailsPartWayIsNeverListed) {
+  Simulation sim(two_boxes(), "cpu");
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_fail";
+  std::filesystem::remove_all(dir);
+  VtuSeries series(dir);
+  series.add(0.0, sim.mesh(), sim.state(), sim.time_step().dt, material_of(sim));
+  // Body 1's file of frame 1 cannot be written: its temporary's name is taken by a directory.
+  std::filesystem::create_directories(frame_file(dir, 1, 1) + ".tmp");
+  EXPECT_THROW(series.add(0.001, sim.mesh(), sim.state(), sim.time_step().dt, material_of(sim)), ResourceError);
+  EXPECT_EQ(series.size(), 1u);
+  EXPECT_FALSE(std::filesystem::exists(frame_file(dir, 1, 0))) << "the failed frame's written part is removed";
+  const std::string pvd = read_text(dir + "/series.pvd");
+  EXPECT_NE(pvd.find("frame_00000_b1.vtu"), std::string::npos);
+  EXPECT_EQ(pvd.find("frame_00001"), std::string::npos) << pvd;
+}
+
+TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {
+  Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
+  const BodyRange r = body_range(sim.mesh(), 0);
+  EXPECT_EQ(r.nnode(), sim.mesh().nnode());
+  EXPECT_EQ(r.ntet(), sim.mesh().ntet());
+  const TetMesh p = body_mesh(sim.mesh(), 0);
+  EXPECT_EQ(p.X, sim.mesh().X);
+  EXPECT_EQ(p.tet, sim.mesh().tet);
+  EXPECT_EQ(p.boundary_tri, sim.mesh().boundary_tri);
+}
+
+TEST(VtuBodies, AWholeMeshOfSeveralBodiesSaysWhoseEachElementIs) {
+  // mesh --vtu writes the bodies in one file, with a 'body' cell array equal to tet_body.
+  Simulation sim(two_boxes(), "cpu");
+  const std::string path = ::testing::TempDir() + "vtu_bodies_whole.vtu";
+  write_vtu(path, sim.mesh(), nullptr, 1.0, material_of(sim));
+  const auto body = data_array(read_text(path), "body");
+  ASSERT_EQ(int(body.size()), sim.mesh().ntet());
+  for (int e = 0; e < sim.mesh().ntet(); ++e) EXPECT_EQ(int(body[e]), sim.mesh().tet_body[e]);
+  EXPECT_GT(std::count(body.begin(), body.end(), 1.0), 0);
+}
