@@ -85,9 +85,9 @@ struct DeviceLive {
 template <class T>
 struct DeviceBodyContact {
   DeviceBuffer<int> surf, tri, tri_body, node_body, ring_start, ring;
-  DeviceBuffer<unsigned> bucket_count, overflow;
+  DeviceBuffer<unsigned> bucket_count, overflow, rebuild;
   DeviceBuffer<int> bucket_tri, ncand, cand, count0, count1, in_count, in_list;
-  DeviceBuffer<T> tri_box, pair_corr;
+  DeviceBuffer<T> tri_box, pair_corr, node_box;
   DeviceBuffer<std::uint8_t> pair_state;
   BodyContactView<T> view;
 };
@@ -513,9 +513,18 @@ class CudaSolver final : public CudaSolverApi {
   // are the CPU's key order (body_contact.h).
   void upload_contact_tables() {
     BodyContactView<T>& v = contact_.view;
-    v.bodies = params_.body_contact && contact_tables_.nbody >= 2;
-    v.self = params_.self_contact;
-    if (contact_.surf.size()) return;
+    const bool bodies = params_.body_contact && contact_tables_.nbody >= 2, self = params_.self_contact;
+    if (contact_.surf.size()) {
+      if (bodies != v.bodies || self != v.self) {  // the kept lists are for other kinds of pairs
+        static const unsigned kOne = 1;
+        SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(contact_.rebuild.data(), &kOne, sizeof kOne, cudaMemcpyHostToDevice, stream_));
+      }
+      v.bodies = bodies;
+      v.self = self;
+      return;
+    }
+    v.bodies = bodies;
+    v.self = self;
     const BodyContactTables& t = contact_tables_;
     std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n_), ring_start(n_ + 1, 0), ring;
     for (std::size_t s = 0; s < surf.size(); ++s) surf[s] = perm_.node_new[t.surf[s]];
@@ -550,6 +559,9 @@ class CudaSolver final : public CudaSolverApi {
     contact_.in_count.resize(n_);
     contact_.in_list.resize(std::size_t(n_) * kContactInCap);
     contact_.overflow.resize(1);
+    contact_.rebuild.upload({1u});
+    contact_.node_box.resize(6 * std::size_t(std::max(1, nsurf)));
+    contact_.bucket_count.fill_zero();
     contact_.count0.fill_zero();
     contact_.count1.fill_zero();
     contact_.in_count.fill_zero();
@@ -579,6 +591,8 @@ class CudaSolver final : public CudaSolverApi {
     v.in_count = contact_.in_count.data();
     v.in_list = contact_.in_list.data();
     v.overflow = contact_.overflow.data();
+    v.node_box = contact_.node_box.data();
+    v.rebuild = contact_.rebuild.data();
   }
 
   static std::string contact_overflow_message(unsigned f) {

@@ -1,12 +1,18 @@
-// Body-body and self-contact on the GPU (body_contact.h): the same broad-phase grid, pair
-// test, shares and key-ordered sums as body_contact_cpu.cpp, so both backends accept the
-// same pairs and sum the same terms in the same order. Per step, after the node stage:
+// Body-body and self-contact on the GPU (body_contact.h): the same broad-phase grid, boxes
+// and margins, pair test, shares and key-ordered sums as body_contact_cpu.cpp, so both
+// backends accept the same pairs and sum the same terms in the same order. Per step, after
+// the node stage:
+//   contact_check_kernel   per surface node: has its swept box left its box at the last
+//                          rebuild by more than half the margin? Then the flag asks for a
+//                          rebuild (temporal coherence, as on the CPU; the two kernels
+//                          below return at once without it)
 //   contact_grid_kernel    per triangle: its swept box (t to t + dt, inflated as on the
 //                          CPU) into the hash grid's buckets (atomicAdd picks a slot, so a
 //                          bucket's order varies from run to run; the candidate lists
 //                          below are sorted, so nothing downstream sees that order)
-//   contact_cand_kernel    per surface node: the triangles of the buckets its swept box
-//                          covers whose boxes meet it, sorted by triangle, deduplicated
+//   contact_cand_kernel    per surface node: its box kept for the check, and the triangles
+//                          of the buckets its box covers whose boxes meet it, sorted by
+//                          triangle, deduplicated
 // then kBodyContactSweeps times:
 //   contact_pairs_kernel   per surface node: node_triangle_contact on each candidate; an
 //                          accepted pair is kept in the node's own slot (node, candidate)
@@ -15,8 +21,8 @@
 //                          key order (node, triangle) the CPU sums in), share-scaled and
 //                          summed, added to u, du (and ub)
 // Counts are atomic increments (the same total in any order); no float is ever summed by
-// an atomic, so runs repeat bit for bit. The grid is rebuilt every step (no host round
-// trip decides when a rebuild is due).
+// an atomic, so runs repeat bit for bit. (No host round
+// trip decides when a rebuild is due: the flag stays on the device).
 #include "sim/contact/body_contact.h"
 #include "sim/fem/central_difference.h"
 #include "sim/solver/cuda/kernel_support.cuh"
@@ -37,10 +43,24 @@ __device__ __forceinline__ void swept_box(const TetMeshView<T>& m, const T* u, c
 }
 
 template <class T>
+__global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
+                                     const T* __restrict__ du) {
+  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= c.nsurf) return;
+  T lo[3], hi[3];
+  swept_box(m, u, du, c.surf[s], lo, hi);
+  const T* nb = c.node_box + 6 * s;
+  bool inside = true;
+  for (int k = 0; k < 3; ++k)  // (NaN fails it: a non-finite state rebuilds, and is then left out)
+    inside = inside && lo[k] >= nb[k] - c.half_margin && hi[k] <= nb[3 + k] + c.half_margin;
+  if (!inside) atomicOr(c.rebuild, 1u);
+}
+
+template <class T>
 __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
-  if (t >= c.ntri) return;
+  if (t >= c.ntri || !*c.rebuild) return;
   T b[6];
   for (int k = 0; k < 3; ++k) b[k] = T(INFINITY), b[3 + k] = T(-INFINITY);
   for (int v = 0; v < 3; ++v) {
@@ -90,13 +110,14 @@ template <class T>
 __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (s >= c.nsurf) return;
+  if (s >= c.nsurf || !*c.rebuild) return;
   const int i = c.surf[s];
   const int bi = c.node_body[i];
   int* list = c.cand + std::size_t(s) * kContactCandCap;
   int nc = 0;
   T nb[6];
   swept_box(m, u, du, i, nb, nb + 3);
+  for (int k = 0; k < 6; ++k) c.node_box[6 * s + k] = nb[k];
   for (int k = 0; k < 3; ++k) nb[k] -= c.half_margin, nb[3 + k] += c.half_margin;
   if (grid_box(nb, c.inv_h)) {
     const long long x0 = grid_cell(nb[0], c.inv_h), x1 = grid_cell(nb[3], c.inv_h);
@@ -134,8 +155,13 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
 
 template <class T>
 __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
-                                     const T* __restrict__ du, int mode, T mu, int* __restrict__ count) {
+                                     const T* __restrict__ du, int mode, T mu, int* __restrict__ count,
+                                     bool first) {
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  // After a rebuild the first sweep clears the grid for the next one (the candidate
+  // kernel has finished reading it).
+  if (first && *c.rebuild)
+    for (unsigned h = unsigned(s); h <= c.mask; h += gridDim.x * blockDim.x) c.bucket_count[h] = 0;
   if (s >= c.nsurf) return;
   const int n = m.nnode;
   const int i = c.surf[s];
@@ -177,8 +203,9 @@ template <class T>
 __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactView<T> c, T* __restrict__ u,
                                      T* __restrict__ du, T* __restrict__ ub, T beta_dt,
                                      std::uint8_t* __restrict__ contact, const int* __restrict__ count,
-                                     int* __restrict__ count_next) {
+                                     int* __restrict__ count_next, bool first) {
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (first && s == 0) *c.rebuild = 0;  // the first pairs kernel has read it
   if (s >= c.nsurf) return;
   const int n = m.nnode;
   const int i = c.surf[s];
@@ -221,9 +248,9 @@ template <class T>
 cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m, const BodyContactView<T>& c, T* u,
                                 T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu) {
   if (c.nsurf == 0 || (!c.bodies && !c.self)) return cudaSuccess;
-  cudaError_t e = cudaMemsetAsync(c.bucket_count, 0, sizeof(unsigned) * (std::size_t(c.mask) + 1), s);
-  if (e != cudaSuccess) return e;
   const LaunchShape lt = shape_for(c.ntri, nsm, false), ls = shape_for(c.nsurf, nsm, false);
+  cudaError_t e = launch(s, ls, contact_check_kernel<T>, m, c, (const T*)u, (const T*)du);
+  if (e != cudaSuccess) return e;
   if ((e = launch(s, lt, contact_grid_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
   if ((e = launch(s, ls, contact_cand_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
   // Two count arrays: each sweep's apply kernel clears the one the next sweep fills
@@ -232,9 +259,10 @@ cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m
   for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
     int* count = sweep % 2 ? c.count1 : c.count0;
     int* next = sweep % 2 ? c.count0 : c.count1;
-    if ((e = launch(s, ls, contact_pairs_kernel<T>, m, c, (const T*)u, (const T*)du, mode, mu, count)) != cudaSuccess)
+    if ((e = launch(s, ls, contact_pairs_kernel<T>, m, c, (const T*)u, (const T*)du, mode, mu, count, sweep == 0)) != cudaSuccess)
       return e;
-    if ((e = launch(s, ls, contact_apply_kernel<T>, m, c, u, du, ub, beta_dt, contact, (const int*)count, next)) !=
+    if ((e = launch(s, ls, contact_apply_kernel<T>, m, c, u, du, ub, beta_dt, contact, (const int*)count, next,
+                    sweep == 0)) !=
         cudaSuccess)
       return e;
   }

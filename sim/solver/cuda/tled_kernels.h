@@ -186,6 +186,8 @@ struct BodyContactView {
   int* in_count = nullptr;          // nnode
   int* in_list = nullptr;           // nnode x kContactInCap: slot * 4 + role
   unsigned* overflow = nullptr;     // one word
+  T* node_box = nullptr;            // 6 x nsurf: each surface node's swept box at the last rebuild
+  unsigned* rebuild = nullptr;      // one word: nonzero while a rebuild is due
 };
 // The contact stage on the state after a node stage: (u, du, ub) corrected in place.
 template <class T>
