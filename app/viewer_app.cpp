@@ -239,6 +239,7 @@ class Viewer {
     set_.contact_mode = s.contact_mode;
     set_.mu = float(s.mu);
     set_.body_contact = s.body_contact();
+    set_.self_contact = s.contact_self;
     set_.floor = s.floor;
     set_.slope = s.slope;
     set_.slope_deg = float(s.slope_angle_deg);
@@ -340,6 +341,7 @@ class Viewer {
     p.contact_mode = ContactMode(set_.contact_mode);
     p.mu = set_.mu;
     p.body_contact = set_.body_contact;
+    p.self_contact = set_.self_contact;
     if (planes) p.planes = *planes;
     p.dt_auto = set_.lock_lambda;
     p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);

@@ -106,14 +106,11 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::TextDisabled("F cycles the mode");
     if (s.contact_mode == kCoulomb && ImGui::SliderFloat("mu", &s.mu, 0.0f, 2.0f, "%.2f")) a.params = true;
     if (st.nbody >= 2) {
-      if (st.backend.rfind("cpu", 0) == 0) {
-        if (ImGui::Checkbox("body-body contact", &s.body_contact)) a.params = true;
-        ImGui::SameLine();
-        ImGui::TextDisabled("(%d bodies)", st.nbody);
-      } else {
-        ImGui::TextDisabled("%d bodies; body-body contact: CPU backend only", st.nbody);
-      }
+      if (ImGui::Checkbox("body-body contact", &s.body_contact)) a.params = true;
+      ImGui::SameLine();
+      ImGui::TextDisabled("(%d bodies)", st.nbody);
     }
+    if (ImGui::Checkbox("self-contact", &s.self_contact)) a.params = true;
     if (ImGui::Checkbox("floor", &s.floor)) a.planes = true;
     ImGui::SameLine();
     if (ImGui::Checkbox("slope", &s.slope)) a.planes = true;

@@ -20,7 +20,8 @@ struct ViewerSettings {
   // Contact: live.
   int contact_mode = 0;             // ContactMode: 0 sliding, 1 static, 2 coulomb
   float mu = 0.5f;
-  bool body_contact = false;        // several bodies: body-body contact (CPU backend)
+  bool body_contact = false;        // several bodies: body-body contact
+  bool self_contact = false;        // each body with itself
   bool floor = true;
   bool slope = false;
   float slope_deg = 20;
