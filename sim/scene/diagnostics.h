@@ -12,7 +12,8 @@ struct Diagnostics {
   double t = 0;
   double centroid[3] = {0, 0, 0};  // mass-weighted [m]
   double min_gap = 0;              // smallest signed node-plane or node-obstacle distance [m]
-                                   // (inf: no planes, no obstacles)
+                                   // (inf: no planes, no obstacles); Simulation adds the
+                                   // body-body and self-contact pairs' (body_gap.h)
   // Kinetic, strain, gravitational energy [J]. ke uses the half-step velocity du/dt, the
   // integrator's own velocity between t - dt and t; it lags the velocity at t by a dt/2
   // (by g dt/2 in free fall).

@@ -1,5 +1,7 @@
 #include "sim/scene/simulation.h"
 
+#include "sim/contact/body_gap.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -520,7 +522,18 @@ Diagnostics Simulation::diagnostics() {
 }
 
 Diagnostics Simulation::diagnostics_of(const HostState& s) {
-  return measure_diagnostics(mesh_, s, solver_->lumped_mass(), params_, tracked_, time(), solver_->strain_energy());
+  Diagnostics d =
+      measure_diagnostics(mesh_, s, solver_->lumped_mass(), params_, tracked_, time(), solver_->strain_energy());
+  if ((params_.body_contact && mesh_.nbody() >= 2) || params_.self_contact) {  // body-body and self gaps too
+    if (contact_tables_.nnode == 0) contact_tables_ = build_body_contact_tables(mesh_);
+    const int n = mesh_.nnode();
+    work_x_.resize(3 * std::size_t(n));
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) work_x_[3 * i + k] = mesh_.X[3 * i + k] + s.u[std::size_t(k) * n + i];
+    const double g = min_body_gap(contact_tables_, work_x_, s.contact, params_.body_contact, params_.self_contact);
+    d.min_gap = std::min(d.min_gap, g);
+  }
+  return d;
 }
 
 }  // namespace softtled

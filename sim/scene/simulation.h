@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/mesh/tet_mesh.h"
+#include "sim/contact/body_contact_tables.h"
 #include "sim/scene/diagnostics.h"
 #include "sim/scene/plane_motion.h"
 #include "sim/scene/scene.h"
@@ -182,6 +183,8 @@ class Simulation {
   // Work of the user's forces, for the watchdog's energy balance: fext_ as last set,
   // work_ [J] done up to the displacements work_u_.
   std::vector<double> fext_, work_u_;
+  BodyContactTables contact_tables_;  // for min_gap over body pairs (built when first needed)
+  std::vector<double> work_x_;        // positions, 3 per node
   double work_ = 0;
   double c_factor_ = 1;  // per-body materials: the fastest body's wave speed / the scene's
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu

@@ -240,7 +240,7 @@ TEST_P(BodyContactOnEachBackend, TwoRingCollisionConservesMomentumLosesEnergyAnd
   const double p0 = std::sqrt(P0[0] * P0[0] + P0[1] * P0[1] + P0[2] * P0[2]);
   ASSERT_GT(p0, 0);
   const double ke0 = sim.diagnostics().ke;
-  double drift = 0, min_dx = 1e300, worst_pen = 0;
+  double drift = 0, min_dx = 1e300, worst_pen = 0, min_gap = INFINITY;
   int contacts = 0;
   const long every = std::max(1L, std::lround(5e-4 / sim.params().dt));
   while (sim.time() < s.duration) {
@@ -251,13 +251,14 @@ TEST_P(BodyContactOnEachBackend, TwoRingCollisionConservesMomentumLosesEnergyAnd
     const Diagnostics d = sim.diagnostics();
     min_dx = std::min(min_dx, d.body_centroid[3] - d.body_centroid[0]);
     contacts = std::max(contacts, d.n_contact);
+    min_gap = std::min(min_gap, d.min_gap);
     worst_pen = std::max(worst_pen, max_penetration(sim));
   }
   const Diagnostics d = sim.diagnostics();
   const double v0 = body_vx(sim, 0), v1 = body_vx(sim, 1);
   std::printf("two rings: momentum drift %.3g (relative), KE %.6g -> %.6g J, closest centroids %.3f mm, "
-              "final v %.4f / %.4f m/s, max penetration %.4f mm, max contacts %d\n",
-              drift, ke0, d.ke, min_dx * 1e3, v0, v1, worst_pen * 1e3, contacts);
+              "final v %.4f / %.4f m/s, max penetration %.4f mm, max contacts %d, min_gap %.4f mm\n",
+              drift, ke0, d.ke, min_dx * 1e3, v0, v1, worst_pen * 1e3, contacts, min_gap * 1e3);
   EXPECT_LT(drift, 1e-6);
   EXPECT_GT(contacts, 10);                     // they did meet
   EXPECT_LE(d.ke, ke0);                        // projection contact is inelastic
@@ -265,6 +266,10 @@ TEST_P(BodyContactOnEachBackend, TwoRingCollisionConservesMomentumLosesEnergyAnd
   EXPECT_GT(d.body_centroid[3] - d.body_centroid[0], min_dx + 1e-4);  // and apart by now
   EXPECT_LT(min_dx, 8e-3 - 1e-3);              // started 8 mm apart, came closer by > 1 mm
   EXPECT_LT(worst_pen, 0.05e-3);
+  // min_gap (no planes here) is the rings' gap: measured while they touch, never deeper
+  // than the penetration bound.
+  EXPECT_LT(min_gap, 1e-4);
+  EXPECT_GT(min_gap, -0.05e-3);
 }
 
 // Without body-body contact the same rings pass into each other (the measure can fail).
