@@ -234,3 +234,24 @@ TEST(MeshObstacle, CudaRefusesAndAutoPicksTheCpu) {
   Simulation sim(s, "auto");
   EXPECT_EQ(sim.backend().rfind("cpu", 0), 0u);
 }
+
+TEST(MeshObstacle, ScaleCenterAndRotationPlaceTheMesh) {
+  // A 3 x 2 x 1 box OBJ with scale = 2 (6 x 4 x 2 mm), turned 90 degrees about z (its 6 mm
+  // side now along y), its origin at center = (1, 2, 3) mm: the grid spans the scaled
+  // mesh (64 cells across 6 mm), and points off the middle of its faces are at the
+  // analytic distances to rounding (cells that see one flat face are exact).
+  const Scene s = parse_scene("units = \"mm\"\n[[obstacle]]\nshape = \"mesh\"\nfile = \"" + box_obj(3, 2, 1) +
+                                  "\"\nscale = 2\ncenter = [1, 2, 3]\nrotation_deg = [0, 0, 90]\n",
+                              "placed mesh");
+  const std::vector<ObstacleSpec> o = scene_obstacles(s);
+  ASSERT_EQ(o.size(), 1u);
+  EXPECT_NEAR(o[0].sdf->cell, 6e-3 / kDefaultSdfResolution, 1e-18);
+  const double above[3] = {1e-3, (2 + 3 + 0.5) * 1e-3, 3e-3};   // over the 6 mm side's end (+y)
+  const double beside[3] = {(1 + 2 + 0.25) * 1e-3, 2e-3, 3e-3};  // off the 4 mm side (+x)
+  const double below[3] = {1e-3, 2e-3, (3 - 1 - 0.3) * 1e-3};    // under the 2 mm side (-z)
+  const double inside[3] = {1e-3, 2.5e-3, 3.2e-3};               // 0.8 mm below the +z face
+  EXPECT_NEAR(signed_distance(o[0], above), 0.5e-3, 1e-15);
+  EXPECT_NEAR(signed_distance(o[0], beside), 0.25e-3, 1e-15);
+  EXPECT_NEAR(signed_distance(o[0], below), 0.3e-3, 1e-15);
+  EXPECT_NEAR(signed_distance(o[0], inside), -0.8e-3, 1e-15);
+}
