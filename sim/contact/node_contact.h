@@ -7,12 +7,22 @@
 // obstacle closest to the node at time t, and the step projected is the node's step
 // relative to the obstacle, du - d (d: the obstacle's displacement over the step), so a
 // moving obstacle pushes and friction acts on the relative motion (in the obstacle's
-// frame the obstacle is at rest and the rule is the plane's). The obstacles are convex,
-// so that plane supports them: a node that ends on or in front of it is outside, and a
-// straight relative step that would pass through the obstacle crosses it (no
+// frame the obstacle is at rest and the rule is the plane's). The analytic obstacles are
+// convex, so that plane supports them: a node that ends on or in front of it is outside,
+// and a straight relative step that would pass through the obstacle crosses it (no
 // tunnelling). On a curved surface the tangent plane is a linearisation: a node sliding
 // over a sphere of radius R is held up to (tangential step)^2 / 2R off the surface for a
 // step, then falls back under its own forces.
+//
+// A mesh obstacle (obstacle_sdf.h) may be concave, and then the tangent plane at the
+// closest point need not support it. The rule is the same and one plane is used per
+// step: a node sliding along a concave surface of radius R ends up to (tangential
+// step)^2 / 2R inside it, and a node in a concave corner or crease is put on the plane
+// of the one face nearest it, possibly behind the other face; the next step, starting
+// inside, puts it back on the nearest face (d0 < 0 projects it by -d0). So a node is
+// corrected by one face per step, and in a crease it is inside by at most one step's
+// motion into the other face for a step. A mesh's distance is also the grid's, not the
+// triangles': within sqrt(3)/2 cell of them, exact over cells that see one flat face.
 #include <cstdint>
 
 #include "sim/contact/obstacle_shapes.h"
@@ -24,7 +34,8 @@ namespace softtled {
 
 // Obstacles one step can carry (scene files are checked against it at load). Fixed so the
 // parameters stay a plain value the kernels take by copy, as the planes do; 8 keeps
-// StepParams<double> below 2 KB of the 4 KB kernel-parameter space.
+// StepParams<double> below 2 KB of the 4 KB kernel-parameter space (2008 bytes since each
+// entry carries a mesh obstacle's grid view, 56 bytes; the grid itself is behind its pointer).
 constexpr int kMaxObstacles = 8;
 
 template <class T>

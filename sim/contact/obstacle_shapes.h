@@ -1,10 +1,11 @@
 #pragma once
 // Rigid obstacles as value functions: the signed distance of a point from a sphere, an
-// oriented box or a capsule, and the outward unit normal at the closest surface point
-// (for a point inside, the normal of the nearest face, so that moving along it by -dist
-// leaves the obstacle). The contact projection (node_contact.h) projects a node's step
-// against the tangent plane there; all three shapes are convex, so that plane supports
-// the obstacle and a node put on or in front of it is outside.
+// oriented box, a capsule or a closed triangle mesh, and the outward unit normal at the
+// closest surface point (for a point inside, the normal of the nearest face, so that
+// moving along it by -dist leaves the obstacle). The contact projection (node_contact.h)
+// projects a node's step against the tangent plane there; the three analytic shapes are
+// convex, so that plane supports the obstacle and a node put on or in front of it is
+// outside. A mesh may be concave: see mesh_surface below and node_contact.h.
 //
 // Closest points after Ericson, Real-Time Collision Detection (Morgan Kaufmann 2005):
 // sec. 5.1.2 (point to segment: the capsule's axis, then a sphere around that point) and
@@ -13,21 +14,26 @@
 // face; ties go to the lowest axis, so the result is the same on every backend).
 #include <cmath>
 
+#include "sim/contact/obstacle_sdf.h"
 #include "sim/core/sim_hd.h"
 
 namespace softtled {
 
-enum ObstacleShape : int { kObstacleSphere = 0, kObstacleBox = 1, kObstacleCapsule = 2 };
+enum ObstacleShape : int { kObstacleSphere = 0, kObstacleBox = 1, kObstacleCapsule = 2, kObstacleMesh = 3 };
 
 // One obstacle as the step kernels read it (a pose; its motion is the host's business).
 template <class T>
 struct Obstacle {
   int shape = kObstacleSphere;  // ObstacleShape
-  T c[3] = {T(0), T(0), T(0)};  // sphere, box: centre; capsule: end a [m], at the start of the step
+  T c[3] = {T(0), T(0), T(0)};  // sphere, box: centre; capsule: end a; mesh: its frame's origin [m],
+                                // at the start of the step
   T e[3] = {T(0), T(0), T(0)};  // box: half sides; capsule: b - a [m]
   T r = T(0);                   // sphere, capsule: radius [m]
-  T R[9] = {T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1)};  // box: world = R local, row-major
+  T R[9] = {T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1)};  // box, mesh: world = R local, row-major
   T d[3] = {T(0), T(0), T(0)};  // the obstacle's displacement over this step [m] (0: at rest)
+  // mesh: its signed distance grid in its own frame; `value` points at the backend's copy
+  // (solver.h, obstacle_from)
+  SdfGridView<T> sdf;
 };
 
 template <class T>
@@ -107,11 +113,48 @@ SIM_HD inline SurfacePoint<T> capsule_surface(const Obstacle<T>& o, const T x[3]
   return round_surface(p, o.r, x);
 }
 
+// A closed mesh, through its distance grid (obstacle_sdf.h) in the frame x = c + R q.
+// Inside the grid's box: the interpolated distance and its normalised gradient (where the
+// gradient vanishes, at a cell's saddle deep inside or outside, +y as for the sphere's
+// centre). Beyond the box (a node at least the grid's padding away from the mesh): the
+// distance to the box plus the interpolated distance at the nearest point of the box, and
+// the normal from that point. That continues the grid's value continuously, stays at
+// least |x - cb| - rb for any sphere (cb, rb) holding the grid's box (obstacle_bound, the
+// SIMD stage's filter) and is never below the true distance less the grid's error, so a
+// far node is free; a node could only be missed by a single step longer than the padding.
+template <class T>
+SIM_HD inline SurfacePoint<T> mesh_surface(const Obstacle<T>& o, const T x[3]) {
+  const T v[3] = {x[0] - o.c[0], x[1] - o.c[1], x[2] - o.c[2]};
+  T q[3];
+  for (int i = 0; i < 3; ++i) q[i] = o.R[i] * v[0] + o.R[3 + i] * v[1] + o.R[6 + i] * v[2];  // R^T v
+  const SdfSample<T> s = sdf_sample(o.sdf, q);
+  const T rr = s.out[0] * s.out[0] + s.out[1] * s.out[1] + s.out[2] * s.out[2];
+  SurfacePoint<T> sp;
+  T nl[3];
+  if (!(rr == T(0))) {  // beyond the box (or NaN, which stays NaN)
+    const T len = contact_sqrt(rr);
+    sp.dist = s.value + len;
+    for (int k = 0; k < 3; ++k) nl[k] = s.out[k] / len;
+  } else {
+    sp.dist = s.value;
+    const T gg = s.grad[0] * s.grad[0] + s.grad[1] * s.grad[1] + s.grad[2] * s.grad[2];
+    if (gg > T(0)) {
+      const T len = contact_sqrt(gg);
+      for (int k = 0; k < 3; ++k) nl[k] = s.grad[k] / len;
+    } else {
+      nl[0] = T(0), nl[1] = T(1), nl[2] = T(0);
+    }
+  }
+  for (int k = 0; k < 3; ++k) sp.n[k] = o.R[3 * k] * nl[0] + o.R[3 * k + 1] * nl[1] + o.R[3 * k + 2] * nl[2];
+  return sp;
+}
+
 // Signed distance of x from the obstacle and the outward normal there.
 template <class T>
 SIM_HD inline SurfacePoint<T> obstacle_surface(const Obstacle<T>& o, const T x[3]) {
   if (o.shape == kObstacleBox) return box_surface(o, x);
   if (o.shape == kObstacleCapsule) return capsule_surface(o, x);
+  if (o.shape == kObstacleMesh) return mesh_surface(o, x);
   return round_surface(o.c, o.r, x);
 }
 
@@ -125,6 +168,18 @@ SIM_HD inline void obstacle_bound(const Obstacle<T>& o, T cb[3], T& rb) {
   } else if (o.shape == kObstacleCapsule) {
     for (int k = 0; k < 3; ++k) cb[k] = o.c[k] + T(0.5) * o.e[k];
     rb = o.r + T(0.5) * contact_sqrt(o.e[0] * o.e[0] + o.e[1] * o.e[1] + o.e[2] * o.e[2]);
+  } else if (o.shape == kObstacleMesh) {
+    // The sphere around the grid's box. mesh_surface is at least |x - cb| - rb for it:
+    // inside the box each node's exact distance is (the mesh lies in the sphere) and the
+    // trilinear weights keep that (|x - cb| is convex); beyond it by the triangle
+    // inequality from the nearest point of the box.
+    T h[3], m[3];
+    for (int k = 0; k < 3; ++k) {
+      h[k] = T(0.5) * T(o.sdf.n[k] - 1) * o.sdf.cell;
+      m[k] = o.sdf.origin[k] + h[k];
+    }
+    for (int k = 0; k < 3; ++k) cb[k] = o.c[k] + o.R[3 * k] * m[0] + o.R[3 * k + 1] * m[1] + o.R[3 * k + 2] * m[2];
+    rb = contact_sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
   } else {
     for (int k = 0; k < 3; ++k) cb[k] = o.c[k];
     rb = o.r;

@@ -24,7 +24,7 @@ const Names<ElementType> kElements = {{"T4", kT4}, {"T4ANP", kT4ANP}};
 const Names<ContactMode> kContactModes = {{"sliding", kSliding}, {"static", kStatic}, {"coulomb", kCoulomb}};
 const Names<Precision> kPrecisions = {{"float", Precision::kFloat}, {"double", Precision::kDouble}};
 const Names<ObstacleShape> kObstacleShapes = {
-    {"sphere", kObstacleSphere}, {"box", kObstacleBox}, {"capsule", kObstacleCapsule}};
+    {"sphere", kObstacleSphere}, {"box", kObstacleBox}, {"capsule", kObstacleCapsule}, {"mesh", kObstacleMesh}};
 
 // Physical ranges of the material, motion and contact keys. Each is far outside any soft
 // body a user can mean, and inside what the step and its float32 state can represent;
@@ -320,18 +320,19 @@ void read_obstacles(Reader& r, Scene& s) {
     if (!t) r.fail(key, "expected a table ([[obstacle]])");
     Scene::ObstacleDesc o;
     auto sh = (*t)["shape"].as_string();
-    if (!(*t)["shape"].node()) r.fail(key + ".shape", "required: \"sphere\", \"box\" or \"capsule\"");
+    if (!(*t)["shape"].node()) r.fail(key + ".shape", "required: \"sphere\", \"box\", \"capsule\" or \"mesh\"");
     if (!sh) r.fail(key + ".shape", "expected a string");
     const std::string shape = sh->get();
-    if (shape == "mesh")
-      r.fail(key + ".shape", "\"mesh\" obstacles are not supported yet (use \"sphere\", \"box\" or \"capsule\")");
     bool known = false;
     for (const auto& [name, v] : kObstacleShapes)
       if (shape == name) o.shape = v, known = true;
-    if (!known) r.fail(key + ".shape", "'" + shape + "' is not one of: sphere, box, capsule");
-    const std::set<std::string> keys = o.shape == kObstacleSphere ? std::set<std::string>{"shape", "center", "radius", "velocity"}
-                                       : o.shape == kObstacleBox  ? std::set<std::string>{"shape", "center", "size", "rotation_deg", "velocity"}
-                                                                  : std::set<std::string>{"shape", "a", "b", "radius", "velocity"};
+    if (!known) r.fail(key + ".shape", "'" + shape + "' is not one of: sphere, box, capsule, mesh");
+    const std::set<std::string> keys =
+        o.shape == kObstacleSphere ? std::set<std::string>{"shape", "center", "radius", "velocity"}
+        : o.shape == kObstacleBox  ? std::set<std::string>{"shape", "center", "size", "rotation_deg", "velocity"}
+        : o.shape == kObstacleMesh
+            ? std::set<std::string>{"shape", "file", "center", "scale", "rotation_deg", "resolution", "velocity"}
+            : std::set<std::string>{"shape", "a", "b", "radius", "velocity"};
     for (const auto& [k, v] : *t) {
       (void)v;
       const std::string name(k.str());
@@ -388,6 +389,31 @@ void read_obstacles(Reader& r, Scene& s) {
       for (int k = 0; k < 3; ++k)
         if (!(o.size[k] > 0)) r.fail(key + ".size", "element " + std::to_string(k) + " must be positive");
       vec3("rotation_deg", false, 1e6, o.rotation_deg);
+    } else if (o.shape == kObstacleMesh) {
+      // The file is read, checked and turned into a distance grid at start-up
+      // (scene_obstacles), where its errors name obstacle[i].file.
+      const toml::node* f = (*t)["file"].node();
+      if (!f) r.fail(key + ".file", "required for a mesh obstacle (a closed OBJ, OFF or STL surface)");
+      if (!f->as_string() || f->as_string()->get().empty()) r.fail(key + ".file", "expected a file name");
+      o.file = f->as_string()->get();
+      vec3("center", false, far, o.center);
+      vec3("rotation_deg", false, 1e6, o.rotation_deg);
+      if (const toml::node* n = (*t)["scale"].node()) {
+        if (auto i = n->as_integer()) o.scale = double(i->get());
+        else if (auto fl = n->as_floating_point()) o.scale = fl->get();
+        else r.fail(key + ".scale", "expected a number");
+        if (!std::isfinite(o.scale)) r.fail(key + ".scale", "must be finite, got " + std::to_string(o.scale));
+        positive("scale", o.scale);
+      }
+      if (const toml::node* n = (*t)["resolution"].node()) {
+        auto i = n->as_integer();
+        if (!i) r.fail(key + ".resolution", "expected an integer (distance grid cells across the mesh's longest side)");
+        if (i->get() < kMinSdfResolution || i->get() > kMaxSdfResolution)
+          r.fail(key + ".resolution", "value " + std::to_string(i->get()) + " out of range [" +
+                                          std::to_string(kMinSdfResolution) + ", " + std::to_string(kMaxSdfResolution) +
+                                          "] (cells across the mesh's longest side; the grid is at most 127^3 nodes)");
+        o.resolution = int(i->get());
+      }
     } else {
       vec3("a", true, far, o.a);
       vec3("b", true, far, o.b);

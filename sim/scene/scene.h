@@ -107,11 +107,14 @@ struct Scene : BodyDesc {
 
   // [[obstacle]]: rigid obstacles (at most kMaxObstacles), in scene units. Which keys a
   // shape takes: sphere center, radius; box center, size, rotation_deg; capsule a, b,
-  // radius; each optionally velocity [m/s].
+  // radius; mesh file, center, scale, rotation_deg, resolution; each optionally velocity [m/s].
   struct ObstacleDesc {
     ObstacleShape shape = kObstacleSphere;
     std::array<double, 3> center{}, size{}, rotation_deg{}, a{}, b{}, velocity{};
     double radius = 0;
+    std::string file;         // mesh: closed surface file (OBJ, OFF, STL), relative to the scene file
+    double scale = 1;         // mesh: applied to the file's coordinates (then units)
+    int resolution = kDefaultSdfResolution;  // mesh: distance grid cells across its longest side
   };
   std::vector<ObstacleDesc> obstacles;
 

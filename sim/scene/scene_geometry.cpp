@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -13,6 +14,15 @@
 #include "sim/mesh/surface_io.h"
 
 namespace softtled {
+
+namespace {
+// A file named in the scene: relative paths are relative to the scene file's folder.
+std::string scene_relative_path(const Scene& sc, const std::string& file) {
+  const auto slash = sc.source.find_last_of('/');
+  if (!file.empty() && file[0] != '/' && slash != std::string::npos) return sc.source.substr(0, slash + 1) + file;
+  return file;
+}
+}  // namespace
 
 SurfaceMesh scene_shape_surface(const Scene& sc, int body) {
   const BodyDesc& s = sc.body(body);
@@ -31,10 +41,7 @@ SurfaceMesh scene_shape_surface(const Scene& sc, int body) {
     } else if (s.shape == "sphere") {
       m = make_sphere(s.radius, s.subdivisions);
     } else {
-      std::string path = s.file;
-      const auto slash = sc.source.find_last_of('/');
-      if (!path.empty() && path[0] != '/' && slash != std::string::npos) path = sc.source.substr(0, slash + 1) + path;
-      m = load_surface(path);
+      m = load_surface(scene_relative_path(sc, s.file));
       for (double& v : m.xyz) v *= s.scale;
     }
   } catch (const InputError& e) {
@@ -109,11 +116,49 @@ std::vector<PlaneSpec> scene_planes(const Scene& s) {
   return planes;
 }
 
+namespace {
+// A mesh obstacle's file, loaded, checked, scaled to metres and turned into its grid.
+std::shared_ptr<const SdfGrid> scene_obstacle_grid(const Scene& s, int i) {
+  const Scene::ObstacleDesc& d = s.obstacles[i];
+  const std::string key = s.source + ": obstacle[" + std::to_string(i) + "]";
+  SurfaceMesh m;
+  try {
+    m = load_surface(scene_relative_path(s, d.file));  // closed, manifold, oriented, finite
+  } catch (const InputError& e) {
+    throw InputError(key + ".file: " + e.what());
+  }
+  for (double& v : m.xyz) v *= d.scale * s.length_unit;
+  // The ranges of a body's surface (tetgen_mesher.h): a grid of a mesh beyond them would
+  // lose its cells to rounding (float keeps 7 digits of a coordinate).
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, far = 0;
+  for (int p = 0; p < m.npoint(); ++p)
+    for (int k = 0; k < 3; ++k) {
+      const double x = m.xyz[3 * p + k];
+      lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x), far = std::max(far, std::fabs(x));
+    }
+  const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  char buf[300];
+  if (!(size >= kMinExtent && size <= kMaxExtent)) {
+    std::snprintf(buf, sizeof buf, ".file/.scale: the mesh's size %.4g m (largest bounding-box side) is outside %g..%g m",
+                  size, kMinExtent, kMaxExtent);
+    throw InputError(key + buf);
+  }
+  if (!(far <= kMaxCoordinate && far <= kMaxOffsetPerExtent * size)) {
+    std::snprintf(buf, sizeof buf,
+                  ".file/.scale: a vertex is %.4g m from the mesh's origin (at most %g m, and %g times its size)", far,
+                  kMaxCoordinate, kMaxOffsetPerExtent);
+    throw InputError(key + buf);
+  }
+  return std::make_shared<const SdfGrid>(build_mesh_sdf(m, d.resolution));
+}
+}  // namespace
+
 std::vector<ObstacleSpec> scene_obstacles(const Scene& s) {
   const double pi = 3.14159265358979323846, u = s.length_unit;
   std::vector<ObstacleSpec> out;
   for (const Scene::ObstacleDesc& d : s.obstacles) {
     ObstacleSpec o;
+    if (d.shape == kObstacleMesh) o.sdf = scene_obstacle_grid(s, int(out.size()));
     o.shape = d.shape;
     for (int k = 0; k < 3; ++k) {
       o.center[k] = (d.shape == kObstacleCapsule ? d.a[k] : d.center[k]) * u;
@@ -219,14 +264,35 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
                     obstacle_shape_name(obstacles[o].shape), node, -worst * 1e3);
       throw InputError(key + buf);
     }
-    const double* c = obstacles[o].center;
-    for (int e = 0; e < m.ntet(); ++e) {
-      const int* t = &m.tet[4 * e];
-      if (point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], c))
-        throw InputError(key + ": the obstacle starts inside the body (its " +
-                         (obstacles[o].shape == kObstacleCapsule ? "end a" : "centre") + " lies in element " +
-                         std::to_string(e) + "); move body.position or the obstacle");
+    // A small obstacle between the nodes: its centre (a capsule's end a; a mesh's every
+    // vertex inside the body's bounding box) in an element.
+    const ObstacleSpec& ob = obstacles[o];
+    std::vector<double> points(ob.center, ob.center + 3);
+    if (ob.shape == kObstacleMesh && ob.sdf) {
+      points.clear();
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      for (int i = 0; i < m.nnode(); ++i)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.X[3 * i + k]), hi[k] = std::max(hi[k], m.X[3 * i + k]);
+      const SurfaceMesh& sm = ob.sdf->surface;
+      for (int v = 0; v < sm.npoint(); ++v) {
+        const double* q = &sm.xyz[3 * v];
+        double x[3];
+        bool in = true;
+        for (int k = 0; k < 3; ++k) {
+          x[k] = ob.center[k] + ob.R[3 * k] * q[0] + ob.R[3 * k + 1] * q[1] + ob.R[3 * k + 2] * q[2];
+          in = in && x[k] >= lo[k] && x[k] <= hi[k];
+        }
+        if (in) points.insert(points.end(), x, x + 3);
+      }
     }
+    const char* what = ob.shape == kObstacleCapsule ? "end a" : ob.shape == kObstacleMesh ? "a vertex" : "centre";
+    for (std::size_t p = 0; p < points.size(); p += 3)
+      for (int e = 0; e < m.ntet(); ++e) {
+        const int* t = &m.tet[4 * e];
+        if (point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], &points[p]))
+          throw InputError(key + ": the obstacle starts inside the body (" + (ob.shape == kObstacleMesh ? "" : "its ") +
+                           what + " lies in element " + std::to_string(e) + "); move body.position or the obstacle");
+      }
   }
 }
 

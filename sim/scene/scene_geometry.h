@@ -25,8 +25,11 @@ void place_surface(const Scene& s, SurfaceMesh& m, int body = 0);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);
-// [[obstacle]] tables in metres, at t = 0 (a box's rotation_deg as a matrix, turned about
-// x, then y, then z like body.rotation_deg).
+// [[obstacle]] tables in metres, at t = 0 (a box's or mesh's rotation_deg as a matrix,
+// turned about x, then y, then z like body.rotation_deg). A mesh obstacle's file is loaded
+// here and its distance grid built (mesh_sdf.h: the start-up cost, README "Obstacles");
+// InputErrors name obstacle[i].file (unreadable, open, non-manifold, empty, NaN) or
+// obstacle[i].file/.scale (size or coordinates out of range).
 std::vector<ObstacleSpec> scene_obstacles(const Scene& s);
 // The inverse for the slope: the angle [deg] by which `slope` is turned from the floor
 // normal about z (a slope that turns as a kinematic plane).
@@ -42,8 +45,9 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m);
 // naming the plane (planes as scene_planes returns them).
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes);
 // The same for obstacles: InputError naming obstacle[i] when a body node lies inside it
-// (signed distance < 0) or its centre (a capsule: its end a) lies in one of the body's
-// elements (a small obstacle between the nodes).
+// (signed distance < 0; a mesh's from its grid) or its centre (a capsule: its end a; a
+// mesh: any of its vertices) lies in one of the body's elements (a small obstacle between
+// the nodes).
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles);
 // Bodies must not overlap at the start (body-body contact would shoot them apart):
 // InputError naming both bodies when a node of one lies in an element of another.

@@ -14,7 +14,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <stdexcept>
 
@@ -76,6 +78,8 @@ class CpuSolver final : public Solver {
     const T old_beta_dt = cfg_.step.beta_dt;
     params_ = p;
     cfg_ = step_config_from<T>(p);
+    hold_grids(p);
+    point_at_grids(cfg_.step);
     if (cfg_.step.beta_dt != old_beta_dt || (cfg_.step.beta_dt > 0) != !ub_.empty()) refresh_ub();
   }
 
@@ -86,7 +90,11 @@ class CpuSolver final : public Solver {
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
     const T* ue = element_displacement(b);
     // The first step after a change of dt spans the midpoint step (change_step).
-    const StepParams<T> first = dt_mid_ > 0 ? step_params_from<T>(params_, dt_mid_) : c.step;
+    StepParams<T> first = c.step;
+    if (dt_mid_ > 0) {
+      first = step_params_from<T>(params_, dt_mid_);
+      point_at_grids(first);
+    }
     if (nsteps > 0) dt_mid_ = 0;
     // Body-body and self-contact (body_contact_cpu.h): one thread, after the node stage's barrier.
     const bool bodies = params_.body_contact || params_.self_contact;
@@ -184,6 +192,40 @@ class CpuSolver final : public Solver {
   }
 
  private:
+  // Mesh obstacles (obstacle_sdf.h): the step reads each grid in T from host memory this
+  // solver holds. Double: the grid's own values (params_ holds the grid); float: a copy
+  // made when a grid first appears in the parameters (not per set_params: a moving
+  // obstacle sets them every step) and dropped when no obstacle uses it any more.
+  void hold_grids(const PhysicsParams& p) {
+    if constexpr (!std::is_same_v<T, double>) {
+      std::vector<std::pair<std::shared_ptr<const SdfGrid>, std::vector<T>>> kept;
+      for (const ObstacleSpec& o : p.obstacles) {
+        if (o.shape != kObstacleMesh || !o.sdf) continue;
+        bool have = false;
+        for (const auto& k : kept) have = have || k.first == o.sdf;
+        if (have) continue;
+        auto it = std::find_if(grids_.begin(), grids_.end(), [&](const auto& g) { return g.first == o.sdf; });
+        if (it != grids_.end()) kept.push_back(std::move(*it));
+        else kept.emplace_back(o.sdf, std::vector<T>(o.sdf->value.begin(), o.sdf->value.end()));
+      }
+      grids_ = std::move(kept);
+    }
+  }
+  void point_at_grids(StepParams<T>& s) const {
+    for (std::size_t i = 0; i < params_.obstacles.size(); ++i) {
+      const ObstacleSpec& o = params_.obstacles[i];
+      if (o.shape != kObstacleMesh || !o.sdf) continue;
+      const T* values = nullptr;
+      if constexpr (std::is_same_v<T, double>) {
+        values = o.sdf->value.data();
+      } else {
+        for (const auto& g : grids_)
+          if (g.first == o.sdf) values = g.second.data();
+      }
+      s.contact.obstacles[i].sdf.value = values;
+    }
+  }
+
   // The power iteration of stiffness_probe.h on this backend's own element stage and gather.
   double power_iteration(int iterations, double a, bool restart) {
     const int n = rest_.nnode;
@@ -302,6 +344,8 @@ class CpuSolver final : public Solver {
   mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes
   std::vector<std::uint8_t> contact_;
   StepConfig<T> cfg_;
+  // float: each mesh obstacle's grid and its values in T (hold_grids)
+  std::vector<std::pair<std::shared_ptr<const SdfGrid>, std::vector<T>>> grids_;
 };
 
 }  // namespace

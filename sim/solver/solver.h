@@ -7,8 +7,10 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "sim/contact/mesh_sdf.h"
 #include "sim/contact/node_contact.h"
 #include "sim/contact/plane_contact.h"
 #include "sim/fem/neo_hookean.h"
@@ -28,12 +30,15 @@ inline double signed_distance(const PlaneSpec& pl, const double x[3]) {
 // A rigid obstacle (obstacle_shapes.h) in metres and world coordinates, at one time.
 struct ObstacleSpec {
   ObstacleShape shape = kObstacleSphere;
-  double center[3] = {0, 0, 0};    // sphere, box: centre; capsule: end a [m]
+  double center[3] = {0, 0, 0};    // sphere, box: centre; capsule: end a; mesh: its frame's origin [m]
   double b[3] = {0, 0, 0};         // capsule: end b [m]
   double radius = 0;               // sphere, capsule [m]
   double half[3] = {0, 0, 0};      // box: half sides [m]
-  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box: world = R local, row-major
+  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box, mesh: world = R local, row-major
   double velocity[3] = {0, 0, 0};  // [m/s]: the pose moves by velocity x t
+  // mesh: its distance grid in its own frame (built once at start-up, mesh_sdf.h; shared
+  // by every copy of the spec: poses move, the grid never changes)
+  std::shared_ptr<const SdfGrid> sdf;
 
   bool moving() const { return velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0; }
 };
@@ -41,6 +46,10 @@ struct ObstacleSpec {
 // What the step kernels read for an obstacle: its pose in T and its displacement over a
 // step of dt (velocity x dt; 0 for dt = 0 or an obstacle at rest). Every backend gets it
 // from here, computed on the host in double.
+// A mesh obstacle's grid view: dimensions from the spec's grid; its values are the host's
+// doubles for T = double (ready for host use: start-up checks, diagnostics, the CPU
+// backend), and null for T = float, where the backend points it at its own copy in T (as
+// a GPU backend must for either T: the CPU solver's point_at_grids).
 template <class T>
 inline Obstacle<T> obstacle_from(const ObstacleSpec& s, double dt) {
   Obstacle<T> o;
@@ -52,6 +61,11 @@ inline Obstacle<T> obstacle_from(const ObstacleSpec& s, double dt) {
   }
   o.r = T(s.radius);
   for (int k = 0; k < 9; ++k) o.R[k] = T(s.R[k]);
+  if (s.shape == kObstacleMesh && s.sdf) {
+    const T* values = nullptr;
+    if constexpr (std::is_same_v<T, double>) values = s.sdf->value.data();
+    o.sdf = s.sdf->view<T>(values);
+  }
   return o;
 }
 

@@ -14,6 +14,7 @@
 #include "backends.h"
 #include "scene_helpers.h"
 #include "sim/contact/body_contact.h"
+#include "sim/contact/mesh_sdf.h"
 #include "sim/scene/simulation.h"
 
 using namespace softtled;
@@ -32,37 +33,9 @@ void position(const Simulation& sim, const HostState& st, int i, double x[3]) {
 }
 
 double point_triangle_distance(const double p[3], const double a[3], const double b[3], const double c[3]) {
-  // Ericson, Real-Time Collision Detection 5.1.5: the closest point of the triangle.
-  auto sub = [](const double* u, const double* v, double* w) { for (int k = 0; k < 3; ++k) w[k] = u[k] - v[k]; };
-  auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
-  double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-  sub(b, a, ab), sub(c, a, ac), sub(p, a, ap);
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  auto at = [&](const double* o, const double* e, double t) { for (int k = 0; k < 3; ++k) q[k] = o[k] + t * e[k]; };
-  if (d1 <= 0 && d2 <= 0) {
-    at(a, ab, 0);
-  } else {
-    sub(p, b, bp);
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    sub(p, c, cp);
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-    if (d3 >= 0 && d4 <= d3) at(b, ab, 0);
-    else if (d6 >= 0 && d5 <= d6) at(c, ac, 0);
-    else if (vc <= 0 && d1 >= 0 && d3 <= 0) at(a, ab, d1 / (d1 - d3));
-    else if (vb <= 0 && d2 >= 0 && d6 <= 0) at(a, ac, d2 / (d2 - d6));
-    else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-      double bc[3];
-      sub(c, b, bc);
-      at(b, bc, (d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    } else {
-      const double den = 1 / (va + vb + vc);
-      for (int k = 0; k < 3; ++k) q[k] = a[k] + ab[k] * vb * den + ac[k] * vc * den;
-    }
-  }
-  double d[3];
-  sub(p, q, d);
-  return std::sqrt(dot(d, d));
+  double q[3];
+  closest_point_on_triangle(p, a, b, c, q);  // Ericson 5.1.5 (sim/contact/mesh_sdf.h)
+  return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
 }
 
 // Deepest penetration of a surface node of one body into another body now [m]: a node

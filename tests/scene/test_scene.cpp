@@ -173,8 +173,38 @@ TEST(Scene, ObstaclesParseInMetresWithTheirShapeKeys) {
 
 TEST(Scene, BadObstaclesNameTheKey) {
   const std::string sphere = "[[obstacle]]\nshape = \"sphere\"\ncenter = [0, 0, 0]\n";
-  EXPECT_NE(error_of("[[obstacle]]\nshape = \"cone\"\n").find("obstacle[0].shape: 'cone' is not one of: sphere, box, capsule"), std::string::npos);
-  EXPECT_NE(error_of("[[obstacle]]\nshape = \"mesh\"\n").find("obstacle[0].shape: \"mesh\" obstacles are not supported yet"), std::string::npos);
+  EXPECT_NE(error_of("[[obstacle]]\nshape = \"cone\"\n").find("obstacle[0].shape: 'cone' is not one of: sphere, box, capsule, mesh"), std::string::npos);
+  // shape = "mesh": the keys parse_scene checks (the file itself is read at start-up,
+  // tests/scene/test_mesh_obstacle.cpp).
+  const std::string mesh = "[[obstacle]]\nshape = \"mesh\"\n";
+  EXPECT_NE(error_of(mesh).find("obstacle[0].file: required for a mesh obstacle"), std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = 3\n").find("obstacle[0].file: expected a file name"), std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nresolution = 500\n").find("obstacle[0].resolution: value 500 out of range [8, 120]"),
+            std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nresolution = 4\n").find("obstacle[0].resolution: value 4 out of range"),
+            std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nresolution = 32.5\n").find("obstacle[0].resolution: expected an integer"),
+            std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nscale = 0\n").find("obstacle[0].scale: must be positive, got 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nscale = nan\n").find("obstacle[0].scale: must be finite"), std::string::npos);
+  EXPECT_NE(error_of(mesh + "file = \"a.obj\"\nradius = 1\n").find("obstacle[0].radius: unknown key (a mesh obstacle takes"),
+            std::string::npos);
+  {
+    const Scene m = parse_scene(mesh + "file = \"bowl.obj\"\ncenter = [1, 2, 3]\nscale = 2\nrotation_deg = [0, 90, 0]\n"
+                                       "resolution = 40\nvelocity = [0, 0.1, 0]\n",
+                                "s");
+    ASSERT_EQ(m.obstacles.size(), 1u);
+    EXPECT_EQ(m.obstacles[0].shape, kObstacleMesh);
+    EXPECT_STREQ(obstacle_shape_name(m.obstacles[0].shape), "mesh");
+    EXPECT_EQ(m.obstacles[0].file, "bowl.obj");
+    EXPECT_EQ(m.obstacles[0].scale, 2.0);
+    EXPECT_EQ(m.obstacles[0].resolution, 40);
+    EXPECT_EQ(m.obstacles[0].center[2], 3.0);
+    EXPECT_EQ(m.obstacles[0].rotation_deg[1], 90.0);
+    EXPECT_EQ(m.obstacles[0].velocity[1], 0.1);
+    EXPECT_EQ(parse_scene(mesh + "file = \"bowl.obj\"\n", "s").obstacles[0].resolution, kDefaultSdfResolution);
+  }
   EXPECT_NE(error_of("[[obstacle]]\ncenter = [0, 0, 0]\n").find("obstacle[0].shape: required"), std::string::npos);
   EXPECT_NE(error_of(sphere).find("obstacle[0].radius: required for a sphere obstacle"), std::string::npos);
   EXPECT_NE(error_of(sphere + "radius = nan\n").find("obstacle[0].radius: must be finite"), std::string::npos);
