@@ -68,12 +68,7 @@ int exit_code_for_signal(int sig) { return sig == SIGINT ? kExitSigint : sig == 
 
 std::string resolve_backend(const std::string& requested, const Scene* scene) {
   if (requested != "auto") return requested;
-  if (scene)
-    for (const Scene::ObstacleDesc& o : scene->obstacles)
-      if (o.shape == kObstacleMesh) {  // its grid has no GPU upload yet
-        if (g_verbose) std::fprintf(stderr, "backend auto: mesh obstacles run on the CPU only; running on the CPU\n");
-        return "cpu";
-      }
+  (void)scene;  // (every stage runs on both backends; kept for a scene-dependent choice)
 #if defined(SOFTTLED_HAVE_CUDA)
   std::string why;
   if (cuda::device_count(&why) > 0) return "cuda";

@@ -41,7 +41,6 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   if (!bodies && !self) return;
   const int n = tab_.nnode;
   const std::vector<int>& surf = tab_.surf;
-  const std::vector<int>& tri = tab_.tri;
   // 1. Positions at t; the candidate lists stay valid while every surface node's positions
   //    at t and t + dt stay within half the margin of its box at the last rebuild.
   bool valid = lists_valid_ && lists_bodies_ == bodies && lists_self_ == self;

@@ -42,16 +42,6 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
     return scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
                              : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
   };
-  std::string backend_used = backend;
-  // Mesh obstacles: their grids live in host memory the CPU backend holds; the CUDA
-  // backend has no upload of them yet.
-  for (std::size_t i = 0; i < scene_.obstacles.size(); ++i)
-    if (scene_.obstacles[i].shape == kObstacleMesh) {
-      if (backend == "cuda")
-        throw InputError(scene_.source + ": obstacle[" + std::to_string(i) +
-                         "].shape = mesh runs on the CPU backend only for now; use --backend cpu (or auto)");
-      if (backend == "auto") backend_used = "cpu";
-    }
   if (scene_.body_count() == 1) {
     mesh_ = mesh_body(0);
   } else {
@@ -68,7 +58,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   }
   flags_ = scene_node_flags(scene_, mesh_, &n_fixed_);
   std::string note;
-  solver_ = make_solver(backend_used, mesh_, scene_.rho, flags_, scene_.precision, &note);
+  solver_ = make_solver(backend, mesh_, scene_.rho, flags_, scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
   params_.E = scene_.E;
@@ -121,9 +111,6 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   PhysicsParams q = p;
   // Body-body contact: only between several bodies.
   if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
-  for (std::size_t i = 0; i < q.obstacles.size(); ++i)
-    if (q.obstacles[i].shape == kObstacleMesh && solver_->backend().rfind("cuda", 0) == 0)
-      throw InputError("obstacle[" + std::to_string(i) + "].shape = mesh runs on the CPU backend only for now");
   // alpha < 0 (anti-damping) passes here, though no scene file or panel can ask for it:
   // it puts energy in, which the watchdog must catch (its test uses it).
   if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||

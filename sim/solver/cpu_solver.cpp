@@ -30,6 +30,7 @@
 #include "sim/solver/cpu_energy.h"
 #include "sim/solver/cpu_simd.h"
 #include "sim/solver/cpu_step.h"
+#include "sim/solver/obstacle_grids.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/solver.h"
 #include "sim/solver/step_params.h"
@@ -193,37 +194,18 @@ class CpuSolver final : public Solver {
 
  private:
   // Mesh obstacles (obstacle_sdf.h): the step reads each grid in T from host memory this
-  // solver holds. Double: the grid's own values (params_ holds the grid); float: a copy
-  // made when a grid first appears in the parameters (not per set_params: a moving
-  // obstacle sets them every step) and dropped when no obstacle uses it any more.
+  // solver holds; in double that is the grid's own values (params_ holds the grid).
   void hold_grids(const PhysicsParams& p) {
-    if constexpr (!std::is_same_v<T, double>) {
-      std::vector<std::pair<std::shared_ptr<const SdfGrid>, std::vector<T>>> kept;
-      for (const ObstacleSpec& o : p.obstacles) {
-        if (o.shape != kObstacleMesh || !o.sdf) continue;
-        bool have = false;
-        for (const auto& k : kept) have = have || k.first == o.sdf;
-        if (have) continue;
-        auto it = std::find_if(grids_.begin(), grids_.end(), [&](const auto& g) { return g.first == o.sdf; });
-        if (it != grids_.end()) kept.push_back(std::move(*it));
-        else kept.emplace_back(o.sdf, std::vector<T>(o.sdf->value.begin(), o.sdf->value.end()));
-      }
-      grids_ = std::move(kept);
-    }
+    grids_.hold(p, [](const SdfGrid& g) {
+      if constexpr (std::is_same_v<T, double>) return g.value.data();
+      else return std::vector<T>(g.value.begin(), g.value.end());
+    });
   }
   void point_at_grids(StepParams<T>& s) const {
-    for (std::size_t i = 0; i < params_.obstacles.size(); ++i) {
-      const ObstacleSpec& o = params_.obstacles[i];
-      if (o.shape != kObstacleMesh || !o.sdf) continue;
-      const T* values = nullptr;
-      if constexpr (std::is_same_v<T, double>) {
-        values = o.sdf->value.data();
-      } else {
-        for (const auto& g : grids_)
-          if (g.first == o.sdf) values = g.second.data();
-      }
-      s.contact.obstacles[i].sdf.value = values;
-    }
+    grids_.point(params_, s, [](const auto& b) -> const T* {
+      if constexpr (std::is_same_v<T, double>) return b;
+      else return b.data();
+    });
   }
 
   // The power iteration of stiffness_probe.h on this backend's own element stage and gather.
@@ -344,8 +326,8 @@ class CpuSolver final : public Solver {
   mutable std::vector<T> energy_vol_;   // strain_energy's T4ANP element volumes
   std::vector<std::uint8_t> contact_;
   StepConfig<T> cfg_;
-  // float: each mesh obstacle's grid and its values in T (hold_grids)
-  std::vector<std::pair<std::shared_ptr<const SdfGrid>, std::vector<T>>> grids_;
+  // each mesh obstacle's values in T (hold_grids): in double a pointer to the grid's own
+  ObstacleGrids<T, std::conditional_t<std::is_same_v<T, double>, const double*, std::vector<T>>> grids_;
 };
 
 }  // namespace

@@ -3,8 +3,8 @@
 // acts as the analytic box obstacle (at rest on its top, on a 20 degree face of it turned
 // by rotation_deg, and moving up under a block), in double and float; the shipped scene
 // torus_on_mesh (a ring settling in a concave bowl mesh); bad input, each an InputError
-// naming the key; and the backend rules (CUDA refuses, auto picks the CPU). Mesh
-// obstacles run on the CPU backend only, so these tests run there.
+// naming the key; and the CUDA backend against the CPU (GpuMatchesTheCpu: the others run
+// on the CPU).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <fstream>
 #include <string>
 
+#include "backends.h"
 #include "scene_helpers.h"
 #include "sim/contact/mesh_sdf.h"
 #include "sim/mesh/surface_generators.h"
@@ -224,15 +225,28 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
   EXPECT_NE(error_of(scene("no_such_mesh.obj")).find("No such file or directory"), std::string::npos);
 }
 
-TEST(MeshObstacle, CudaRefusesAndAutoPicksTheCpu) {
-  // The grid has no GPU upload yet: --backend cuda is an InputError naming the key (before
-  // any meshing), auto runs on the CPU.
+// The CUDA backend reads the same grid from device memory (its own copy in T): a block
+// landing on a mesh box agrees with the CPU's to float tolerance, run after run the same.
+TEST(MeshObstacle, GpuMatchesTheCpu) {
+  const std::string why = backend_unavailable("cuda");
+  if (!why.empty()) GTEST_SKIP() << why;
   const Scene s = parse_scene(kBlock + "[floor]\nenabled = false\n[[obstacle]]\nshape = \"mesh\"\nfile = \"" +
                                   box_obj(30, 20, 30) + "\"\ncenter = [0, -15.5, 0]\n",
                               "mesh scene");
-  EXPECT_NE(error_of(s, "cuda").find("obstacle[0].shape = mesh runs on the CPU backend only for now"), std::string::npos);
-  Simulation sim(s, "auto");
-  EXPECT_EQ(sim.backend().rfind("cpu", 0), 0u);
+  Simulation cpu(s, "cpu"), gpu(s, "cuda"), again(s, "cuda");
+  const long n = std::lround(0.05 / cpu.params().dt);
+  cpu.step(n);
+  gpu.step(n);
+  again.step(n);
+  ASSERT_GT(cpu.diagnostics().n_contact, 0);
+  EXPECT_EQ(gpu.state().u, again.state().u);
+  double worst = 0, umax = 0;
+  for (std::size_t k = 0; k < cpu.state().u.size(); ++k) {
+    worst = std::max(worst, std::fabs(gpu.state().u[k] - cpu.state().u[k]));
+    umax = std::max(umax, std::fabs(cpu.state().u[k]));
+  }
+  std::printf("block on a mesh box after %ld steps: max |u_gpu - u_cpu| = %.3g m (max |u| %.3g m)\n", n, worst, umax);
+  EXPECT_LT(worst, 1e-4 * umax);
 }
 
 TEST(MeshObstacle, ScaleCenterAndRotationPlaceTheMesh) {

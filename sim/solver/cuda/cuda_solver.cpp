@@ -18,6 +18,7 @@
 #include "sim/solver/cuda/device_buffer.h"
 #include "sim/solver/cuda/device_info.h"
 #include "sim/mesh/mesh_reorder.h"
+#include "sim/solver/obstacle_grids.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/step_params.h"
 #include "sim/mesh/surface_mesh.h"
@@ -219,6 +220,8 @@ class CudaSolver final : public CudaSolverApi {
     const T old_beta_dt = cfg_.step.beta_dt;
     params_ = p;
     cfg_ = step_config_from<T>(p);
+    hold_grids(p);
+    point_at_grids(cfg_.step);
     if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
     if (contact_on()) upload_contact_tables();
   }
@@ -242,7 +245,9 @@ class CudaSolver final : public CudaSolverApi {
   void step(long nsteps) override {
     if (nsteps <= 0) return;
     if (dt_mid_ > 0) {  // the first step after a change of dt: its own coefficients, launched directly
-      const StepArgs<T> a = args(step_params_from<T>(params_, dt_mid_));
+      StepParams<T> first = step_params_from<T>(params_, dt_mid_);
+      point_at_grids(first);
+      const StepArgs<T> a = args(first);
       dt_mid_ = 0;
       if (run_mode() == ExecMode::kFused) {
         enqueue_fused_step(a, 0, false);
@@ -504,6 +509,19 @@ class CudaSolver final : public CudaSolverApi {
 
  private:
   bool beta_on() const { return cfg_.step.beta_dt > T(0); }
+
+  // Mesh obstacles (obstacle_sdf.h): each grid's values in T on the device; the kernels
+  // take the views by value with these pointers.
+  void hold_grids(const PhysicsParams& p) {
+    grids_.hold(p, [&](const SdfGrid& g) {
+      DeviceBuffer<T> d;
+      d.upload(std::vector<T>(g.value.begin(), g.value.end()));
+      return d;
+    });
+  }
+  void point_at_grids(StepParams<T>& s) const {
+    grids_.point(params_, s, [](const DeviceBuffer<T>& b) { return b.data(); });
+  }
 
   // Body-body contact needs two bodies; self-contact one.
   bool contact_on() const { return (params_.body_contact && contact_tables_.nbody >= 2) || params_.self_contact; }
@@ -840,6 +858,7 @@ class CudaSolver final : public CudaSolverApi {
   DeviceRest<T> rest_;
   DeviceLive<T> live_;
   BodyContactTables contact_tables_;  // original numbering
+  ObstacleGrids<T, DeviceBuffer<T>> grids_;  // mesh obstacles' distance values (hold_grids)
   DeviceBodyContact<T> contact_;
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
