@@ -35,7 +35,16 @@ std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& ob
     RenderObstacle q;
     q.shape = o.shape == kObstacleBox       ? RenderObstacle::Shape::kBox
               : o.shape == kObstacleCapsule ? RenderObstacle::Shape::kCapsule
+              : o.shape == kObstacleMesh    ? RenderObstacle::Shape::kMesh
                                             : RenderObstacle::Shape::kSphere;
+    if (o.shape == kObstacleMesh && o.sdf) {
+      auto t = std::make_shared<std::vector<float>>();
+      const SurfaceMesh& s = o.sdf->surface;
+      t->reserve(s.tri.size() * 3);
+      for (int v : s.tri)
+        for (int k = 0; k < 3; ++k) t->push_back(float(s.xyz[3 * v + k]));
+      q.triangles = std::move(t);
+    }
     q.center = v3(o.center);
     q.b = v3(o.b);
     q.half = v3(o.half);

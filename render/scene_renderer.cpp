@@ -54,11 +54,22 @@ void obstacle_triangles(const RenderObstacle& o, std::vector<float>& out) {
   constexpr int kStacks = 16;  // per full sphere; a capsule's cap has half of them
   std::vector<Vec3> c;
   std::vector<float> theta;
+  auto world = [&](Vec3 q) {  // R q
+    return Vec3{o.R[0] * q.x + o.R[1] * q.y + o.R[2] * q.z, o.R[3] * q.x + o.R[4] * q.y + o.R[5] * q.z,
+                o.R[6] * q.x + o.R[7] * q.y + o.R[8] * q.z};
+  };
+  if (o.shape == RenderObstacle::Shape::kMesh) {  // flat-shaded: the collision surface as it is
+    if (!o.triangles) return;
+    const std::vector<float>& t = *o.triangles;
+    for (std::size_t f = 0; f + 9 <= t.size(); f += 9) {
+      const Vec3 p[3] = {world(Vec3{t[f], t[f + 1], t[f + 2]}), world(Vec3{t[f + 3], t[f + 4], t[f + 5]}),
+                         world(Vec3{t[f + 6], t[f + 7], t[f + 8]})};
+      const Vec3 n = normalize(cross(p[1] - p[0], p[2] - p[0]));
+      for (const Vec3& q : p) push_vertex(out, o.center + q, n);
+    }
+    return;
+  }
   if (o.shape == RenderObstacle::Shape::kBox) {
-    auto world = [&](Vec3 q) {  // R q
-      return Vec3{o.R[0] * q.x + o.R[1] * q.y + o.R[2] * q.z, o.R[3] * q.x + o.R[4] * q.y + o.R[5] * q.z,
-                  o.R[6] * q.x + o.R[7] * q.y + o.R[8] * q.z};
-    };
     for (int axis = 0; axis < 3; ++axis)
       for (float side : {-1.f, 1.f}) {
         Vec3 n{0, 0, 0}, a{0, 0, 0}, b{0, 0, 0};

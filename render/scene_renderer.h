@@ -3,6 +3,7 @@
 // body and the obstacles on each plane (stencil-masked so they never darken twice), the
 // rigid obstacles, the lit body, and optional overlay lines (the viewer's drag spring).
 // Same code for window and offscreen.
+#include <memory>
 #include <vector>
 
 #include "render/body_buffer.h"
@@ -32,13 +33,16 @@ struct RenderPlane {
 
 // A rigid obstacle as plain geometry (the app converts its simulation's obstacles).
 struct RenderObstacle {
-  enum class Shape { kSphere, kBox, kCapsule };
+  enum class Shape { kSphere, kBox, kCapsule, kMesh };
   Shape shape = Shape::kSphere;
-  Vec3 center;   // sphere, box: centre; capsule: end a [m]
+  Vec3 center;   // sphere, box, mesh: centre (mesh: its frame's origin); capsule: end a [m]
   Vec3 b;        // capsule: end b [m]
   Vec3 half;     // box: half sides [m]
   float radius = 0;  // sphere, capsule [m]
-  float R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box: world = R local, row-major
+  float R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // box, mesh: world = center + R local, row-major
+  // mesh: 9 floats per triangle, its corners counter-clockwise from outside in the local
+  // frame [m] (shared: the same surface every frame)
+  std::shared_ptr<const std::vector<float>> triangles;
 };
 
 // Triangles of an obstacle's surface, 3 vertices each in the body's vertex layout

@@ -9,6 +9,7 @@
 #include "render/camera.h"
 #include "render/image.h"
 #include "render/math3d.h"
+#include "render/scene_renderer.h"
 #include "app/viewer_picking.h"
 #include "sim/mesh/tet_mesh.h"
 #include "sim/scene/simulation.h"
@@ -190,4 +191,29 @@ TEST(DragSpring, HeldPullOnTheTorusRimStaysHealthy) {
   }
   EXPECT_EQ(sim.watchdog_trips(), 0);
   EXPECT_GT(d.grab_point(m, sim.state()).y - p.y, 1e-3f);  // the pull lifts the rim
+}
+
+// A mesh obstacle is drawn where its collision surface is: each triangle's corners at
+// center + R q, with the flat outward normal turned by R (here a quarter turn about z).
+TEST(ObstacleTriangles, MeshCornersAndNormalsFollowThePose) {
+  RenderObstacle o;
+  o.shape = RenderObstacle::Shape::kMesh;
+  o.center = Vec3{1, 2, 3};
+  const float R[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1};  // x -> y, y -> -x
+  for (int k = 0; k < 9; ++k) o.R[k] = R[k];
+  // One triangle in the local z = 0 plane, counter-clockwise seen from +z.
+  o.triangles = std::make_shared<std::vector<float>>(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0});
+  std::vector<float> out;
+  obstacle_triangles(o, out);
+  ASSERT_EQ(out.size(), 3u * kBodyFloatsPerVertex);
+  const Vec3 want[3] = {{1, 2, 3}, {1, 3, 3}, {0, 2, 3}};  // center + R q
+  for (int v = 0; v < 3; ++v) {
+    const float* p = &out[v * kBodyFloatsPerVertex];
+    EXPECT_NEAR(p[0], want[v].x, 1e-6f);
+    EXPECT_NEAR(p[1], want[v].y, 1e-6f);
+    EXPECT_NEAR(p[2], want[v].z, 1e-6f);
+    EXPECT_NEAR(p[3], 0.f, 1e-6f);  // normal: R (0, 0, 1) = (0, 0, 1)
+    EXPECT_NEAR(p[4], 0.f, 1e-6f);
+    EXPECT_NEAR(p[5], 1.f, 1e-6f);
+  }
 }
