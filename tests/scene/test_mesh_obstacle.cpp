@@ -146,8 +146,7 @@ TEST(MeshObstacle, TorusSettlesInTheBowlMesh) {
   // (tangential step)^2 / 2R per step), nor by more than 0.05 cell by the exact distance
   // to the triangles (the grid's interpolation error where the ring touches; every
   // 10 ms).
-  Simulation sim(load_scene(assets_dir() + "/scenes/torus_on_mesh.toml"), "auto");
-  EXPECT_EQ(sim.backend().rfind("cpu", 0), 0u) << "auto picks the CPU for a mesh obstacle";
+  Simulation sim(load_scene(assets_dir() + "/scenes/torus_on_mesh.toml"), "cpu");
   const ObstacleSpec& bowl = sim.params().obstacles[0];
   const SdfGrid& g = *bowl.sdf;
   std::printf("bowl: %d triangles, grid %d x %d x %d, cell %.3g mm, built in %.3f s\n", g.surface.ntri(), g.n[0], g.n[1],
