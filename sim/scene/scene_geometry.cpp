@@ -109,19 +109,18 @@ TetMesh scene_tet_file_mesh(const Scene& sc, int body, std::string* note) {
   // same size and coordinate ranges as a surface to mesh (tetgen_mesher.h).
   SurfaceMesh points;
   points.xyz = std::move(m.X);
-  for (double& v : points.xyz) v *= s.scale * sc.length_unit;
+  for (double& v : points.xyz) v *= s.scale;  // scene units, as scene_shape_surface scales a surface
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int i = 0; i < points.npoint(); ++i)
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], points.xyz[3 * i + k]), hi[k] = std::max(hi[k], points.xyz[3 * i + k]);
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) * sc.length_unit;
   if (!(extent >= kMinExtent && extent <= kMaxExtent)) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "the mesh is %.3g m across (units = \"%s\"); between %g and %g m expected", extent,
                   sc.length_unit == 1 ? "m" : "mm", kMinExtent, kMaxExtent);
     throw InputError(sc.source + ": " + K + ".file/" + K + ".scale: " + buf);
   }
-  for (double& v : points.xyz) v /= sc.length_unit;  // place_surface works in scene units
-  place_surface(sc, points, body);
+  place_surface(sc, points, body);  // rotation, position, metres
   for (double v : points.xyz)
     if (!(std::fabs(v) <= kMaxCoordinate))
       throw InputError(sc.source + ": " + K + ".position/" + K + ".rotation_deg: a node of the placed mesh lies beyond " +
