@@ -11,6 +11,7 @@
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_geometry.h"
 #include "sim/mesh/surface_io.h"
+#include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/io/mesh_report.h"
 #include "sim/io/output_file.h"
@@ -104,11 +105,18 @@ Command add_mesh_command(CLI::App& app) {
     std::vector<TetMesh> parts;
     std::vector<double> rho_scale, E_scale;
     for (int b = 0; b < s.body_count(); ++b) {
-      surfaces.push_back(scene_surface(s, b));
-      try {
-        parts.push_back(tetrahedralize_surface(surfaces.back(), topt));
-      } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
-        throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
+      if (s.body(b).shape == "tet_file") {  // the user's tets, read as the Simulation reads them
+        std::string note;
+        parts.push_back(scene_tet_file_mesh(s, b, &note));
+        if (!note.empty()) std::fprintf(stderr, "note: %s\n", note.c_str());
+        surfaces.push_back(boundary_surface(parts.back()));  // "input points/facets": the file's boundary
+      } else {
+        surfaces.push_back(scene_surface(s, b));
+        try {
+          parts.push_back(tetrahedralize_surface(surfaces.back(), topt));
+        } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
+          throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
+        }
       }
       rho_scale.push_back(s.body_rho(b) / s.rho);
       E_scale.push_back(s.body_E(b) / s.E);
@@ -133,6 +141,8 @@ Command add_mesh_command(CLI::App& app) {
       }
       std::printf("}\n");
     } else {
+      for (int b = 0; b < s.body_count(); ++b)  // where each body's tets came from
+        if (s.body(b).shape == "tet_file") std::printf("%s: tets read from %s\n", s.body(b).key.c_str(), s.body(b).file.c_str());
       std::printf("TetGen -%s\n", tetgen_switches(topt).c_str());
       if (rows.size() == 1) print_list(rows[0], s);
       else print_rows(rows, s);

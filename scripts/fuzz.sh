@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Fuzzes the surface loaders (OBJ, OFF, STL), the scene parser, and the path from a scene
+# Fuzzes the surface loaders (OBJ, OFF, STL), the tet mesh readers (Gmsh .msh, VTK .vtu,
+# TetGen .node/.ele, MEDIT .mesh, each with the import checks), the scene parser, and the path from a scene
 # through placement to TetGen (fuzz_mesh) with libFuzzer, ASan and UBSan for a bounded time
 # each, and fails on any finding (crash, TetGen assertion, sanitizer report, exception other
 # than InputError, timeout, out-of-memory, leak).
 #
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #   SECONDS_PER_TARGET  default 60; 0 only replays the seed corpus and tests/fuzz/crashes
-#   TARGET              fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh (default: all)
+#   TARGET              fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh fuzz_msh fuzz_vtu fuzz_tetgen
+#                       fuzz_medit (default: all)
 # Environment: FUZZ_BUILD_DIR (default build-fuzz), CXX (default clang++).
 #
 # Seeds are read from tests/fuzz/corpus/<target>/ and never modified; new inputs go to
@@ -18,7 +20,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}
 SECONDS_EACH=${1:-60}
 shift || true
-TARGETS=${*:-fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh}
+TARGETS=${*:-fuzz_obj fuzz_off fuzz_stl fuzz_scene fuzz_mesh fuzz_msh fuzz_vtu fuzz_tetgen fuzz_medit}
 export CXX=${CXX:-clang++}
 
 # Debian packages: clang (the compiler) and libclang-rt-14-dev (libFuzzer, ASan and UBSan
@@ -34,6 +36,8 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
 declare -A MAX_LEN=([fuzz_obj]=4096 [fuzz_off]=4096 [fuzz_stl]=8192 [fuzz_scene]=8192 [fuzz_mesh]=8192)
 declare -A DICT=([fuzz_obj]=obj [fuzz_off]=off [fuzz_stl]=stl [fuzz_scene]=scene [fuzz_mesh]=mesh)
+MAX_LEN+=([fuzz_msh]=8192 [fuzz_vtu]=8192 [fuzz_tetgen]=4096 [fuzz_medit]=4096)
+DICT+=([fuzz_msh]=msh [fuzz_vtu]=vtu [fuzz_tetgen]=tetgen [fuzz_medit]=medit)
 # Seconds per input: fuzz_mesh runs TetGen (its tet budget is capped at 20000 in the
 # harness, well under a second; the limit catches a TetGen run that does not end).
 declare -A TIMEOUT=([fuzz_mesh]=30)

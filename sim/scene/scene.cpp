@@ -11,6 +11,7 @@
 
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/surface_mesh.h"
+#include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 
 namespace softtled {
@@ -430,7 +431,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   root.insert("body", t);
   Reader r(root, source, label == "body" ? "" : label);
   b.key = label;
-  b.shape = r.str("body.shape", b.shape, {"torus", "box", "sphere", "file"});
+  b.shape = r.str("body.shape", b.shape, {"torus", "box", "sphere", "file", "tet_file"});
   b.radius = r.num("body.radius", b.radius, 0, INFINITY, true);
   b.subdivisions = r.integer("body.subdivisions", b.subdivisions, 0, 7);
   b.file = r.str("body.file", "");
@@ -446,6 +447,9 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   b.velocity = r.vec<3>("body.velocity", b.velocity, kMaxSpeed);
   if (b.shape == "torus" && !(b.tube_radius < b.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
   if (b.shape == "file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
+  if (b.shape == "tet_file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"tet_file\"");
+  if (b.shape == "tet_file" && !is_tet_file_extension(b.file))
+    r.fail("body.file", "'" + b.file + "': a tet mesh file must end in .msh, .vtu, .node, .ele or .mesh");
   if (const toml::node* mat = r.get("body.material")) {
     auto mt = mat->as_table();
     if (!mt) r.fail("body.material", "expected a table ([body.material]) with E, nu, rho");

@@ -12,6 +12,7 @@
 #include "sim/core/body_view.h"
 #include "sim/mesh/surface_generators.h"
 #include "sim/mesh/surface_io.h"
+#include "sim/mesh/tet_io.h"
 
 namespace softtled {
 
@@ -26,6 +27,9 @@ std::string scene_relative_path(const Scene& sc, const std::string& file) {
 
 SurfaceMesh scene_shape_surface(const Scene& sc, int body) {
   const BodyDesc& s = sc.body(body);
+  if (s.shape == "tet_file")  // its tets are read, not meshed from a surface (scene_tet_file_mesh)
+    throw InputError(sc.source + ": " + s.key + ".shape = \"tet_file\": the body is a tet mesh read from " + s.key +
+                     ".file, not a surface to mesh");
   const std::string& K = s.key;
   SurfaceMesh m;
   // Generator and loader errors are prefixed with the scene file and the keys behind them.
@@ -84,6 +88,44 @@ SurfaceMesh scene_surface(const Scene& sc, int body) {
   }
   place_surface(sc, m, body);
   check_surface_for_meshing(m, sc.source + ": " + K + ".position/" + K + ".rotation_deg: surface to mesh");
+  return m;
+}
+
+TetMesh scene_tet_file_mesh(const Scene& sc, int body, std::string* note) {
+  const BodyDesc& s = sc.body(body);
+  const std::string& K = s.key;
+  const std::string path = scene_relative_path(sc, s.file);
+  TetMesh m;
+  TetImportReport report;
+  try {
+    TetFileLimits limits;
+    limits.max_tets = sc.tetgen.max_tets;  // mesh.max_tets: the same budget as TetGen's
+    m = load_tet_mesh(path, limits, &report);
+  } catch (const InputError& e) {
+    throw InputError(sc.source + ": " + K + ".file: " + e.what());
+  }
+  if (note) *note = report.note(path);
+  // The shape in metres (body.scale), then placed like a surface (rotation, position): the
+  // same size and coordinate ranges as a surface to mesh (tetgen_mesher.h).
+  SurfaceMesh points;
+  points.xyz = std::move(m.X);
+  for (double& v : points.xyz) v *= s.scale;  // scene units, as scene_shape_surface scales a surface
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int i = 0; i < points.npoint(); ++i)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], points.xyz[3 * i + k]), hi[k] = std::max(hi[k], points.xyz[3 * i + k]);
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) * sc.length_unit;
+  if (!(extent >= kMinExtent && extent <= kMaxExtent)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "the mesh is %.3g m across (units = \"%s\"); between %g and %g m expected", extent,
+                  sc.length_unit == 1 ? "m" : "mm", kMinExtent, kMaxExtent);
+    throw InputError(sc.source + ": " + K + ".file/" + K + ".scale: " + buf);
+  }
+  place_surface(sc, points, body);  // rotation, position, metres
+  for (double v : points.xyz)
+    if (!(std::fabs(v) <= kMaxCoordinate))
+      throw InputError(sc.source + ": " + K + ".position/" + K + ".rotation_deg: a node of the placed mesh lies beyond " +
+                       std::to_string(int(kMaxCoordinate)) + " m from the origin");
+  m.X = std::move(points.xyz);
   return m;
 }
 

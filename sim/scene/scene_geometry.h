@@ -22,6 +22,10 @@ namespace softtled {
 SurfaceMesh scene_surface(const Scene& s, int body = 0);
 SurfaceMesh scene_shape_surface(const Scene& s, int body = 0);
 void place_surface(const Scene& s, SurfaceMesh& m, int body = 0);
+// body.shape = "tet_file": the body's tets read from body.file (tet_io.h), scaled by
+// body.scale and placed as place_surface places a surface, in metres. InputErrors name the
+// scene and body.file (or the placement keys); *note gets the import's one-line note.
+TetMesh scene_tet_file_mesh(const Scene& s, int body = 0, std::string* note = nullptr);
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);

@@ -38,6 +38,12 @@ double dilatational_wave_speed(double E, double nu, double rho) {
 Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(scene) {
   // Each body meshed by itself (TetGen, cached), then one mesh of disconnected bodies.
   auto mesh_body = [&](int b) {
+    if (scene_.body(b).shape == "tet_file") {  // a volume mesh of the user's: read, not meshed
+      std::string note;
+      TetMesh m = scene_tet_file_mesh(scene_, b, &note);
+      if (!note.empty()) std::fprintf(stderr, "note: %s\n", note.c_str());
+      return m;
+    }
     const SurfaceMesh surface = scene_surface(scene_, b);
     return scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
                              : tetrahedralize_surface(surface, scene_tetgen_options(scene_));

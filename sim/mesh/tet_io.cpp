@@ -1,0 +1,248 @@
+#include "sim/mesh/tet_io.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "sim/io/output_file.h"
+#include "sim/mesh/surface_io.h"
+
+namespace softtled {
+namespace {
+
+std::string lower_ext(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string e = path.substr(dot + 1);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+// Faces of tet (0,1,2,3) oriented outward for a positive tet (as tet_mesh.cpp).
+const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+}  // namespace
+
+long TetSoup::skipped_count() const {
+  long n = 0;
+  for (const auto& [k, c] : skipped) n += c;
+  return n;
+}
+
+std::string TetImportReport::note(const std::string& name) const {
+  std::vector<std::string> parts;
+  if (flipped > 0)
+    parts.push_back("turned " + std::to_string(flipped) + " inverted tet" + (flipped == 1 ? "" : "s") +
+                    " (negative volume: two nodes swapped)");
+  if (dropped_nodes > 0)
+    parts.push_back("dropped " + std::to_string(dropped_nodes) + " node" + (dropped_nodes == 1 ? "" : "s") +
+                    " that no tet uses");
+  if (skipped > 0)
+    parts.push_back("skipped " + std::to_string(skipped) + " element" + (skipped == 1 ? "" : "s") +
+                    " that are not 4-node tets (" + skipped_kinds + ")");
+  if (parts.empty()) return "";
+  std::string s = name + ": ";
+  for (std::size_t i = 0; i < parts.size(); ++i) s += (i ? ", " : "") + parts[i];
+  return s;
+}
+
+TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* report) {
+  TetImportReport rep;
+  rep.skipped = soup.skipped_count();
+  for (const auto& [kind, n] : soup.skipped)
+    rep.skipped_kinds += (rep.skipped_kinds.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
+  const long nnode = long(soup.X.size() / 3), ntet = long(soup.tet.size() / 4);
+  if (soup.X.size() % 3 != 0 || soup.tet.size() % 4 != 0) throw InputError(name + ": internal: partial node or tet");
+  if (ntet == 0)
+    throw InputError(name + ": no tetrahedra (empty mesh" +
+                     (rep.skipped > 0 ? "; skipped " + std::to_string(rep.skipped) + " other elements: " + rep.skipped_kinds
+                                      : std::string()) +
+                     ")");
+  if (ntet > kMaxTetFileCount || nnode > kMaxTetFileCount) throw InputError(name + ": too many nodes or tets");
+  for (long i = 0; i < nnode; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(soup.X[3 * i + k]))
+        throw InputError(name + ": node " + std::to_string(i) + " (0-based, file order) has a NaN or infinite coordinate");
+  const auto tet_name = [&](long e) { return "tet " + std::to_string(e) + " (0-based, file order)"; };
+  // Indices in range, no node twice in a tet.
+  for (long e = 0; e < ntet; ++e) {
+    const int* t = &soup.tet[4 * e];
+    for (int a = 0; a < 4; ++a) {
+      if (t[a] < 0 || t[a] >= nnode)
+        throw InputError(name + ": " + tet_name(e) + " refers to node " + std::to_string(t[a]) + " of " +
+                         std::to_string(nnode));
+      for (int b = 0; b < a; ++b)
+        if (t[a] == t[b])
+          throw InputError(name + ": " + tet_name(e) + " uses node " + std::to_string(t[a]) + " twice (degenerate)");
+    }
+  }
+  // Signed volumes; degenerate ones (flat, relative to the mean) refused, the first named.
+  std::vector<double> vol(ntet);
+  double mean = 0;
+  for (long e = 0; e < ntet; ++e) {
+    const int* t = &soup.tet[4 * e];
+    vol[e] = tet_signed_volume(&soup.X[3 * t[0]], &soup.X[3 * t[1]], &soup.X[3 * t[2]], &soup.X[3 * t[3]]);
+    mean += std::fabs(vol[e]);
+  }
+  mean /= double(ntet);
+  if (!(mean > 0) || !std::isfinite(mean))
+    throw InputError(name + ": every tet is flat (zero volume) or the volumes overflow");
+  for (long e = 0; e < ntet; ++e)
+    if (!(std::fabs(vol[e]) >= kDegenerateTetRelVolume * mean)) {
+      std::ostringstream o;
+      o.precision(3);
+      o << name << ": " << tet_name(e) << " is degenerate: |volume| " << std::fabs(vol[e]) << " is below "
+        << kDegenerateTetRelVolume << " of the mean tet volume " << mean;
+      throw InputError(o.str());
+    }
+  // Inverted tets turned.
+  for (long e = 0; e < ntet; ++e)
+    if (vol[e] < 0) {
+      std::swap(soup.tet[4 * e + 2], soup.tet[4 * e + 3]);
+      ++rep.flipped;
+    }
+  // Duplicate tets (the same four nodes in any order).
+  {
+    std::vector<std::pair<std::array<int, 4>, long>> keys(ntet);
+    for (long e = 0; e < ntet; ++e) {
+      std::array<int, 4> k = {soup.tet[4 * e], soup.tet[4 * e + 1], soup.tet[4 * e + 2], soup.tet[4 * e + 3]};
+      std::sort(k.begin(), k.end());
+      keys[e] = {k, e};
+    }
+    std::sort(keys.begin(), keys.end());
+    for (long i = 1; i < ntet; ++i)
+      if (keys[i].first == keys[i - 1].first)
+        throw InputError(name + ": " + tet_name(keys[i - 1].second) + " and tet " + std::to_string(keys[i].second) +
+                         " have the same nodes (duplicate tets)");
+  }
+  // Faces: at most two tets per face, and two tets on opposite sides of it (all tets are
+  // positive now, so a face seen with the same orientation twice means overlapping tets).
+  {
+    struct F {
+      std::array<int, 3> k;
+      long e;
+      bool even;  // orientation of the oriented face relative to the sorted key
+    };
+    std::vector<F> faces;
+    faces.reserve(4 * ntet);
+    for (long e = 0; e < ntet; ++e)
+      for (int f = 0; f < 4; ++f) {
+        std::array<int, 3> o = {soup.tet[4 * e + kFace[f][0]], soup.tet[4 * e + kFace[f][1]], soup.tet[4 * e + kFace[f][2]]};
+        // Rotate the smallest first; then the order of the other two gives the orientation.
+        while (o[0] > o[1] || o[0] > o[2]) o = {o[1], o[2], o[0]};
+        const bool even = o[1] < o[2];
+        if (!even) std::swap(o[1], o[2]);
+        faces.push_back({o, e, even});
+      }
+    std::sort(faces.begin(), faces.end(), [](const F& a, const F& b) { return a.k < b.k || (a.k == b.k && a.e < b.e); });
+    for (std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i + 1;
+      while (j < faces.size() && faces[j].k == faces[i].k) ++j;
+      const auto& k = faces[i].k;
+      const std::string face = "face (" + std::to_string(k[0]) + ", " + std::to_string(k[1]) + ", " + std::to_string(k[2]) + ")";
+      if (j - i > 2)
+        throw InputError(name + ": " + face + " is shared by " + std::to_string(j - i) + " tets (" + tet_name(faces[i].e) +
+                         ", tet " + std::to_string(faces[i + 1].e) + ", ...); at most 2 may share a face");
+      if (j - i == 2 && faces[i].even == faces[i + 1].even)
+        throw InputError(name + ": " + tet_name(faces[i].e) + " and tet " + std::to_string(faces[i + 1].e) +
+                         " overlap: they lie on the same side of their shared " + face);
+      i = j;
+    }
+  }
+  // Unreferenced nodes dropped; the others keep their file order.
+  std::vector<int> new_of_old(nnode, -1), old_of_new;
+  for (int v : soup.tet) new_of_old[v] = 0;
+  for (long i = 0; i < nnode; ++i)
+    if (new_of_old[i] == 0) {
+      new_of_old[i] = int(old_of_new.size());
+      old_of_new.push_back(int(i));
+    }
+  rep.dropped_nodes = nnode - long(old_of_new.size());
+  std::vector<double> X(3 * old_of_new.size());
+  for (std::size_t n = 0; n < old_of_new.size(); ++n)
+    for (int k = 0; k < 3; ++k) X[3 * n + k] = soup.X[3 * std::size_t(old_of_new[n]) + k];
+  for (int& v : soup.tet) v = new_of_old[v];
+  TetMesh m = make_tet_mesh(std::move(X), std::move(soup.tet));  // boundary as for TetGen's meshes
+  // The boundary must be a manifold: every boundary edge on exactly two boundary faces.
+  {
+    std::vector<std::pair<int, int>> edges;
+    edges.reserve(m.boundary_tri.size());
+    for (int f = 0; f < m.nbtri(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = m.boundary_tri[3 * f + k], b = m.boundary_tri[3 * f + (k + 1) % 3];
+        edges.push_back({std::min(a, b), std::max(a, b)});
+      }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i + 1;
+      while (j < edges.size() && edges[j] == edges[i]) ++j;
+      if (j - i != 2)
+        throw InputError(name + ": non-manifold boundary: the edge between nodes " + std::to_string(old_of_new[edges[i].first]) +
+                         " and " + std::to_string(old_of_new[edges[i].second]) + " (0-based, file order) belongs to " +
+                         std::to_string(j - i) + " boundary faces (2 expected)");
+      i = j;
+    }
+  }
+  if (report) *report = rep;
+  return m;
+}
+
+bool is_tet_file_extension(const std::string& path) {
+  const std::string e = lower_ext(path);
+  return e == "msh" || e == "vtu" || e == "node" || e == "ele" || e == "mesh";
+}
+
+TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetImportReport* report) {
+  const std::string ext = lower_ext(path);
+  const long max_tets = std::min(limits.max_tets, kMaxTetFileCount);
+  if (!is_tet_file_extension(path)) {
+    (void)read_input_file(path, 0, true);  // what the path is comes first
+    throw InputError(path + ": unknown tet mesh format '." + ext + "' (use .msh, .vtu, .node/.ele or .mesh)");
+  }
+  TetSoup soup;
+  if (ext == "node" || ext == "ele") {
+    const std::string base = path.substr(0, path.size() - ext.size() - 1);
+    const std::string node = read_input_file(base + ".node", limits.max_bytes);
+    const std::string ele = read_input_file(base + ".ele", limits.max_bytes);
+    soup = parse_tetgen(node, ele, base, max_tets);
+  } else {
+    const std::string data = read_input_file(path, limits.max_bytes);
+    if (ext == "msh") soup = parse_msh(data, path, max_tets);
+    else if (ext == "vtu") soup = parse_vtu(data, path, max_tets);
+    else soup = parse_medit(data, path, max_tets);
+  }
+  if (long(soup.tet.size() / 4) > max_tets)
+    throw InputError(path + ": " + std::to_string(soup.tet.size() / 4) + " tets, above the budget of " +
+                     std::to_string(max_tets) + " (mesh.max_tets)");
+  return import_tet_soup(std::move(soup), path, report);
+}
+
+SurfaceMesh boundary_surface(const TetMesh& m) {
+  SurfaceMesh s;
+  std::vector<int> index(m.nnode(), -1);
+  for (int n : m.surface_nodes) {
+    index[n] = s.npoint();
+    s.xyz.insert(s.xyz.end(), {m.X[3 * n], m.X[3 * n + 1], m.X[3 * n + 2]});
+  }
+  s.tri.reserve(m.boundary_tri.size());
+  for (int v : m.boundary_tri) s.tri.push_back(index[v]);
+  return s;
+}
+
+void write_medit(const TetMesh& m, const std::string& path) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "MeshVersionFormatted 2\nDimension 3\nVertices\n" << m.nnode() << '\n';
+  for (int i = 0; i < m.nnode(); ++i) o << m.X[3 * i] << ' ' << m.X[3 * i + 1] << ' ' << m.X[3 * i + 2] << " 0\n";
+  o << "Tetrahedra\n" << m.ntet() << '\n';
+  for (int e = 0; e < m.ntet(); ++e)
+    o << m.tet[4 * e] + 1 << ' ' << m.tet[4 * e + 1] + 1 << ' ' << m.tet[4 * e + 2] + 1 << ' ' << m.tet[4 * e + 3] + 1 << " 0\n";
+  o << "End\n";
+  write_file_atomic(path, o.str());
+}
+
+}  // namespace softtled

@@ -1,0 +1,7 @@
+// libFuzzer target: parse_medit (MEDIT .mesh) on arbitrary bytes, then
+// import_tet_soup (sim/mesh/tet_io.h); an accepted mesh must pass require_valid_tet_mesh.
+#include "fuzz_tet.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return softtled::fuzz::run_tet(data, size, [](const std::string& s) { return softtled::parse_medit(s, "fuzz.mesh", 100000); });
+}

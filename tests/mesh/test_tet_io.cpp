@@ -1,0 +1,381 @@
+// Tet mesh files (sim/mesh/tet_io.h): the same mesh from every format, a round trip through
+// what `softtled mesh --vtu` writes, inverted tets turned and counted, and every hardening
+// case refused with a message naming the file and the problem.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "scene_helpers.h"
+#include "sim/io/mesh_report.h"
+#include "sim/io/vtu_writer.h"
+#include "sim/mesh/tet_io.h"
+#include "sim/mesh/tetgen_mesher.h"
+#include "sim/scene/scene_geometry.h"
+
+using namespace softtled;
+
+namespace {
+
+std::string data_dir() {
+  const std::string f = __FILE__;
+  return f.substr(0, f.find_last_of('/')) + "/data/";
+}
+std::string puck(const std::string& file = "puck.msh") { return test::assets_dir() + "/meshes/" + file; }
+
+// A fresh directory per test process.
+std::string tmp_dir() {
+  static const std::string d = [] {
+    const auto p = std::filesystem::temp_directory_path() / ("softtled_tet_io_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(p);
+    return p.string();
+  }();
+  return d;
+}
+void write_file(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+}
+
+std::string load_error(const std::string& path, TetFileLimits limits = {}) {
+  try {
+    load_tet_mesh(path, limits);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+// Writes `content` to NAME in the temporary directory and loads it.
+std::string error_of(const std::string& name, const std::string& content, TetFileLimits limits = {}) {
+  const std::string p = tmp_dir() + "/" + name;
+  write_file(p, content);
+  return load_error(p, limits);
+}
+
+void expect_same(const TetMesh& a, const TetMesh& b, double tol = 0) {
+  ASSERT_EQ(a.nnode(), b.nnode());
+  ASSERT_EQ(a.ntet(), b.ntet());
+  EXPECT_EQ(a.tet, b.tet);
+  EXPECT_EQ(a.boundary_tri, b.boundary_tri);
+  EXPECT_EQ(a.surface_nodes, b.surface_nodes);
+  if (tol == 0) {
+    EXPECT_EQ(a.X, b.X);
+  } else {
+    double worst = 0;
+    for (std::size_t i = 0; i < a.X.size(); ++i) worst = std::max(worst, std::fabs(a.X[i] - b.X[i]));
+    EXPECT_LE(worst, tol);
+  }
+}
+
+// Base64 of bytes (for the binary .vtu variants VTK and others write).
+std::string base64(const std::string& in) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const unsigned v = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], k[v & 63]};
+  }
+  if (i + 1 == in.size()) {
+    const unsigned v = (unsigned char)in[i] << 16;
+    out += {k[v >> 18], k[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == in.size()) {
+    const unsigned v = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8;
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+template <class T>
+std::string bytes_of(const std::vector<T>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+template <class H>
+std::string with_header(const std::string& data) {
+  const H n = H(data.size());
+  return std::string(reinterpret_cast<const char*>(&n), sizeof n) + data;
+}
+
+// The mesh as a .vtu with binary data: "inline" (base64, header and data as two blocks, as
+// VTK writes them, UInt32 header), "inline_joint" (one block), "raw" (appended raw, UInt64
+// header) or "appended64" (appended base64).
+std::string binary_vtu(const TetMesh& m, const std::string& mode) {
+  std::vector<std::int64_t> conn(m.tet.begin(), m.tet.end()), offs;
+  std::vector<std::uint8_t> types(m.ntet(), 10);
+  for (int e = 0; e < m.ntet(); ++e) offs.push_back(4 * (e + 1));
+  const std::string arrays[4] = {bytes_of(m.X), bytes_of(conn), bytes_of(offs), bytes_of(types)};
+  const char* head[4] = {"type=\"Float64\" NumberOfComponents=\"3\"", "type=\"Int64\" Name=\"connectivity\"",
+                         "type=\"Int64\" Name=\"offsets\"", "type=\"UInt8\" Name=\"types\""};
+  const bool u64 = mode == "raw";
+  std::ostringstream o;
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\""
+    << (u64 ? "UInt64" : "UInt32") << "\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << m.nnode()
+    << "\" NumberOfCells=\"" << m.ntet() << "\">\n";
+  std::string appended;
+  auto array = [&](int i) {
+    if (mode == "inline" || mode == "inline_joint") {
+      const std::string h = with_header<std::uint32_t>(arrays[i]).substr(0, 4);
+      const std::string body = mode == "inline" ? base64(h) + base64(arrays[i]) : base64(h + arrays[i]);
+      o << "<DataArray " << head[i] << " format=\"binary\">\n  " << body << "\n</DataArray>\n";
+    } else {
+      o << "<DataArray " << head[i] << " format=\"appended\" offset=\"" << appended.size() << "\"/>\n";
+      if (u64) appended += with_header<std::uint64_t>(arrays[i]);
+      else appended += base64(with_header<std::uint32_t>(arrays[i]).substr(0, 4)) + base64(arrays[i]);
+    }
+  };
+  o << "<PointData>\n</PointData>\n<Points>\n";
+  array(0);
+  o << "</Points>\n<Cells>\n";
+  for (int i = 1; i < 4; ++i) array(i);
+  o << "</Cells>\n</Piece>\n</UnstructuredGrid>\n";
+  if (!appended.empty())
+    o << "<AppendedData encoding=\"" << (u64 ? "raw" : "base64") << "\">\n_" << appended << "\n</AppendedData>\n";
+  o << "</VTKFile>\n";
+  return o.str();
+}
+
+// A small .mesh (MEDIT) from nodes and 1-based tets.
+std::string medit(const std::vector<std::array<double, 3>>& X, const std::vector<std::array<int, 4>>& tets) {
+  std::ostringstream o;
+  o << "MeshVersionFormatted 2\nDimension 3\nVertices\n" << X.size() << "\n";
+  for (const auto& x : X) o << x[0] << ' ' << x[1] << ' ' << x[2] << " 0\n";
+  o << "Tetrahedra\n" << tets.size() << "\n";
+  for (const auto& t : tets) o << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << " 0\n";
+  o << "End\n";
+  return o.str();
+}
+// The unit cube's corners and its 6 Kuhn tets (1-based), all positive.
+const std::vector<std::array<double, 3>> kCube = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
+                                                  {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+const std::vector<std::array<int, 4>> kKuhn = {{1, 2, 4, 8}, {1, 2, 8, 6}, {1, 5, 6, 8},
+                                               {1, 5, 8, 7}, {1, 3, 7, 8}, {1, 3, 8, 4}};
+
+}  // namespace
+
+TEST(TetIo, GmshPuckIsAClosedBodyWithTheGeoVolume) {
+  TetImportReport r;
+  const TetMesh m = load_tet_mesh(puck(), {}, &r);
+  EXPECT_EQ(m.nnode(), 222);
+  EXPECT_EQ(m.ntet(), 671);
+  EXPECT_EQ(r.flipped, 0);  // Gmsh writes positive tets
+  EXPECT_EQ(r.dropped_nodes, 0);
+  EXPECT_GT(r.skipped, 0);  // points, lines and triangles of the geometry's entities
+  EXPECT_NE(r.skipped_kinds.find("triangle"), std::string::npos) << r.skipped_kinds;
+  // Cylinder r = 5, h = 4: pi r^2 h = 314.16, less what the inscribed polygon cuts off.
+  const double V = tet_mesh_volume(m);
+  EXPECT_GT(V, 0.97 * M_PI * 25 * 4);
+  EXPECT_LT(V, M_PI * 25 * 4);
+  // A closed boundary: Euler characteristic 2 (V - E + F with E = 3F/2).
+  const MeshCounts c = count_faces_and_edges(m);
+  EXPECT_EQ(long(m.surface_nodes.size()) - c.boundary_edges + c.boundary_faces, 2);
+}
+
+TEST(TetIo, GmshV2V41AsciiAndBinaryGiveTheSameMesh) {
+  const TetMesh a = load_tet_mesh(puck());
+  expect_same(a, load_tet_mesh(puck("puck_v2.msh")));
+  // Binary: the exact doubles, of which the ASCII files keep 16 significant digits.
+  const TetMesh b = load_tet_mesh(data_dir() + "puck_bin.msh");  // gmsh -bin -format msh41
+  expect_same(a, b, 1e-14);
+  expect_same(b, load_tet_mesh(data_dir() + "puck_v2_bin.msh"));  // gmsh -bin -format msh2
+}
+
+TEST(TetIo, TetgenMeditAndVtuGiveTheSameMesh) {
+  const TetMesh a = load_tet_mesh(puck());
+  const std::string base = tmp_dir() + "/puck";
+  write_tetgen_files(a, base);
+  expect_same(a, load_tet_mesh(base + ".node"));
+  expect_same(a, load_tet_mesh(base + ".ele"));  // either path finds the other
+  write_medit(a, base + ".mesh");
+  expect_same(a, load_tet_mesh(base + ".mesh"));
+  for (const char* mode : {"inline", "inline_joint", "raw", "appended64"}) {
+    write_file(base + "_" + mode + ".vtu", binary_vtu(a, mode));
+    SCOPED_TRACE(mode);
+    expect_same(a, load_tet_mesh(base + "_" + mode + ".vtu"));
+  }
+  // What softtled mesh --vtu writes (ASCII, 9 significant digits).
+  write_vtu(base + ".vtu", a, nullptr, 1.0, neo_hookean_from_E_nu<double>(3000, 0.49));
+  expect_same(a, load_tet_mesh(base + ".vtu"), 1e-8 * 5);
+  // Gmsh's own MEDIT export of the same .geo (14 significant digits).
+  expect_same(a, load_tet_mesh(data_dir() + "puck_gmsh.mesh"), 1e-12 * 5);
+}
+
+TEST(TetIo, VtuRoundTripOfTheTorusKeepsTableI) {
+  // As `softtled mesh --scene torus_coarse.toml --vtu F` does it, then F read back.
+  const Scene s = load_scene(test::assets_dir() + "/scenes/torus_coarse.toml");
+  const SurfaceMesh surface = scene_surface(s);
+  const TetMesh a = tetrahedralize_surface(surface, scene_tetgen_options(s));
+  const std::string path = tmp_dir() + "/torus_coarse.vtu";
+  write_vtu(path, a, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));
+  TetImportReport r;
+  const TetMesh b = load_tet_mesh(path, {}, &r);
+  EXPECT_EQ(r.flipped, 0);
+  EXPECT_EQ(r.dropped_nodes, 0);
+  EXPECT_EQ(b.nnode(), a.nnode());
+  EXPECT_EQ(b.ntet(), a.ntet());
+  EXPECT_EQ(b.nbtri(), a.nbtri());
+  EXPECT_NEAR(tet_mesh_volume(b), tet_mesh_volume(a), 1e-7 * tet_mesh_volume(a));
+  const MeshReport ra = mesh_report(surface, a, s.E, s.nu, s.rho, s.material_model);
+  const MeshReport rb = mesh_report(boundary_surface(b), b, s.E, s.nu, s.rho, s.material_model);
+  EXPECT_EQ(rb.counts.faces, ra.counts.faces);
+  EXPECT_EQ(rb.counts.edges, ra.counts.edges);
+  EXPECT_EQ(rb.counts.boundary_faces, ra.counts.boundary_faces);
+  EXPECT_EQ(rb.counts.boundary_edges, ra.counts.boundary_edges);
+  EXPECT_EQ(rb.quality.worst_element, ra.quality.worst_element);
+  EXPECT_NEAR(rb.quality.min_Le, ra.quality.min_Le, 1e-6 * ra.quality.min_Le);
+  EXPECT_NEAR(rb.quality.median_Le, ra.quality.median_Le, 1e-6 * ra.quality.median_Le);
+  EXPECT_NEAR(rb.quality.min_dihedral_deg, ra.quality.min_dihedral_deg, 1e-4);
+  EXPECT_NEAR(rb.dt_le, ra.dt_le, 1e-6 * ra.dt_le);
+  EXPECT_NEAR(rb.dt_eigen, ra.dt_eigen, 1e-5 * ra.dt_eigen);
+  EXPECT_NEAR(rb.dt_cr, ra.dt_cr, 1e-5 * ra.dt_cr);
+}
+
+TEST(TetIo, InvertedTetsAreTurnedAndCounted) {
+  const TetMesh a = load_tet_mesh(puck());
+  TetMesh inverted = a;
+  for (int e : {0, 7, 100, 670}) std::swap(inverted.tet[4 * e + 2], inverted.tet[4 * e + 3]);
+  const std::string base = tmp_dir() + "/inverted";
+  write_tetgen_files(inverted, base);
+  TetImportReport r;
+  const TetMesh b = load_tet_mesh(base + ".ele", {}, &r);
+  EXPECT_EQ(r.flipped, 4);
+  expect_same(a, b);  // turned back by the same swap
+  EXPECT_NE(r.note("f").find("turned 4 inverted tets"), std::string::npos) << r.note("f");
+  for (int e = 0; e < b.ntet(); ++e)
+    ASSERT_GT(tet_signed_volume(&b.X[3 * b.tet[4 * e]], &b.X[3 * b.tet[4 * e + 1]], &b.X[3 * b.tet[4 * e + 2]],
+                                &b.X[3 * b.tet[4 * e + 3]]), 0);
+}
+
+TEST(TetIo, UnreferencedNodesAreDroppedAndOtherElementsSkipped) {
+  std::vector<std::array<double, 3>> X = kCube;
+  X.insert(X.begin() + 3, {5, 5, 5});  // node 4 (1-based) used by no tet
+  std::vector<std::array<int, 4>> T = kKuhn;
+  for (auto& t : T)
+    for (int& v : t) v += v >= 4;
+  std::string text = medit(X, T);
+  text.insert(text.find("End"), "Triangles\n1\n1 2 3 0\nEdges\n2\n1 2 0\n2 3 0\nCorners\n1\n1\n");
+  const std::string p = tmp_dir() + "/extra.mesh";
+  write_file(p, text);
+  TetImportReport r;
+  const TetMesh m = load_tet_mesh(p, {}, &r);
+  EXPECT_EQ(m.nnode(), 8);
+  EXPECT_EQ(r.dropped_nodes, 1);
+  EXPECT_EQ(r.skipped, 3);
+  EXPECT_EQ(r.skipped_kinds, "2 edge, 1 triangle");
+  EXPECT_NEAR(tet_mesh_volume(m), 1.0, 1e-15);
+  EXPECT_EQ(m.nbtri(), 12);
+}
+
+TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
+  const std::string cube = medit(kCube, kKuhn);
+  auto with_tets = [&](std::vector<std::array<int, 4>> t) { return medit(kCube, t); };
+  struct Case {
+    const char* name;
+    std::string content;
+    const char* fragment;
+  };
+  std::vector<std::array<double, 3>> nan_cube = kCube;
+  nan_cube[5][1] = NAN;
+  std::vector<std::array<double, 3>> flat = kCube;
+  flat[7] = {0.5, 0.5, 0};  // node 8 in the bottom face's plane: tets through it flat
+  std::vector<std::array<double, 3>> two = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
+  const std::string msh_head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n";
+  const std::string msh_tet = msh_head + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n";
+  const std::string gmsh_puck = [] {
+    std::ifstream f(puck());
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  }();
+  const std::vector<Case> cases = {
+      {"nan.mesh", medit(nan_cube, kKuhn), "node 5 (0-based, file order) has a NaN or infinite coordinate"},
+      {"inf.msh", msh_head + "0 0 0\n1 0 0\n0 1 inf\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n",
+       "NaN or infinite"},
+      {"index.mesh", with_tets({{1, 2, 4, 9}}), "refers to vertex 9 of 8"},
+      {"index0.mesh", with_tets({{0, 2, 4, 8}}), "refers to vertex 0 of 8 (numbered from 1)"},
+      {"missing_node.msh", msh_head + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 7\n$EndElements\n",
+       "element 1 refers to node 7, which $Nodes does not have"},
+      {"truncated.msh", gmsh_puck.substr(0, gmsh_puck.size() / 2), "(truncated"},
+      {"truncated_line.msh", msh_tet.substr(0, msh_tet.size() - 16), "file ends early (truncated?)"},
+      {"truncated_end.msh", msh_tet.substr(0, msh_tet.size() - 13), "expected '$EndElements'"},
+      {"empty.msh", "", "'$MeshFormat' missing"},
+      {"no_tets.msh", msh_head + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n",
+       "no tetrahedra (empty mesh; skipped 1 other elements: 1 triangle)"},
+      {"empty.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n0\nEnd\n", "no Tetrahedra section (empty mesh)"},
+      {"zero_tets.mesh", medit(kCube, {}), "no tetrahedra (empty mesh)"},
+      {"repeat.mesh", with_tets({{1, 2, 4, 2}}), "uses node 1 twice (degenerate)"},
+      {"flat.mesh", medit(flat, kKuhn), "tet 0 (0-based, file order) is degenerate: |volume|"},
+      {"duplicate.mesh", with_tets({{1, 2, 4, 8}, {1, 2, 8, 6}, {8, 4, 2, 1}}), "tet 0 (0-based, file order) and tet 2 have the same nodes (duplicate tets)"},
+      {"overlap.mesh", with_tets({{1, 2, 3, 5}, {2, 3, 5, 8}, {1, 2, 3, 6}}), "overlap: they lie on the same side"},
+      // Two tets sharing only the edge 1-2: that edge is on four boundary faces.
+      {"nonmanifold.mesh", medit(two, {{1, 2, 3, 4}, {1, 2, 6, 7}}), "non-manifold boundary: the edge between nodes 0 and 1"},
+      {"bad_number.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 zero 0\n", "'zero' is not a number"},
+      {"huge_count.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 100000000 1 100000000\n", "cannot fit in the"},
+      {"v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "MSH version '3.0' is not supported"},
+      {"compressed.vtu", "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\">", "compressed data"},
+      {"polydata.vtu", "<VTKFile type=\"PolyData\">", "only UnstructuredGrid"},
+      {"no_piece.vtu", "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>", "no <Piece>"},
+      {"dim2.node", "3 2 0 0\n", "dimension 2 (3 expected)"},
+  };
+  write_file(tmp_dir() + "/dim2.ele", "0 4 0\n");
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string e = error_of(c.name, c.content);
+    EXPECT_NE(e.find(c.fragment), std::string::npos) << e;
+    EXPECT_NE(e.find(c.name), std::string::npos) << "names the file: " << e;
+  }
+  // Three tets on one face.
+  {
+    const std::vector<std::array<double, 3>> X = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 1}, {0.2, 0.2, -1}, {0.3, 0.3, 2}};
+    const std::string e = error_of("three.mesh", medit(X, {{1, 2, 3, 4}, {1, 2, 3, 5}, {1, 2, 3, 6}}));
+    EXPECT_NE(e.find("is shared by 3 tets"), std::string::npos) << e;
+  }
+  // Caps: bytes, the tet budget, the extension, a missing sibling.
+  EXPECT_NE(load_error(puck(), TetFileLimits{1000, kMaxTetFileCount}).find("bytes, above the limit of 1000 bytes"),
+            std::string::npos);
+  EXPECT_NE(load_error(puck(), TetFileLimits{kDefaultMaxTetFileBytes, 100}).find("mesh.max_tets"), std::string::npos);
+  EXPECT_NE(error_of("cube.mesh", cube, TetFileLimits{kDefaultMaxTetFileBytes, 5}).find("above the tet budget of 5"),
+            std::string::npos);
+  EXPECT_NE(error_of("mesh.obj", "v 0 0 0\n").find("unknown tet mesh format '.obj'"), std::string::npos);
+  write_file(tmp_dir() + "/lonely.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+  EXPECT_NE(load_error(tmp_dir() + "/lonely.node").find("lonely.ele: cannot open file: No such file or directory"),
+            std::string::npos);
+  EXPECT_NE(load_error(tmp_dir() + "/no_such.msh").find("no_such.msh: cannot open file"), std::string::npos);
+  // And the cube itself loads (the cases above are the only thing wrong with them).
+  EXPECT_EQ(error_of("cube.mesh", cube), "(loaded)");
+}
+
+TEST(TetIo, SceneKeysForTetFile) {
+  auto err = [](const std::string& body) {
+    try {
+      parse_scene("[body]\nshape = \"tet_file\"\n" + body, "s.toml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(parsed)");
+  };
+  EXPECT_NE(err("").find("body.file: required when body.shape = \"tet_file\""), std::string::npos);
+  EXPECT_NE(err("file = \"a.obj\"").find("a tet mesh file must end in .msh, .vtu, .node, .ele or .mesh"), std::string::npos);
+  EXPECT_EQ(err("file = \"a.msh\""), "(parsed)");
+  // Placed like a surface: scale, rotation, position, then metres.
+  Scene s = load_scene(test::assets_dir() + "/scenes/puck_drop.toml",
+                       {"body.scale=2", "body.rotation_deg=[0,0,90]", "body.position=[1,2,3]"});
+  const TetMesh raw = load_tet_mesh(puck());
+  const TetMesh m = scene_tet_file_mesh(s);
+  ASSERT_EQ(m.nnode(), raw.nnode());
+  for (int i = 0; i < m.nnode(); ++i) {
+    const double* x = &raw.X[3 * i];
+    EXPECT_NEAR(m.X[3 * i], (-2 * x[1] + 1) * 1e-3, 1e-15);
+    EXPECT_NEAR(m.X[3 * i + 1], (2 * x[0] + 2) * 1e-3, 1e-15);
+    EXPECT_NEAR(m.X[3 * i + 2], (2 * x[2] + 3) * 1e-3, 1e-15);
+  }
+  EXPECT_NEAR(tet_mesh_volume(m), 8e-9 * tet_mesh_volume(raw), 1e-9 * 8e-9 * tet_mesh_volume(raw));
+  // Out of range: named by the keys.
+  s = load_scene(test::assets_dir() + "/scenes/puck_drop.toml", {"body.scale=1e9"});
+  try {
+    scene_tet_file_mesh(s);
+    ADD_FAILURE() << "a 10 km puck was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body.file/body.scale: the mesh is"), std::string::npos) << e.what();
+  }
+}
