@@ -231,7 +231,6 @@ class CudaSolver final : public CudaSolverApi {
     if (m != mode_) clear_graphs();
     mode_ = m;
   }
-  // The fused step is T4 only: with T4ANP, kFused runs as graph-pdl (and says so here).
   ExecMode exec_mode() const override { return run_mode(); }
 
   void set_node_lanes(int lanes) override {
@@ -649,12 +648,10 @@ class CudaSolver final : public CudaSolverApi {
   // Chosen from the bench (bench/NOTES.md, "The auto rule"): the fused one-kernel step
   // while its 4x element arithmetic is free (up to 256 tets per SM), PDL graphs above; 8
   // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
-  // (fewer idle lanes, better coalescing per warp). With T4ANP fused runs as graph-pdl
-  // (run_mode).
+  // (fewer idle lanes, better coalescing per warp). T4ANP's fused step is two kernels
+  // (tled_step.cu).
   ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
-  ExecMode run_mode() const {
-    return mode_ == ExecMode::kFused && cfg_.element == kT4ANP ? ExecMode::kGraphPdl : mode_;
-  }
+  ExecMode run_mode() const { return mode_; }
 
   // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
   // (a node with more entries gets a block of its own; the kernel loops over them).

@@ -7,8 +7,8 @@
 //               computing the corner forces of their nodes' elements (every element 4
 //               times) into shared memory, then the node stage; two displacement buffers
 //               alternate; graphs of K steps with programmatic dependent launch (PDL).
-//               auto on meshes up to 256 tets per SM; T4 only (with T4ANP it runs as
-//               graph-pdl)
+//               auto on meshes up to 256 tets per SM; with T4ANP two kernels per step
+//               (the nodal pressures of the block's nodes first, anp.h)
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
 //               replayed, with PDL between the kernels (each is scheduled while its

@@ -2,7 +2,7 @@
 // Host-callable launchers of the CUDA kernels (plain C++: no CUDA syntax here, so the
 // solver's host code compiles with the ordinary C++ compiler). Where each lives:
 //   tled_step.cu    THE GPU STEP: fused_step_kernel, one kernel per step (launch_fused_step;
-//                   `auto` on meshes up to 256 tets per SM, T4)
+//                   `auto` on meshes up to 256 tets per SM; T4ANP adds fused_pressure_kernel)
 //   tled_stages.cu  the two-kernel step (graphs, with or without PDL; larger meshes and
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
@@ -83,7 +83,8 @@ inline const T* element_displacement(const BodyStateView<T>& b) {
 }
 
 // ---- the GPU step (tled_step.cu) ----
-// Fused step, one kernel (T4 only): block b of a.fblock computes, one thread per gather
+// Fused step, one kernel (T4; with a.anp two: fused_pressure_kernel writes a.p_node for the
+// block's nodes first, the same blocks and lanes): block b of a.fblock computes, one thread per gather
 // entry of its nodes, the force of that corner (the element recomputed by each of its 4
 // nodes, same value functions as element_corner_forces) into shared memory, then a.lanes
 // lanes per node sum them in the node stage's order (same lane split, same lane_sum) and

@@ -1,7 +1,9 @@
 // The GPU step: fused_step_kernel, one kernel per explicit step (Li, Guo et al.,
 // Algorithm 1, steps 7-11; Taylor et al. 2008 for the GPU TLED layout). What `auto` runs
 // on meshes up to 256 tets per SM (the paper's torus and everything interactive); larger
-// meshes and T4ANP run the two-kernel step of tled_stages.cu, captured in CUDA graphs.
+// meshes run the two-kernel step of tled_stages.cu, captured in CUDA graphs. T4ANP needs
+// every node's pressure before any corner force (anp.h: two global phases), so its fused
+// step is two kernels: fused_pressure_kernel, then fused_step_kernel with the pressures.
 //
 // Nodes are packed in order into blocks of at most 256 gather entries (host table
 // StepArgs::fblock). Per step, each block:
@@ -19,6 +21,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "sim/fem/anp.h"
 #include "sim/fem/central_difference.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/solver/cuda/kernel_support.cuh"
@@ -54,18 +57,94 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
 // for it: the same deformation_gradient, neo_hookean_pk1 and corner_force value functions
 // on the same numbers (--fmad=false: no contraction, so the same operations round the
 // same way).
-template <class T>
+// T4ANP (kAnp): the stress of anp_corner_forces, with the element's pressure the mean of
+// its nodes' (p_node, written by fused_pressure_kernel), summed in the same order.
+template <class T, bool kAnp>
 __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int nnode, const T* __restrict__ u,
-                                                   const CornerRest<T>& r, T f[3]) {
+                                                   const T* __restrict__ p_node, const CornerRest<T>& r, T f[3]) {
   T ue[4][3];
 #pragma unroll
   for (int b = 0; b < 4; ++b)
 #pragma unroll
     for (int k = 0; k < 3; ++k) ue[b][k] = u[k * nnode + r.node[b]];
-  corner_force(neo_hookean_pk1(mat, deformation_gradient(r.g, ue)), r.vol, r.ga, f);
+  if (kAnp) {
+    T p = T(0);
+    for (int b = 0; b < 4; ++b) p += p_node[r.node[b]];
+    p *= T(0.25);
+    corner_force(anp_stress(mat, deformation_gradient(r.g, ue), p), r.vol, r.ga, f);
+  } else {
+    corner_force(neo_hookean_pk1(mat, deformation_gradient(r.g, ue)), r.vol, r.ga, f);
+  }
 }
 
+// The block's share of the gather entries and nodes (StepArgs::fblock).
+struct FusedBlock {
+  int n0, n1, jb, je;
+};
+template <class T>
+__device__ __forceinline__ FusedBlock fused_block_range(const StepArgs<T>& a) {
+  FusedBlock b;
+  b.n0 = a.fblock[blockIdx.x];
+  b.n1 = a.fblock[blockIdx.x + 1];
+  b.jb = a.m.gather_start[b.n0];
+  b.je = a.m.gather_start[b.n1];
+  return b;
+}
+
+// T4ANP, first kernel of a fused step: the nodal pressures of the block's nodes
+// (anp_node_pressure). One thread per gather entry computes its element's current volume
+// (anp_element_volume; each element again by each of its 4 nodes) into shared memory,
+// then G lanes per node sum them in the node stage's lane split and lane_sum, as
+// anp_pressure_lanes does: the same sums in the same order, so the pressures are those of
+// the two-kernel step bit for bit.
 template <class T, int G>
+__global__ void __launch_bounds__(kFusedMaxThreads)
+    fused_pressure_kernel(const StepArgs<T> a, const T* __restrict__ ue_prev) {
+  extern __shared__ __align__(16) unsigned char fused_smem[];
+  const int S = a.fsmem_entries;
+  T* vs = reinterpret_cast<T*>(fused_smem);  // S current element volumes
+  T* v0s = vs + S;                           // S rest volumes
+  pdl_launch_dependents();
+  const TetMeshView<T>& m = a.m;
+  const FusedBlock fb = fused_block_range(a);
+  const int tid = int(threadIdx.x), nt = int(blockDim.x);
+  CornerRest<T> r;
+  const bool first = fb.jb + tid < fb.je;
+  if (first) load_corner_rest(m, fb.jb + tid, r);
+  pdl_wait();  // ue_prev is written by the previous step
+  for (int j = fb.jb + tid; j < fb.je; j += nt) {
+    if (j != fb.jb + tid) load_corner_rest(m, j, r);
+    T ue[4][3];
+#pragma unroll
+    for (int b = 0; b < 4; ++b)
+#pragma unroll
+      for (int k = 0; k < 3; ++k) ue[b][k] = ue_prev[k * m.nnode + r.node[b]];
+    vs[j - fb.jb] = anp_element_volume(r.g, r.vol, ue);
+    v0s[j - fb.jb] = r.vol;
+  }
+  __syncthreads();
+  const int nb = fb.n1 - fb.n0;
+  for (int t0 = 0; t0 < nb * G; t0 += nt) {
+    const int t = t0 + tid;
+    const bool valid = t < nb * G;
+    const int i = fb.n0 + t / G, lane = t % G;
+    int j0 = 0, j1 = 0;
+    if (valid) {
+      j0 = m.gather_start[i] - fb.jb;
+      j1 = m.gather_start[i + 1] - fb.jb;
+    }
+    T sv = T(0), sv0 = T(0);
+    for (int j = j0 + lane; j < j1; j += G) {
+      sv += vs[j];
+      sv0 += v0s[j];
+    }
+    sv = lane_sum<G>(sv);
+    sv0 = lane_sum<G>(sv0);
+    if (valid && lane == 0) a.p_node[i] = anp_pressure(a.mat, sv, sv0);
+  }
+}
+
+template <class T, int G, bool kAnp>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
                       T* __restrict__ u_next, T* __restrict__ du_next, const T* __restrict__ ue_prev,
@@ -75,8 +154,8 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   const int S = a.fsmem_entries;
   pdl_launch_dependents();
   const TetMeshView<T>& m = a.m;
-  const int n0 = a.fblock[blockIdx.x], n1 = a.fblock[blockIdx.x + 1];
-  const int jb = m.gather_start[n0], je = m.gather_start[n1];
+  const FusedBlock fb = fused_block_range(a);
+  const int n0 = fb.n0, n1 = fb.n1, jb = fb.jb, je = fb.je;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
 
   // Corner forces, one thread per gather entry of the block (S >= their number; one pass
@@ -92,16 +171,16 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
     prefetch_l1(m.gather_start + i);
     for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
   }
-  pdl_wait();  // u_prev is written by the previous step
+  pdl_wait();  // u_prev is written by the previous step (T4ANP: p_node by the pressure kernel)
   if (first) {
     T f[3];
-    fused_corner_force(a.mat, m.nnode, ue_prev, r, f);
+    fused_corner_force<T, kAnp>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + tid] = f[k];
   }
   for (int j = jb + tid + nt; j < je; j += nt) {
     load_corner_rest(m, j, r);
     T f[3];
-    fused_corner_force(a.mat, m.nnode, ue_prev, r, f);
+    fused_corner_force<T, kAnp>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - jb)] = f[k];
   }
   __syncthreads();
@@ -139,10 +218,26 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
   ls.block = block;
   ls.pdl = pdl;
   ls.smem_bytes = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
+  if (a.anp) {
+    if (!a.p_node) return cudaErrorInvalidValue;
+    cudaError_t e = cudaErrorInvalidValue;
+    switch (a.lanes) {
+      case 1: e = launch(s, ls, fused_pressure_kernel<T, 1>, a, ue_prev); break;
+      case 4: e = launch(s, ls, fused_pressure_kernel<T, 4>, a, ue_prev); break;
+      case 8: e = launch(s, ls, fused_pressure_kernel<T, 8>, a, ue_prev); break;
+    }
+    if (e != cudaSuccess) return e;
+    switch (a.lanes) {
+      case 1: return launch(s, ls, fused_step_kernel<T, 1, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+      case 4: return launch(s, ls, fused_step_kernel<T, 4, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+      case 8: return launch(s, ls, fused_step_kernel<T, 8, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    }
+    return cudaErrorInvalidValue;
+  }
   switch (a.lanes) {
-    case 1: return launch(s, ls, fused_step_kernel<T, 1>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 4: return launch(s, ls, fused_step_kernel<T, 4>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 8: return launch(s, ls, fused_step_kernel<T, 8>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 1: return launch(s, ls, fused_step_kernel<T, 1, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 4: return launch(s, ls, fused_step_kernel<T, 4, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 8: return launch(s, ls, fused_step_kernel<T, 8, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
   }
   return cudaErrorInvalidValue;
 }

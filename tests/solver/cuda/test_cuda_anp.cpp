@@ -52,8 +52,8 @@ TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
   SKIP_WITHOUT_GPU();
   const long steps = 5000;  // past the first contact (~3600 steps); the nodal pressure uses the node stage's lanes
   expect_modes_bitwise_identical(torus("float"), steps, "T4ANP, ", [](cuda::ExecMode m, cuda::CudaSolverApi& api) {
-    // kFused is T4 only: with T4ANP it runs as graph-pdl.
-    if (m == cuda::ExecMode::kFused) EXPECT_EQ(api.exec_mode(), cuda::ExecMode::kGraphPdl) << "fused falls back";
+    // T4ANP's fused step (two kernels: pressures, then forces and nodes) really runs fused.
+    if (m == cuda::ExecMode::kFused) EXPECT_EQ(api.exec_mode(), cuda::ExecMode::kFused);
   });
 }
 
