@@ -14,6 +14,7 @@
 #include <string>
 
 #include "backends.h"
+#include "scene/state_compare.h"
 #include "scene_helpers.h"
 #include "sim/contact/mesh_sdf.h"
 #include "sim/mesh/surface_generators.h"
@@ -38,13 +39,6 @@ std::string write_file(const std::string& name, const std::string& text) {
   const std::string path = temp_path(name);
   std::ofstream(path) << text;
   return path;
-}
-
-double max_abs_diff(Simulation& a, Simulation& b) {
-  const HostState &sa = a.state(), &sb = b.state();
-  double w = 0;
-  for (std::size_t j = 0; j < sa.u.size(); ++j) w = std::max(w, std::fabs(sa.u[j] - sb.u[j]));
-  return w;
 }
 
 // Smallest signed distance of any node from obstacle o, by `dist` (pose now) [m].
@@ -239,11 +233,7 @@ TEST(MeshObstacle, GpuMatchesTheCpu) {
   again.step(n);
   ASSERT_GT(cpu.diagnostics().n_contact, 0);
   EXPECT_EQ(gpu.state().u, again.state().u);
-  double worst = 0, umax = 0;
-  for (std::size_t k = 0; k < cpu.state().u.size(); ++k) {
-    worst = std::max(worst, std::fabs(gpu.state().u[k] - cpu.state().u[k]));
-    umax = std::max(umax, std::fabs(cpu.state().u[k]));
-  }
+  const double worst = max_abs_diff(gpu, cpu), umax = max_abs_u(cpu);
   std::printf("block on a mesh box after %ld steps: max |u_gpu - u_cpu| = %.3g m (max |u| %.3g m)\n", n, worst, umax);
   EXPECT_LT(worst, 1e-4 * umax);
 }

@@ -13,6 +13,7 @@
 #include <cstdio>
 
 #include "backends.h"
+#include "scene/state_compare.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 
@@ -35,13 +36,6 @@ double gap_to_obstacle(Simulation& sim, int o) {
     g = std::min(g, signed_distance(sim.params().obstacles[o], x));
   }
   return g;
-}
-
-double max_abs_diff(Simulation& a, Simulation& b) {
-  const HostState &sa = a.state(), &sb = b.state();
-  double w = 0;
-  for (std::size_t j = 0; j < sa.u.size(); ++j) w = std::max(w, std::fabs(sa.u[j] - sb.u[j]));
-  return w;
 }
 
 // A 6 mm cube on an incline of theta through the origin (as tests/solver/test_tled_dynamics.cpp),

@@ -14,6 +14,7 @@
 
 #include "backends.h"
 #include "scene/self_penetration.h"
+#include "scene/state_compare.h"
 #include "scene_helpers.h"
 #include "sim/scene/simulation.h"
 
@@ -129,11 +130,7 @@ TEST(SelfContact, BeamFoldOnTheGpuMatchesTheCpu) {
   gpu.step(n);
   again.step(n);
   EXPECT_EQ(gpu.state().u, again.state().u);
-  double worst = 0, umax = 0;
-  for (std::size_t k = 0; k < cpu.state().u.size(); ++k) {
-    worst = std::max(worst, std::fabs(gpu.state().u[k] - cpu.state().u[k]));
-    umax = std::max(umax, std::fabs(cpu.state().u[k]));
-  }
+  const double worst = max_abs_diff(gpu, cpu), umax = max_abs_u(cpu);
   std::printf("beam_fold after %ld steps: max |u_gpu - u_cpu| = %.3g m (max |u| %.3g m), %d contacts\n", n, worst, umax,
               cpu.diagnostics().n_contact);
   EXPECT_GT(cpu.diagnostics().n_contact, 20);
