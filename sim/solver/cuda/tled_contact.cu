@@ -10,7 +10,7 @@
 //                          CPU) into the hash grid's buckets (atomicAdd picks a slot, so a
 //                          bucket's order varies from run to run; the candidate lists
 //                          below are sorted, so nothing downstream sees that order)
-//   contact_cand_kernel    per surface node: its box kept for the check, and the triangles
+//   contact_cand_kernel    a warp per surface node: its box kept for the check, and the triangles
 //                          of the buckets its box covers whose boxes meet it, sorted by
 //                          triangle, deduplicated
 // then kBodyContactSweeps times:
@@ -85,19 +85,17 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
     return;
   }
   const int body = c.tri_body[t];
-  int done = 0;
+  unsigned done[kContactMaxCells];  // the buckets this triangle is in so far
+  int nd = 0;
   for (long long ix = x0; ix <= x1; ++ix)
     for (long long iy = y0; iy <= y1; ++iy)
-      for (long long iz = z0; iz <= z1; ++iz, ++done) {
+      for (long long iz = z0; iz <= z1; ++iz) {
         const unsigned h = grid_bucket(ix, iy, iz, body, c.mask);
         // Once per bucket: an earlier cell of this box may hash to the same bucket.
         bool seen = false;
-        int q = 0;
-        for (long long jx = x0; jx <= x1 && !seen; ++jx)
-          for (long long jy = y0; jy <= y1 && !seen; ++jy)
-            for (long long jz = z0; jz <= z1 && !seen && q < done; ++jz, ++q)
-              seen = grid_bucket(jx, jy, jz, body, c.mask) == h;
+        for (int q = 0; q < nd && !seen; ++q) seen = done[q] == h;
         if (seen) continue;
+        done[nd++] = h;
         const unsigned slot = atomicAdd(c.bucket_count + h, 1u);
         if (slot < unsigned(kContactBucketCap))
           c.bucket_tri[std::size_t(h) * kContactBucketCap + slot] = t;
@@ -106,18 +104,23 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
       }
 }
 
+// A warp per surface node: the lanes test a bucket's entries together (the entries of one
+// bucket are independent loads), and the hits, taken in lane order, go into the node's
+// sorted list one by one (lane 0 inserts; hits are few).
 template <class T>
 __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
-  const int s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (s >= c.nsurf || !*c.rebuild) return;
+  const int s = int((blockIdx.x * blockDim.x + threadIdx.x) / 32);
+  const int lane = int(threadIdx.x % 32);
+  if (s >= c.nsurf || !*c.rebuild) return;  // whole warps: s and the flag are warp-uniform
   const int i = c.surf[s];
   const int bi = c.node_body[i];
   int* list = c.cand + std::size_t(s) * kContactCandCap;
-  int nc = 0;
+  int nc = 0;  // warp-uniform (lane 0's count, broadcast after every insertion)
   T nb[6];
   swept_box(m, u, du, i, nb, nb + 3);
-  for (int k = 0; k < 6; ++k) c.node_box[6 * s + k] = nb[k];
+  if (lane == 0)
+    for (int k = 0; k < 6; ++k) c.node_box[6 * s + k] = nb[k];
   for (int k = 0; k < 3; ++k) nb[k] -= c.half_margin, nb[3 + k] += c.half_margin;
   if (grid_box(nb, c.inv_h)) {
     const long long x0 = grid_cell(nb[0], c.inv_h), x1 = grid_cell(nb[3], c.inv_h);
@@ -129,28 +132,37 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
         for (long long iy = y0; iy <= y1; ++iy)
           for (long long iz = z0; iz <= z1; ++iz) {
             const unsigned h = grid_bucket(ix, iy, iz, o, c.mask);
-            const unsigned nh = min(c.bucket_count[h], unsigned(kContactBucketCap));
-            for (unsigned q = 0; q < nh; ++q) {
-              const int t = c.bucket_tri[std::size_t(h) * kContactBucketCap + q];
-              if (c.tri_body[t] != o || !boxes_overlap(nb, c.tri_box + 6 * t)) continue;
-              if (o == bi && in_one_ring(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2], c.ring_start, c.ring))
-                continue;
-              // Insert in order; a triangle met again through another cell is kept once.
-              int pos = nc;
-              while (pos > 0 && list[pos - 1] > t) --pos;
-              if (pos > 0 && list[pos - 1] == t) continue;
-              if (nc == kContactCandCap) {
-                atomicOr(c.overflow, kContactOverflowCand);
-                continue;
+            const int nh = int(min(c.bucket_count[h], unsigned(kContactBucketCap)));
+            for (int q0 = 0; q0 < nh; q0 += 32) {
+              int t = -1;
+              if (q0 + lane < nh) {
+                t = c.bucket_tri[std::size_t(h) * kContactBucketCap + q0 + lane];
+                if (c.tri_body[t] != o || !boxes_overlap(nb, c.tri_box + 6 * t) ||
+                    (o == bi && in_one_ring(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2], c.ring_start, c.ring)))
+                  t = -1;
               }
-              for (int r = nc; r > pos; --r) list[r] = list[r - 1];
-              list[pos] = t;
-              ++nc;
+              for (unsigned hits = __ballot_sync(0xffffffffu, t >= 0); hits; hits &= hits - 1) {
+                const int tb = __shfl_sync(0xffffffffu, t, __ffs(hits) - 1);
+                if (lane == 0) {  // insert in order; a triangle met again through another cell is kept once
+                  int pos = nc;
+                  while (pos > 0 && list[pos - 1] > tb) --pos;
+                  if (!(pos > 0 && list[pos - 1] == tb)) {
+                    if (nc == kContactCandCap) {
+                      atomicOr(c.overflow, kContactOverflowCand);
+                    } else {
+                      for (int r = nc; r > pos; --r) list[r] = list[r - 1];
+                      list[pos] = tb;
+                      ++nc;
+                    }
+                  }
+                }
+                nc = __shfl_sync(0xffffffffu, nc, 0);
+              }
             }
           }
     }
   }
-  c.ncand[s] = nc;
+  if (lane == 0) c.ncand[s] = nc;
 }
 
 template <class T>
@@ -252,7 +264,8 @@ cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m
   cudaError_t e = launch(s, ls, contact_check_kernel<T>, m, c, (const T*)u, (const T*)du);
   if (e != cudaSuccess) return e;
   if ((e = launch(s, lt, contact_grid_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
-  if ((e = launch(s, ls, contact_cand_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
+  const LaunchShape lw = shape_for(32 * c.nsurf, nsm, false);  // a warp per surface node
+  if ((e = launch(s, lw, contact_cand_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
   // Two count arrays: each sweep's apply kernel clears the one the next sweep fills
   // (both start cleared, and an even number of sweeps leaves them so).
   static_assert(kBodyContactSweeps % 2 == 0, "the count arrays alternate");
