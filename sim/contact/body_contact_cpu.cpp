@@ -58,7 +58,7 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   if (!valid) rebuild(X0, u, bodies, self);
   if (cand_start_.empty()) return;  // nothing near anything
 
-  last_contacts_ = 0;
+  last_candidates_ = int(cand_list_.size());
   for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) sweep_once(X0, u, du, ub, beta_dt, contact, mode, mu);
 }
 
@@ -75,7 +75,6 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
   for (std::size_t s = 0; s < surf.size(); ++s) {
     const int i = surf[s];
     const int c0 = cand_start_[s], c1 = cand_start_[s + 1];
-    if (last_contacts_ == 0) last_candidates_ += c1 - c0;  // (counted in the first sweep)
     for (int c = c0; c < c1; ++c) {
       const int t = cand_list_[c];
       const int j[4] = {i, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "sim/contact/body_contact_tables.h"
+#include "sim/solver/cuda/contact_stage.h"
 #include "sim/solver/cuda/cuda_check.h"
 #include "sim/solver/cuda/device_buffer.h"
 #include "sim/solver/cuda/device_info.h"
@@ -79,18 +80,6 @@ struct DeviceLive {
   DeviceBuffer<T> ub, ub2;
   DeviceBuffer<T> vol_now, p_node;  // T4ANP: ntet current element volumes, nnode nodal pressures
   DeviceBuffer<std::uint8_t> contact;
-};
-
-// Body-body and self-contact tables (body_contact_tables.h, renumbered) and scratch
-// (BodyContactView), allocated when a contact stage is first switched on.
-template <class T>
-struct DeviceBodyContact {
-  DeviceBuffer<int> surf, tri, tri_body, node_body, ring_start, ring;
-  DeviceBuffer<unsigned> bucket_count, overflow, rebuild;
-  DeviceBuffer<int> bucket_tri, ncand, cand, count0, count1, in_count, in_list;
-  DeviceBuffer<T> tri_box, pair_corr, node_box;
-  DeviceBuffer<std::uint8_t> pair_state;
-  BodyContactView<T> view;
 };
 
 class Event {
@@ -223,7 +212,14 @@ class CudaSolver final : public CudaSolverApi {
     hold_grids(p);
     point_at_grids(cfg_.step);
     if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
-    if (contact_on()) upload_contact_tables();
+    if (contact_on()) {
+      if (!contact_.ready()) {
+        SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        clear_graphs();  // the first tables: new pointers in the kernel arguments
+        contact_.upload(contact_tables_, perm_.node_new, perm_.node_old);
+      }
+      contact_.set_pairs(params_.body_contact && contact_tables_.nbody >= 2, params_.self_contact, stream_);
+    }
   }
 
   void set_exec_mode(ExecMode m) override {
@@ -335,10 +331,9 @@ class CudaSolver final : public CudaSolverApi {
     download(live_.du, du);
     download(live_.contact, c);
     unsigned overflow = 0;
-    if (contact_.overflow.size())
-      SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&overflow, contact_.overflow.data(), sizeof overflow, cudaMemcpyDeviceToHost, stream_));
+    contact_.download_overflow(&overflow, stream_);
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
-    if (overflow) throw std::runtime_error(contact_overflow_message(overflow));
+    if (overflow) throw std::runtime_error(DeviceContactStage<T>::overflow_message(overflow));
     s.u.resize(u.size());
     s.du.resize(du.size());
     s.contact.resize(c.size());
@@ -525,106 +520,10 @@ class CudaSolver final : public CudaSolverApi {
   // Body-body contact needs two bodies; self-contact one.
   bool contact_on() const { return (params_.body_contact && contact_tables_.nbody >= 2) || params_.self_contact; }
 
-  // The contact stage's tables and scratch on the device (once), renumbered to the
-  // solver's node order; the triangles and the surface-node order stay the mesh's, which
-  // are the CPU's key order (body_contact.h).
-  void upload_contact_tables() {
-    BodyContactView<T>& v = contact_.view;
-    const bool bodies = params_.body_contact && contact_tables_.nbody >= 2, self = params_.self_contact;
-    if (contact_.surf.size()) {
-      if (bodies != v.bodies || self != v.self) {  // the kept lists are for other kinds of pairs
-        static const unsigned kOne = 1;
-        SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(contact_.rebuild.data(), &kOne, sizeof kOne, cudaMemcpyHostToDevice, stream_));
-      }
-      v.bodies = bodies;
-      v.self = self;
-      return;
-    }
-    v.bodies = bodies;
-    v.self = self;
-    const BodyContactTables& t = contact_tables_;
-    std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n_), ring_start(n_ + 1, 0), ring;
-    for (std::size_t s = 0; s < surf.size(); ++s) surf[s] = perm_.node_new[t.surf[s]];
-    for (std::size_t k = 0; k < tri.size(); ++k) tri[k] = perm_.node_new[t.tri[k]];
-    for (int i = 0; i < n_; ++i) {
-      const int o = perm_.node_old[i];
-      node_body[i] = t.node_body[o];
-      for (int r = t.ring_start[o]; r < t.ring_start[o + 1]; ++r) ring.push_back(perm_.node_new[t.ring[r]]);
-      ring_start[i + 1] = int(ring.size());
-    }
-    const int nsurf = int(surf.size()), nt = t.ntri();
-    unsigned buckets = 1;
-    while (buckets < 8u * unsigned(std::max(1, nt))) buckets <<= 1;
-    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
-    clear_graphs();
-    contact_.surf.upload(surf);
-    contact_.tri.upload(tri);
-    contact_.tri_body.upload(t.tri_body);
-    contact_.node_body.upload(node_body);
-    contact_.ring_start.upload(ring_start);
-    contact_.ring.upload(ring.empty() ? std::vector<int>{0} : ring);
-    contact_.bucket_count.resize(buckets);
-    contact_.bucket_tri.resize(std::size_t(buckets) * kContactBucketCap);
-    contact_.tri_box.resize(6 * std::size_t(std::max(1, nt)));
-    const std::size_t slots = std::size_t(std::max(1, nsurf)) * kContactCandCap;
-    contact_.ncand.resize(std::max(1, nsurf));
-    contact_.cand.resize(slots);
-    contact_.pair_state.resize(slots);
-    contact_.pair_corr.resize(12 * slots);
-    contact_.count0.resize(n_);
-    contact_.count1.resize(n_);
-    contact_.in_count.resize(n_);
-    contact_.in_list.resize(std::size_t(n_) * kContactInCap);
-    contact_.overflow.resize(1);
-    contact_.rebuild.upload({1u});
-    contact_.node_box.resize(6 * std::size_t(std::max(1, nsurf)));
-    contact_.bucket_count.fill_zero();
-    contact_.count0.fill_zero();
-    contact_.count1.fill_zero();
-    contact_.in_count.fill_zero();
-    contact_.overflow.fill_zero();
-    v.nsurf = nsurf;
-    v.ntri = nt;
-    v.nbody = t.nbody;
-    v.surf = contact_.surf.data();
-    v.tri = contact_.tri.data();
-    v.tri_body = contact_.tri_body.data();
-    v.node_body = contact_.node_body.data();
-    v.ring_start = contact_.ring_start.data();
-    v.ring = contact_.ring.data();
-    v.tol = T(t.tol);
-    v.half_margin = T(0.5) * v.tol;  // the CPU's boxes (body_contact_cpu.cpp)
-    v.inv_h = 1.0 / double(T(t.cell));
-    v.mask = buckets - 1;
-    v.bucket_count = contact_.bucket_count.data();
-    v.bucket_tri = contact_.bucket_tri.data();
-    v.tri_box = contact_.tri_box.data();
-    v.ncand = contact_.ncand.data();
-    v.cand = contact_.cand.data();
-    v.pair_state = contact_.pair_state.data();
-    v.pair_corr = contact_.pair_corr.data();
-    v.count0 = contact_.count0.data();
-    v.count1 = contact_.count1.data();
-    v.in_count = contact_.in_count.data();
-    v.in_list = contact_.in_list.data();
-    v.overflow = contact_.overflow.data();
-    v.node_box = contact_.node_box.data();
-    v.rebuild = contact_.rebuild.data();
-  }
-
-  static std::string contact_overflow_message(unsigned f) {
-    std::string m = "body contact (GPU): ";
-    if (f & kContactOverflowCells) m += "a triangle swept over more than " + std::to_string(kContactMaxCells) + " grid cells in one step; ";
-    if (f & kContactOverflowBucket) m += "a grid bucket held more than " + std::to_string(kContactBucketCap) + " triangles; ";
-    if (f & kContactOverflowCand) m += "a node had more than " + std::to_string(kContactCandCap) + " candidate triangles; ";
-    if (f & kContactOverflowIncoming) m += "a node took part in more than " + std::to_string(kContactInCap) + " contacts; ";
-    return m + "the state is diverging or the mesh too fine for the contact stage's fixed lists (use --backend cpu)";
-  }
-
   // The contact stage after a node stage that wrote (u, du, ub).
   void enqueue_contact(T* u, T* du, T* ub) {
     if (!contact_on()) return;
-    SOFTTLED_CUDA_CHECK(launch_body_contact<T>(stream_, nsm_, rest_.view, contact_.view, u, du, ub, cfg_.step.beta_dt,
+    SOFTTLED_CUDA_CHECK(launch_body_contact<T>(stream_, nsm_, rest_.view, contact_.view(), u, du, ub, cfg_.step.beta_dt,
                                                live_.contact.data(), cfg_.step.contact.mode, cfg_.step.contact.mu));
   }
 
@@ -856,7 +755,7 @@ class CudaSolver final : public CudaSolverApi {
   DeviceLive<T> live_;
   BodyContactTables contact_tables_;  // original numbering
   ObstacleGrids<T, DeviceBuffer<T>> grids_;  // mesh obstacles' distance values (hold_grids)
-  DeviceBodyContact<T> contact_;
+  DeviceContactStage<T> contact_;  // allocated when a contact stage is first switched on
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
   bool fext_active_ = false;

@@ -1,0 +1,42 @@
+#pragma once
+// The GPU contact stage's device data (tled_contact.cu, BodyContactView): the shared
+// tables of body_contact_tables.h renumbered to the solver's node order, and the fixed-size
+// scratch the kernels fill each step. Plain C++ against the CUDA runtime (host code).
+#include <cuda_runtime_api.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/contact/body_contact_tables.h"
+#include "sim/solver/cuda/device_buffer.h"
+#include "sim/solver/cuda/tled_kernels.h"
+
+namespace softtled::cuda {
+
+template <class T>
+class DeviceContactStage {
+ public:
+  bool ready() const { return surf_.size() > 0; }
+  // The tables on the device (once; the caller has synchronised and dropped its graphs):
+  // node_new / node_old the solver's renumbering. The triangles and the surface-node order
+  // stay the mesh's: the CPU's key order (body_contact.h).
+  void upload(const BodyContactTables& t, const std::vector<int>& node_new, const std::vector<int>& node_old);
+  // Which pairs the kernels test; lists kept for other kinds of pairs are rebuilt
+  // (a stream-ordered write of the rebuild flag).
+  void set_pairs(bool bodies, bool self, cudaStream_t s);
+  const BodyContactView<T>& view() const { return view_; }
+  // The overflow word into *host, stream-ordered (0 when nothing overflowed or not ready).
+  void download_overflow(unsigned* host, cudaStream_t s) const;
+  static std::string overflow_message(unsigned flags);
+
+ private:
+  DeviceBuffer<int> surf_, tri_, tri_body_, node_body_, ring_start_, ring_;
+  DeviceBuffer<unsigned> bucket_count_, overflow_, rebuild_;
+  DeviceBuffer<int> bucket_tri_, ncand_, cand_, count0_, count1_, in_count_, in_list_;
+  DeviceBuffer<T> tri_box_, pair_corr_, node_box_;
+  DeviceBuffer<std::uint8_t> pair_state_;
+  BodyContactView<T> view_;
+};
+
+}  // namespace softtled::cuda
