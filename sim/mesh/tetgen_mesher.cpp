@@ -17,6 +17,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -308,7 +309,51 @@ bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_po
   return true;
 }
 
+// TetGen 1.5 does not check every allocation: out of memory it can dereference a null
+// pointer and die of SIGSEGV instead of throwing. In the child, a crash while the address
+// space is more than half used up under a finite RLIMIT_AS is reported as out of memory
+// (TetGen's code 1); any other crash stays a crash. Only async-signal-safe calls here.
+int g_crash_fd = -1;
+unsigned long long g_as_limit = 0, g_page = 4096;  // bytes; 0: no limit
+extern "C" void child_crash_handler(int sig) {
+  bool oom = false;
+  if (g_as_limit > 0) {
+    char buf[32];
+    const int f = ::open("/proc/self/statm", O_RDONLY);
+    if (f >= 0) {
+      const ssize_t n = ::read(f, buf, sizeof buf);
+      ::close(f);
+      unsigned long long pages = 0;
+      for (ssize_t k = 0; k < n && buf[k] >= '0' && buf[k] <= '9'; ++k) pages = 10 * pages + unsigned(buf[k] - '0');
+      oom = 2 * pages * g_page > g_as_limit;  // statm's first field: the address space in pages
+    }
+  }
+  if (oom) {
+    ChildHeader h{};
+    h.status = TetgenRun::kThrew;
+    h.code = 1;
+    ::_exit(write_all(g_crash_fd, &h, sizeof h) ? 0 : 1);
+  }
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
 [[noreturn]] void child_run(tetgenio& in, const std::string& switches, int fd) {
+  rlimit lim{};
+  if (::getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY) g_as_limit = lim.rlim_cur;
+  g_page = static_cast<unsigned long long>(::sysconf(_SC_PAGESIZE));
+  g_crash_fd = fd;
+  // On a stack of its own: the crash may be the stack failing to grow at the limit.
+  static char alt_stack[64 * 1024];
+  stack_t ss{};
+  ss.ss_sp = alt_stack;
+  ss.ss_size = sizeof alt_stack;
+  ::sigaltstack(&ss, nullptr);
+  struct sigaction sa {};
+  sa.sa_handler = child_crash_handler;
+  sa.sa_flags = SA_ONSTACK;
+  ::sigaction(SIGSEGV, &sa, nullptr);
+  ::sigaction(SIGBUS, &sa, nullptr);
   ChildHeader h{};
   tetgenio* out = nullptr;
   try {
