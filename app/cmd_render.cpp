@@ -1,5 +1,6 @@
 // `softtled render`: headless frames of a scene at given simulation times, one PNG each,
-// through an EGL offscreen context (no window system; never calls glfwInit).
+// or a video of a time range (--video, encoded by ffmpeg: video_encoder.h), through an EGL
+// offscreen context (no window system; never calls glfwInit).
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/headless_render.h"
+#include "app/video_encoder.h"
 #include "sim/io/output_file.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
@@ -48,15 +50,25 @@ void parse_size(const std::string& s, int& w, int& h) {
 Command add_render_command(CLI::App& app) {
   struct Opts {
     std::string scene, at, out = "out/render", size = "960x720", backend = "auto", context = "egl", color = "shaded", stem;
+    std::string video;
     std::vector<std::string> set;
     float azimuth = 30, elevation = 18, zoom = 1;
     int samples = 4;
-    bool fixed_camera = false;
+    bool fixed_camera = false, no_legend = false;
+    double fps = 60, from = 0, to = -1, speed = 1;
   };
   auto o = std::make_shared<Opts>();
-  CLI::App* c = app.add_subcommand("render", "render a scene headless (EGL) to one PNG per simulation time");
+  CLI::App* c = app.add_subcommand("render", "render a scene headless (EGL) to one PNG per simulation time, or to a video");
   c->add_option("--scene", o->scene, "scene file (TOML)")->required();
-  c->add_option("--at", o->at, "simulation times [s], comma-separated, e.g. 0.02,0.05,0.2")->required();
+  CLI::Option* at = c->add_option("--at", o->at, "simulation times [s], comma-separated, e.g. 0.02,0.05,0.2");
+  CLI::Option* video = c->add_option("--video", o->video, "write a video (.mp4, .mov or .mkv, H.264 via ffmpeg) instead of PNGs");
+  at->excludes(video);
+  c->add_option("--fps", o->fps, "--video: frames per second of video")->check(finite_range(1e-3, 1000))->capture_default_str();
+  c->add_option("--from", o->from, "--video: first simulation time [s]")->check(finite_range(0, 1e6))->capture_default_str();
+  c->add_option("--to", o->to, "--video: end of the simulated range [s] (required with --video)")->check(finite_range(0, 1e6));
+  c->add_option("--speed", o->speed, "--video: simulated seconds per second of video")
+      ->check(finite_range(1e-6, 1e6))->capture_default_str();
+  c->add_flag("--no-legend", o->no_legend, "no colour legend on colour-mapped frames");
   c->add_option("--out", o->out, "output directory")->capture_default_str();
   c->add_option("--size", o->size, "image size WxH")->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
@@ -72,10 +84,17 @@ Command add_render_command(CLI::App& app) {
   c->add_option("--samples", o->samples, "MSAA samples")->check(int_range(0, 8))->capture_default_str();
   c->add_flag("--fixed-camera", o->fixed_camera, "keep the camera still instead of following the body");
   c->add_option("--stem", o->stem, "PNG file name stem (default: the scene file's name)");
-  return [o]() {
+  return [o, c]() {
     HeadlessOptions h;
-    h.times = parse_times(o->at);
+    const bool is_video = !o->video.empty();
+    if (!is_video && o->at.empty()) throw InputError("render: give --at TIMES (PNGs) or --video FILE --to T (a video)");
+    if (!is_video)
+      for (const char* flag : {"--fps", "--from", "--to", "--speed"})
+        if (c->count(flag)) throw InputError(std::string(flag) + " is for --video");
+    if (is_video && !c->count("--to")) throw InputError("--video needs --to: the end of the simulated range [s]");
+    if (!is_video) h.times = parse_times(o->at);
     parse_size(o->size, h.width, h.height);
+    h.legend = !o->no_legend;
     if (o->color == "shaded") h.style.color = ColorMode::kShaded;
     else if (o->color == "displacement") h.style.color = ColorMode::kDisplacement;
     else if (o->color == "contact") h.style.color = ColorMode::kContact;
@@ -90,16 +109,27 @@ Command add_render_command(CLI::App& app) {
     h.out_dir = o->out;
     h.stem = o->stem.empty() ? std::filesystem::path(o->scene).stem().string() : o->stem;
     h.context.backend = o->context;
-    check_output_dir(h.out_dir, "--out");  // before meshing
+    if (is_video) {
+      // Range and rate before meshing too (the time step is checked once it is known).
+      (void)video_frame_times(o->from, o->to, o->fps, o->speed, 0.0);
+      check_video_output(o->video, "--video");  // before meshing; ffmpeg missing: exit 5
+      h.out_dir.clear();  // frames go to ffmpeg, not to PNGs
+      h.keep_images = false;
+    } else {
+      check_output_dir(h.out_dir, "--out");  // before meshing
+    }
     const Scene s = load_scene(o->scene, o->set);
-    std::error_code ec;
-    std::filesystem::create_directories(h.out_dir, ec);
-    if (ec) throw InputError("--out " + h.out_dir + ": cannot create directory: " + ec.message());
+    if (!is_video) {
+      std::error_code ec;
+      std::filesystem::create_directories(h.out_dir, ec);
+      if (ec) throw InputError("--out " + h.out_dir + ": cannot create directory: " + ec.message());
+    }
     install_stop_signals();
     h.should_stop = [] { return stop_requested(); };
     const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
     Simulation& sim = *sim_owner;
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
+    if (is_video) h.times = video_frame_times(o->from, o->to, o->fps, o->speed, sim.time_step().dt);
     for (double t : h.times) (void)checked_step_count(t, sim.time_step().dt, "--at");  // before the GL context
     const TimeStepInfo& ts = sim.time_step();
     std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
@@ -111,15 +141,26 @@ Command add_render_command(CLI::App& app) {
     long steps_total = 0;
     double sim_total = 0;
     std::vector<HeadlessFrame> frames;
+    std::unique_ptr<VideoEncoder> enc;
+    if (is_video) {
+      enc = std::make_unique<VideoEncoder>(o->video, h.width, h.height, o->fps);
+      std::printf("video %s: %zu frames at %g fps, simulated %g .. %g s at %g x real time\n", o->video.c_str(), h.times.size(),
+                  o->fps, o->from, o->to, o->speed);
+    }
     try {
       frames = render_headless(sim, h, &info, [&](const HeadlessFrame& f) {
+      if (enc) enc->write(f.image);
       if (!header) {
         std::printf("GL renderer: %s\nGL context: %s, %s, %dx%d, MSAA %d\nrender vertices: %s\n", info.renderer.c_str(),
                     o->context.c_str(), info.platform.c_str(), h.width, h.height, info.samples, info.vertex_path.c_str());
         header = true;
       }
+      if (enc && f.t > h.times.front() && !(g_verbose || f.t == h.times.back())) {  // a line per frame only with -v
+        draw_total += f.draw_s, upload_total += f.upload_s, steps_total += f.steps, sim_total += f.sim_s;
+        return;
+      }
       std::printf("t = %.4f s: %s  (%ld steps in %.3f s; frame %.2f ms = vertices %.2f + draw/readback %.2f; png %.1f ms)\n", f.t,
-                  f.path.c_str(), f.steps, f.sim_s, (f.upload_s + f.draw_s) * 1e3, f.upload_s * 1e3, f.draw_s * 1e3,
+                  enc ? "video frame" : f.path.c_str(), f.steps, f.sim_s, (f.upload_s + f.draw_s) * 1e3, f.upload_s * 1e3, f.draw_s * 1e3,
                   f.png_s * 1e3);
       std::fflush(stdout);
       draw_total += f.draw_s;
@@ -133,16 +174,30 @@ Command add_render_command(CLI::App& app) {
     }
     if (info.stopped || stop_requested()) {
       std::fflush(stdout);
-      std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s; %zu complete PNGs in %s\n", stop_signal(), sim.time(),
-                   frames.size(), h.out_dir.c_str());
+      if (enc && enc->frames() > 0) {  // a complete, shorter video of the frames so far
+        enc->finish();
+        std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s; %s has the %ld frames rendered so far\n", stop_signal(),
+                     sim.time(), o->video.c_str(), enc->frames());
+      } else if (enc) {
+        std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s before the first frame; no video written\n",
+                     stop_signal(), sim.time());
+      } else {
+        std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s; %zu complete PNGs in %s\n", stop_signal(), sim.time(),
+                     frames.size(), h.out_dir.c_str());
+      }
       return exit_code_for_signal(stop_signal());
     }
+    if (enc) enc->finish();
     if (frames.empty()) return 0;
     const double n = double(frames.size());
     std::printf("frame time: %.2f ms mean (vertices %.2f ms, draw/readback %.2f ms) over %zu frames; simulation %.1f us/step\n",
                 (draw_total + upload_total) / n * 1e3, upload_total / n * 1e3, draw_total / n * 1e3, frames.size(),
                 steps_total ? sim_total / double(steps_total) * 1e6 : 0.0);
-    std::printf("PNGs in %s\n", h.out_dir.c_str());
+    if (enc)
+      std::printf("video %s: %ld frames, %.4g s at %g fps\n", o->video.c_str(), enc->frames(), double(enc->frames()) / o->fps,
+                  o->fps);
+    else
+      std::printf("PNGs in %s\n", h.out_dir.c_str());
     return 0;
   };
 }

@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "sim/io/output_file.h"
 #include "sim/mesh/surface_mesh.h"
+#include "app/video_encoder.h"
 #include "app/viewer_app.h"
 
 namespace softtled {
@@ -46,6 +47,9 @@ Command add_view_command(CLI::App& app) {
   c->add_option("--color", o->color, "colour map: shaded, displacement or contact")
       ->check(CLI::IsMember({"shaded", "displacement", "contact"}))->capture_default_str();
   c->add_option("--screenshot-dir", o->screenshot_dir, "where P writes softtled_view_NNN.png")->capture_default_str();
+  c->add_option("--record", o->record, "record a video from the start (.mp4, .mov or .mkv; V toggles recording)");
+  c->add_option("--record-fps", o->record_fps, "frames per second of simulated time in recordings")
+      ->check(finite_range(1, 1000))->capture_default_str();
   c->add_option("--quit-after", o->quit_after, "close after this many seconds (for tests; 0: never)")->check(finite_range(0, 1e6));
   return [o, size]() {
     char rest = 0;
@@ -53,6 +57,7 @@ Command add_view_command(CLI::App& app) {
         o->width > 16384 || o->height > 16384)
       throw InputError("--size '" + *size + "': expected WxH from 320x240 to 16384x16384");
     check_output_dir(o->screenshot_dir, "--screenshot-dir");
+    if (!o->record.empty()) check_video_output(o->record, "--record");  // ffmpeg missing: exit 5
     if (o->scene.empty()) o->scene = default_scene();
     if (!(o->time_scale > 0)) throw InputError("--time-scale must be positive");
     return run_viewer(*o);

@@ -15,4 +15,5 @@ Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp
 Command add_bench_command(CLI::App& app);  // cmd_bench.cpp
 Command add_render_command(CLI::App& app);  // cmd_render.cpp (needs render/)
 Command add_view_command(CLI::App& app);    // cmd_view.cpp (needs render/)
+Command add_plot_command(CLI::App& app);    // cmd_plot.cpp (render/'s CPU plot and PNG code)
 }  // namespace softtled

@@ -26,6 +26,33 @@ std::string frame_file_name(const std::string& stem, double t) {
   return stem + buf;
 }
 
+std::vector<double> video_frame_times(double from, double to, double fps, double speed, double dt) {
+  auto num = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return std::string(b);
+  };
+  if (!(fps > 0) || !std::isfinite(fps) || fps > 1000) throw InputError("--fps " + num(fps) + ": expected a frame rate in (0, 1000]");
+  if (!(speed > 0) || !std::isfinite(speed) || speed > 1e6)
+    throw InputError("--speed " + num(speed) + ": expected a positive factor of real time, at most 1e6");
+  if (!(from >= 0) || !std::isfinite(from)) throw InputError("--from " + num(from) + ": expected a finite time >= 0 [s]");
+  if (!(to > from) || !std::isfinite(to))
+    throw InputError("--to " + num(to) + ": expected a finite time after --from " + num(from) + " [s]");
+  const double nf = std::nearbyint(fps * (to - from) / speed);
+  if (nf < 1)
+    throw InputError("--from " + num(from) + " --to " + num(to) + " at --fps " + num(fps) + " and --speed " + num(speed) +
+                     " is shorter than one frame");
+  if (nf > 1e6) throw InputError("--from/--to/--fps/--speed: " + num(nf) + " frames, more than the limit of 1e6");
+  const double interval = speed / fps;  // simulated seconds per frame
+  if (nf > 1 && interval < dt)
+    throw InputError("--fps " + num(fps) + " --speed " + num(speed) + ": frames " + num(interval) +
+                     " s of simulated time apart, closer than the time step dt = " + num(dt) +
+                     " s; lower --fps or raise --speed");
+  std::vector<double> t(static_cast<std::size_t>(nf));
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = from + double(k) * interval;
+  return t;
+}
+
 std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info,
                                            const std::function<void(const HeadlessFrame&)>& on_frame) {
   ContextOptions co = o.context;
@@ -99,6 +126,10 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       last_centroid = focus;
       renderer.draw(cam, o.width, o.height, *body, render_planes(sim.params().planes), focus, plane_half, style, {},
                     render_obstacles(sim.params().obstacles));
+      if (o.legend) {
+        f.legend = color_legend(style);
+        renderer.draw_legend(f.legend, o.width, o.height);
+      }
       f.image = target.read();
       f.draw_s = seconds_since(t0);
 
@@ -121,6 +152,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
         f.png_s = seconds_since(t0);
       }
       if (on_frame) on_frame(f);
+      if (!o.keep_images) f.image = Image();
       frames.push_back(std::move(f));
     }
     return frames;

@@ -23,6 +23,8 @@ struct HeadlessOptions {
   std::string stem = "frame";     // files are <out_dir>/<stem>_t<time>.png
   RenderStyle style;
   bool auto_umax = true;          // displacement colour range from the largest |u| so far
+  bool legend = true;             // the colour legend (displacement and contact maps)
+  bool keep_images = true;        // false: frames are handed to on_frame only, not returned with images
   float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // camera relative to default_camera
   bool follow = true;             // the camera target follows the body's centroid
   ContextOptions context;         // backend "egl" (default) or "glfw" (hidden window)
@@ -34,6 +36,7 @@ struct HeadlessFrame {
   long steps = 0;                 // steps taken to reach t
   std::string path;               // PNG written ("" when out_dir is empty)
   Image image;
+  ColorLegend legend;             // the legend drawn on it (map kNone: none), in plain numbers
   double sim_s = 0;               // wall time of the steps and the diagnostics read-back [s]
   double upload_s = 0;            // render-vertex hand-off [s]
   double draw_s = 0;              // draw + resolve + read back [s]
@@ -54,6 +57,13 @@ struct HeadlessInfo {
 // as soon as it is written (the image is moved into the returned vector afterwards).
 std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info = nullptr,
                                            const std::function<void(const HeadlessFrame&)>& on_frame = {});
+
+// The simulation times of a video's frames: from + k * speed / fps for k = 0 .. n - 1 with
+// n = round(fps * (to - from) / speed), so the video lasts (to - from) / speed seconds and
+// plays the simulation at `speed` times real time (each frame shows the state at the start
+// of its 1/fps). InputError naming the flag for fps, speed or a range that gives no frame
+// or more than 10^6, or frames closer than the time step dt.
+std::vector<double> video_frame_times(double from, double to, double fps, double speed, double dt);
 
 // "frame_t0.0200.png"
 std::string frame_file_name(const std::string& stem, double t);

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
 #ifdef SOFTTLED_HAVE_RENDER
   commands["render"] = add_render_command(app);
   commands["view"] = add_view_command(app);
+  commands["plot"] = add_plot_command(app);
 #endif
   // CLI11 reports a misspelt command only as "A subcommand is required": name it.
   for (int i = 1; i < argc; ++i) {

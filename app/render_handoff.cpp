@@ -87,4 +87,22 @@ float default_plane_half(const Simulation& sim) {
   return 2.5f * length(hi - lo);
 }
 
+ColorLegend color_legend(const RenderStyle& style) {
+  ColorLegend lg;
+  if (style.color == ColorMode::kDisplacement) {
+    lg.map = LegendMap::kTurbo;
+    lg.title = "displacement";  // "|u|" reads as "lul" in stb_easy_font
+    lg.unit = "mm";
+    lg.component = "magnitude";
+    lg.colormap = "turbo";
+    lg.min = 0;
+    lg.max = double(style.umax) * 1e3;  // the shader maps a_umag / u_umax, clamped to [0, 1]
+  } else if (style.color == ColorMode::kContact) {
+    lg.map = LegendMap::kContactState;
+    lg.title = "contact";
+    lg.categories = {"free", "sticking", "sliding"};  // states 0, 1, 2 (contact_color)
+  }
+  return lg;
+}
+
 }  // namespace softtled

@@ -24,6 +24,11 @@ void write_body_vertices(Simulation& sim, BodyVertexBuffer& body);
 std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
 std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles);
 
+// The legend of the colour map `style` uses, in plain numbers for render/: for |u| the
+// range the body shader maps, 0 .. style.umax, in mm ("displacement [mm]", "magnitude, turbo"); for the
+// contact map its three states; none when shaded.
+ColorLegend color_legend(const RenderStyle& style);
+
 // Camera that frames the body's rest shape and the floor below it, seen slightly from above.
 Camera default_camera(const Simulation& sim);
 // Half side of the drawn planes [m]: a few body sizes.

@@ -20,6 +20,7 @@
 #include <memory>
 
 #include "app/render_handoff.h"
+#include "app/video_encoder.h"
 #include "app/viewer_camera.h"
 #include "app/viewer_panel.h"
 #include "app/viewer_picking.h"
@@ -81,6 +82,7 @@ class Viewer {
     ImGui_ImplOpenGL3_Init("#version 330 core");
 
     renderer_ = std::make_unique<SceneRenderer>();
+    want_record_ = !o.record.empty();
     attach_simulation();
     cam_ = default_camera(*sim_);
     cam_.distance *= 1.3f;
@@ -162,6 +164,10 @@ class Viewer {
         have_centroid_ = true;
         renderer_->draw(cam_, fb_w, fb_h, *body_, render_planes(sim_->params().planes), focus, plane_half_, set_.style, lines,
                         render_obstacles(sim_->params().obstacles));
+        if (set_.legend) renderer_->draw_legend(color_legend(set_.style), fb_w, fb_h);
+        if (act.record || (want_record_ && !rec_)) toggle_recording(fb_w, fb_h);
+        want_record_ = false;
+        record_frames(std::max(0.0, sim_->time() - t_before), fb_w, fb_h);  // the scene and legend, not the panel
       }
       ImGui::Render();
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -201,6 +207,7 @@ class Viewer {
         glfwSetWindowShouldClose(win_, 1);
       }
     }
+    if (rec_) stop_recording("window closed");
     if (run.frames > 0) log_rates("rates (whole run)", run);
     log("closed at t = %.4f s after %ld steps", sim_->time(), sim_->steps());
     return 0;
@@ -412,6 +419,7 @@ class Viewer {
           a.planes = true;
           break;
         case GLFW_KEY_P: a.screenshot = true; break;
+        case GLFW_KEY_V: a.record = true; break;
         case GLFW_KEY_M: a.rebuild = true; break;
         case GLFW_KEY_TAB: set_.show_panel = !set_.show_panel; break;
         default: break;
@@ -595,6 +603,77 @@ class Viewer {
     }
   }
 
+  // V or the panel's button: start a video (OPTS --record, else softtled_view_NNN.mp4 in
+  // the screenshot directory), or finish the one being recorded.
+  void toggle_recording(int w, int h) {
+    if (rec_) {
+      stop_recording("stopped");
+      return;
+    }
+    std::string path = opt_.record;
+    if (path.empty() || record_count_ > 0) {
+      char name[64];
+      std::snprintf(name, sizeof name, "softtled_view_%03d.mp4", record_count_);
+      path = (std::filesystem::path(opt_.screenshot_dir) / name).string();
+    }
+    ++record_count_;
+    try {
+      rec_ = std::make_unique<VideoEncoder>(path, w, h, opt_.record_fps);
+    } catch (const std::exception& e) {
+      st_.record_status = e.what();
+      log("cannot record: %s", e.what());
+      return;
+    }
+    rec_clock_ = 0;
+    rec_next_ = 0;
+    st_.recording = path;
+    st_.recorded_frames = 0;
+    log("recording %s at %g fps of simulated time", path.c_str(), opt_.record_fps);
+  }
+
+  // A recording plays simulated time in real time: each frame of video is the scene at
+  // the next multiple of 1/fps of simulated time since recording started (sim_dt: the time
+  // simulated this frame), so a slow viewer still records a real-time video and a paused
+  // one records nothing. A frame that passes several such times is written several times.
+  void record_frames(double sim_dt, int w, int h) {
+    if (!rec_) return;
+    if (w != rec_->width() || h != rec_->height()) {
+      stop_recording("the window was resized");
+      return;
+    }
+    rec_clock_ += sim_dt;
+    if (rec_next_ > rec_clock_ + 1e-12) return;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    const Image im = read_framebuffer(w, h);
+    try {
+      for (; rec_next_ <= rec_clock_ + 1e-12; rec_next_ += 1.0 / opt_.record_fps) rec_->write(im);
+    } catch (const std::exception& e) {
+      rec_.reset();
+      st_.recording.clear();
+      st_.record_status = e.what();
+      log("recording failed: %s", e.what());
+      return;
+    }
+    st_.recorded_frames = rec_->frames();
+  }
+
+  void stop_recording(const char* why) {
+    const long n = rec_->frames();
+    try {
+      rec_->finish();
+      char msg[512];
+      std::snprintf(msg, sizeof msg, "%s: %ld frames, %.3f s", rec_->path().c_str(), n, double(n) / opt_.record_fps);
+      st_.record_status = msg;
+      log("recording %s (%s)", why, msg);
+    } catch (const std::exception& e) {
+      st_.record_status = e.what();
+      log("recording failed: %s", e.what());
+    }
+    rec_.reset();
+    st_.recording.clear();
+  }
+
   enum class Mouse { kNone, kOrbit, kPan, kPull };
   struct KeyPress {
     int key;
@@ -628,6 +707,10 @@ class Viewer {
   bool slope_was_on_ = false;
   int logged_mode_ = -1;
   int screenshot_count_ = 0;
+  std::unique_ptr<VideoEncoder> rec_;  // the video being recorded
+  double rec_clock_ = 0, rec_next_ = 0;  // simulated time recorded so far, time of the next video frame [s]
+  int record_count_ = 0;
+  bool want_record_ = false;             // --record: start with the first frame
   std::vector<KeyPress> keys_;  // filled by the GLFW key callback between frames
 };
 

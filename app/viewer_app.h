@@ -20,6 +20,8 @@ struct ViewerOptions {
   std::string color = "shaded";      // shaded | displacement | contact
   std::string screenshot_dir = ".";  // where P writes softtled_view_NNN.png
   double quit_after = 0;             // > 0: close the window after this many seconds (tests)
+  std::string record;                // start recording this video at once (.mp4/.mov/.mkv); V toggles it too
+  double record_fps = 60;            // frames per second of simulated time in a recording
 };
 
 // Runs until the window closes; returns the process exit code.

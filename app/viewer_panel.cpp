@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "render/colormap.h"
 #include "sim/contact/plane_contact.h"
 
 namespace softtled {
@@ -130,16 +131,18 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::SameLine();
     ImGui::RadioButton("contact", &c, 2);
     s.style.color = ColorMode(c);
+    if (s.style.color != ColorMode::kShaded) ImGui::Checkbox("legend", &s.legend);
     if (s.style.color == ColorMode::kDisplacement) {
       ImGui::Checkbox("auto range", &s.auto_umax);
       if (!s.auto_umax) ImGui::SliderFloat("|u| max [mm]", &s.umax_mm, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
       ImGui::TextDisabled("0 .. %.2f mm (turbo)", s.style.umax * 1e3);
     } else if (s.style.color == ColorMode::kContact) {
-      ImGui::TextColored(ImVec4(0.40f, 0.58f, 0.90f, 1), "free");
-      ImGui::SameLine();
-      ImGui::TextColored(ImVec4(0.15f, 0.78f, 0.30f, 1), "sticking");
-      ImGui::SameLine();
-      ImGui::TextColored(ImVec4(0.93f, 0.22f, 0.18f, 1), "sliding");
+      const char* names[3] = {"free", "sticking", "sliding"};
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 c = contact_rgb(float(k));  // the body shader's colours
+        if (k) ImGui::SameLine();
+        ImGui::TextColored(ImVec4(c.x, c.y, c.z, 1), "%s", names[k]);
+      }
     }
     ImGui::Checkbox("shadows", &s.style.shadows);
     ImGui::SameLine();
@@ -151,6 +154,14 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     if (!st.screenshot.empty()) {
       ImGui::SameLine();
       ImGui::TextDisabled("%s", st.screenshot.c_str());
+    }
+    if (ImGui::Button(st.recording.empty() ? "Record video (V)" : "Stop recording (V)")) a.record = true;
+    if (!st.recording.empty()) {
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "REC %ld frames", st.recorded_frames);
+      ImGui::TextDisabled("%s (simulated time, scene only)", st.recording.c_str());
+    } else if (!st.record_status.empty()) {
+      ImGui::TextDisabled("%s", st.record_status.c_str());
     }
   }
 
@@ -194,7 +205,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::TextWrapped(
         "Left drag on the body: pull it with a spring. Left drag elsewhere: orbit. Right or middle drag: pan. "
         "Wheel: zoom.\nKeys: space pause, N step, R drop again, F friction mode, C colour map, S slope on/off, "
-        "[ ] slope angle, M re-mesh, P screenshot, Tab panel, Esc quit.");
+        "[ ] slope angle, M re-mesh, P screenshot, V record video, Tab panel, Esc quit.");
   }
   ImGui::PopItemWidth();
   ImGui::End();

@@ -39,6 +39,7 @@ struct ViewerSettings {
   bool follow = true;               // camera target follows the body
   bool auto_umax = true;
   float umax_mm = 5;
+  bool legend = true;               // colour legend over |u| and contact maps
   // Drag spring.
   float drag_stiffness = 3.0f;      // [N/m]
   float drag_radius_mm = 1.5f;
@@ -83,6 +84,9 @@ struct ViewerStats {
   std::string shape = "torus";
   PlotSeries plot;
   std::string screenshot;           // last screenshot written
+  std::string recording;            // the video being recorded ("" when not recording)
+  long recorded_frames = 0;
+  std::string record_status;        // last video written, or why recording stopped
 };
 
 struct PanelActions {
@@ -92,6 +96,7 @@ struct PanelActions {
   bool step = false;
   bool rebuild = false;
   bool screenshot = false;
+  bool record = false;      // start / stop recording a video (V)
 };
 
 // ViewerStats::bodies of a scene.

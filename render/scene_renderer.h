@@ -1,13 +1,15 @@
 #pragma once
 // Draws one frame: background gradient, contact planes with a grid, planar shadows of the
 // body and the obstacles on each plane (stencil-masked so they never darken twice), the
-// rigid obstacles, the lit body, and optional overlay lines (the viewer's drag spring).
+// rigid obstacles, the lit body, and optional overlay lines (the viewer's drag spring);
+// then, on request, the colour legend (render/color_legend.h).
 // Same code for window and offscreen.
 #include <memory>
 #include <vector>
 
 #include "render/body_buffer.h"
 #include "render/camera.h"
+#include "render/color_legend.h"
 #include "render/shader.h"
 
 namespace softtled {
@@ -68,12 +70,15 @@ class SceneRenderer {
   void draw(const Camera& cam, int w, int h, const BodyVertexBuffer& body, const std::vector<RenderPlane>& planes,
             Vec3 focus, float plane_half, const RenderStyle& style, const std::vector<OverlayLine>& lines = {},
             const std::vector<RenderObstacle>& obstacles = {});
+  // The colour legend over the frame just drawn (nothing for LegendMap::kNone).
+  void draw_legend(const ColorLegend& legend, int w, int h) { legend_.draw(legend, w, h); }
 
  private:
   ShaderProgram body_, flat_, plane_, background_, line_flat_;
   GLuint quad_vao_ = 0, quad_vbo_ = 0, empty_vao_ = 0, line_vao_ = 0, line_vbo_ = 0;
   GLuint obstacle_vao_ = 0, obstacle_vbo_ = 0;  // this frame's obstacle triangles
   std::vector<float> obstacle_verts_;
+  LegendRenderer legend_;
 };
 
 }  // namespace softtled

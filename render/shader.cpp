@@ -9,7 +9,8 @@
 
 namespace softtled {
 
-std::string shader_source(const std::string& name) {
+namespace {
+std::string raw_source(const std::string& name) {
   if (const char* dir = std::getenv("SOFTTLED_SHADER_DIR")) {
     std::ifstream f(std::string(dir) + "/" + name);
     if (!f) throw std::runtime_error(std::string("SOFTTLED_SHADER_DIR=") + dir + ": cannot read " + name);
@@ -20,6 +21,21 @@ std::string shader_source(const std::string& name) {
   for (const EmbeddedShader* e = kEmbeddedShaders; e->name; ++e)
     if (name == e->name) return e->source;
   throw std::runtime_error("no shader named " + name + " (shaders/ is embedded at build time)");
+}
+}  // namespace
+
+std::string shader_source(const std::string& name, int depth) {
+  if (depth > 8) throw std::runtime_error("shaders/" + name + ": #include nested too deeply");
+  std::istringstream in(raw_source(name));
+  std::string out, line;
+  while (std::getline(in, line)) {
+    const std::string::size_type a = line.find("#include \""), b = a == std::string::npos ? a : line.find('"', a + 10);
+    if (a != std::string::npos && line.find_first_not_of(" \t") == a && b != std::string::npos)
+      out += shader_source(line.substr(a + 10, b - a - 10), depth + 1);
+    else
+      out += line + "\n";
+  }
+  return out;
 }
 
 namespace {

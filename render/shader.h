@@ -1,6 +1,6 @@
 #pragma once
 // GLSL 330 core programs from shaders/*.vert|*.frag. The sources are embedded in the
-// binary at build time (embed_shaders.cmake); SOFTTLED_SHADER_DIR=<dir> reads them from
+// binary at build time (embed_shaders.cmake, with the *.glsl pieces they include); SOFTTLED_SHADER_DIR=<dir> reads them from
 // disk instead, so shaders can be edited without a rebuild.
 #include <string>
 
@@ -14,8 +14,10 @@ struct EmbeddedShader {
 };
 extern const EmbeddedShader kEmbeddedShaders[];  // ends with {nullptr, nullptr}
 
-// Source text of one shader file; throws std::runtime_error when it does not exist.
-std::string shader_source(const std::string& name);
+// Source text of one shader file, with each line `#include "x.glsl"` replaced by that
+// file's text (shared functions such as the colour maps); throws std::runtime_error when a
+// file does not exist.
+std::string shader_source(const std::string& name, int depth = 0);
 
 class ShaderProgram {
  public:

@@ -1,0 +1,60 @@
+// `softtled plot`: a run's CSV drawn into a PNG (plot_csv.h), on the CPU with render/'s
+// plot rasteriser: no GL context, no Python.
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include "app/cli_support.h"
+#include "app/commands.h"
+#include "app/plot_csv.h"
+#include "render/image.h"
+#include "sim/io/output_file.h"
+
+namespace softtled {
+
+Command add_plot_command(CLI::App& app) {
+  struct Opts {
+    std::string csv, out = "plot.png", size = "900x700", title;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("plot", "draw a run's CSV (centroid height, energies) into a PNG");
+  c->add_option("csv", o->csv, "CSV written by softtled run --csv")->required();
+  c->add_option("--out", o->out, "PNG to write")->capture_default_str();
+  c->add_option("--size", o->size, "image size WxH")->capture_default_str();
+  c->add_option("--title", o->title, "prefix of the first panel's title (default: the CSV's file name)");
+  return [o]() {
+    int w = 0, h = 0;
+    char rest = 0;
+    if (std::sscanf(o->size.c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w < 200 || h < 200 || w > 8192 || h > 8192)
+      throw InputError("--size '" + o->size + "': expected WxH between 200 and 8192, e.g. 900x700");
+    check_output_file(o->out, "--out");
+    const CsvTable table = read_csv_table(o->csv);
+    std::vector<PlotPanel> panels;
+    try {
+      panels = run_plot_panels(table, o->title.empty() ? std::filesystem::path(o->csv).filename().string() : o->title);
+    } catch (const InputError& e) {
+      throw InputError(o->csv + ": " + e.what());
+    }
+    const Image im = plot_panels(panels, w, h);
+    const std::string tmp = o->out + ".tmp";  // renamed when complete
+    try {
+      write_png(tmp, im);
+    } catch (const std::exception&) {
+      const int e = errno;
+      std::remove(tmp.c_str());
+      throw ResourceError(o->out + ": cannot write PNG: " + std::strerror(e));
+    }
+    if (std::rename(tmp.c_str(), o->out.c_str()) != 0) {
+      const int e = errno;
+      std::remove(tmp.c_str());
+      throw ResourceError(o->out + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
+    }
+    std::printf("%s: %zu rows -> %s (%dx%d)\n", o->csv.c_str(), table.cols[0].size(), o->out.c_str(), w, h);
+    return 0;
+  };
+}
+
+}  // namespace softtled

@@ -1,0 +1,205 @@
+#include "app/video_encoder.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "sim/core/input_error.h"
+#include "sim/io/output_file.h"
+
+extern char** environ;
+
+namespace softtled {
+
+namespace {
+// The -f container for a file name's extension, "" when not supported.
+std::string container_for(const std::string& path) {
+  auto ends = [&](const char* e) {
+    const std::size_t n = std::strlen(e);
+    if (path.size() <= n) return false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::tolower(static_cast<unsigned char>(path[path.size() - n + i])) != e[i]) return false;
+    return true;
+  };
+  if (ends(".mp4")) return "mp4";
+  if (ends(".mov")) return "mov";
+  if (ends(".mkv")) return "matroska";
+  return "";
+}
+
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+}  // namespace
+
+std::string find_ffmpeg() {
+  const char* path = std::getenv("PATH");
+  if (!path) return "";
+  std::stringstream in(path);
+  std::string dir;
+  while (std::getline(in, dir, ':')) {
+    const std::string p = (dir.empty() ? "." : dir) + "/ffmpeg";
+    struct stat st {};
+    if (::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(p.c_str(), X_OK) == 0) return p;
+  }
+  return "";
+}
+
+void check_video_output(const std::string& path, const std::string& what) {
+  if (container_for(path).empty())
+    throw InputError(what + " " + path + ": the file name must end in .mp4, .mov or .mkv (H.264 video)");
+  check_output_file(path, what);
+  if (find_ffmpeg().empty())
+    throw ResourceError(what + " " + path + ": ffmpeg not found on PATH; install Debian's ffmpeg package (scripts/setup.sh does)");
+}
+
+VideoEncoder::VideoEncoder(std::string path, int w, int h, double fps)
+    : path_(std::move(path)), tmp_(path_ + ".tmp"), w_(w), h_(h), fps_(fps) {
+  check_video_output(path_, "video");
+  const std::string ffmpeg = find_ffmpeg();
+  char log_name[] = "/tmp/softtled-ffmpeg-XXXXXX";
+  const int log_fd = ::mkstemp(log_name);
+  if (log_fd < 0) throw ResourceError(std::string("cannot create a log file for ffmpeg: ") + std::strerror(errno));
+  log_ = log_name;
+  int pipe_fd[2];
+  if (::pipe2(pipe_fd, O_CLOEXEC) != 0) {
+    const int e = errno;
+    ::close(log_fd);
+    std::remove(log_.c_str());
+    throw ResourceError(std::string("cannot create a pipe to ffmpeg: ") + std::strerror(e));
+  }
+  // A dead ffmpeg must show up as EPIPE from write(), not kill softtled with SIGPIPE.
+  ::signal(SIGPIPE, SIG_IGN);
+  const std::string size = std::to_string(w) + "x" + std::to_string(h);
+  std::vector<std::string> args = {ffmpeg, "-hide_banner", "-loglevel", "error", "-y",
+                                   // input: raw RGBA frames on standard input
+                                   "-f", "rawvideo", "-pix_fmt", "rgba", "-s", size, "-framerate", number(fps), "-i", "-",
+                                   // yuv420p needs even sides: pad odd ones by a pixel
+                                   "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-preset", "veryfast",
+                                   "-crf", "18", "-pix_fmt", "yuv420p", "-f", container_for(path_), tmp_};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, pipe_fd[0], 0);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_adddup2(&fa, log_fd, 2);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setpgroup(&attr, 0);  // its own process group: Ctrl-C reaches softtled only
+  sigset_t def;
+  sigemptyset(&def);
+  sigaddset(&def, SIGPIPE);
+  sigaddset(&def, SIGINT);
+  sigaddset(&def, SIGTERM);
+  posix_spawnattr_setsigdefault(&attr, &def);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
+  const int rc = posix_spawn(&pid_, ffmpeg.c_str(), &fa, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  ::close(pipe_fd[0]);
+  ::close(log_fd);
+  if (rc != 0) {
+    pid_ = -1;
+    ::close(pipe_fd[1]);
+    std::remove(log_.c_str());
+    throw ResourceError("cannot start " + ffmpeg + ": " + std::strerror(rc));
+  }
+  fd_ = pipe_fd[1];
+}
+
+VideoEncoder::~VideoEncoder() {
+  abort_child();
+  if (!log_.empty()) std::remove(log_.c_str());
+}
+
+void VideoEncoder::abort_child() {
+  if (fd_ >= 0) ::close(fd_), fd_ = -1;
+  if (pid_ > 0) {
+    ::kill(pid_, SIGKILL);
+    int st = 0;
+    while (::waitpid(pid_, &st, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+    std::remove(tmp_.c_str());
+  }
+}
+
+std::string VideoEncoder::ffmpeg_log() const {
+  std::ifstream f(log_);
+  std::string line, text;
+  std::vector<std::string> lines;
+  while (std::getline(f, line))
+    if (!line.empty()) lines.push_back(line);
+  for (std::size_t i = lines.size() > 4 ? lines.size() - 4 : 0; i < lines.size(); ++i) text += (text.empty() ? "" : "; ") + lines[i];
+  return text.empty() ? "no message" : text;
+}
+
+void VideoEncoder::fail(const std::string& what) {
+  // ffmpeg may still be writing its message: close its input and wait before reading it.
+  if (fd_ >= 0) ::close(fd_), fd_ = -1;
+  if (pid_ > 0) {
+    int st = 0;
+    while (::waitpid(pid_, &st, 0) < 0 && errno == EINTR) {
+    }
+    pid_ = -1;
+  }
+  std::remove(tmp_.c_str());
+  throw ResourceError(path_ + ": " + what + " (ffmpeg: " + ffmpeg_log() + ")");
+}
+
+void VideoEncoder::write(const Image& im) {
+  if (fd_ < 0) throw std::logic_error("VideoEncoder::write after finish");
+  if (im.w != w_ || im.h != h_)
+    throw std::logic_error("video frame " + std::to_string(im.w) + "x" + std::to_string(im.h) + " in a " +
+                           std::to_string(w_) + "x" + std::to_string(h_) + " video");
+  const char* p = reinterpret_cast<const char*>(im.rgba.data());
+  std::size_t left = im.rgba.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd_, p, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail(std::string("ffmpeg stopped taking frames: ") + std::strerror(errno));
+    }
+    p += n, left -= std::size_t(n);
+  }
+  ++frames_;
+}
+
+void VideoEncoder::finish() {
+  if (fd_ < 0 && pid_ < 0) return;
+  if (fd_ >= 0) ::close(fd_), fd_ = -1;
+  int st = 0;
+  while (::waitpid(pid_, &st, 0) < 0) {
+    if (errno != EINTR) {
+      pid_ = -1;
+      fail(std::string("waiting for ffmpeg: ") + std::strerror(errno));
+    }
+  }
+  pid_ = -1;
+  if (!WIFEXITED(st) || WEXITSTATUS(st) != 0)
+    fail(WIFEXITED(st) ? "ffmpeg failed with exit code " + std::to_string(WEXITSTATUS(st))
+                       : "ffmpeg ended by signal " + std::to_string(WTERMSIG(st)));
+  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp_.c_str());
+    throw ResourceError(path_ + ": cannot rename " + tmp_ + " onto it: " + std::strerror(e));
+  }
+}
+
+}  // namespace softtled

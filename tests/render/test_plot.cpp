@@ -1,0 +1,90 @@
+// `softtled plot`: the curves are where the CSV says. A CSV of straight lines is plotted
+// through the executable; each line's pixels are found at the positions the panel's axes
+// give for rows and for points between rows, and not a few pixels off them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "app/plot_csv.h"
+#include "render/image.h"
+#include "sim/core/input_error.h"
+
+using namespace softtled;
+
+namespace {
+bool near_color(const Image& im, int x, int y, Vec3 c, int radius) {
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const int px = x + dx, py = y + dy;
+      if (px < 0 || py < 0 || px >= im.w || py >= im.h) continue;
+      const std::uint8_t* p = im.px(px, py);
+      bool same = true;
+      for (int k = 0; k < 3; ++k) same = same && std::abs(int(p[k]) - int(std::lround(255 * c[k]))) <= 2;
+      if (same) return true;
+    }
+  return false;
+}
+}  // namespace
+
+TEST(Plot, CurvesAreWhereTheCsvSays) {
+  const std::string dir = std::string(SOFTTLED_TEST_PLOT_OUT);
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/lines.csv", png = dir + "/lines.png";
+  {
+    std::ofstream f(csv);
+    f << "t,cx,cy,cz,min_gap,ke,se,pe,n_contact\n";
+    for (int i = 0; i <= 20; ++i) {
+      const double t = 0.01 * i, s = t / 0.2;
+      // cy 10 -> 20 mm; ke 0 -> 5 uJ; se 5 -> 0 uJ; pe - pe(0) 0 -> -4 uJ; sum 5 - 4 s uJ
+      f << t << ",0," << 0.010 + 0.05 * t << ",0,0," << 5e-6 * s << "," << 5e-6 * (1 - s) << "," << 1e-3 - 4e-6 * s << ",0\n";
+    }
+  }
+  const std::string cmd = std::string(SOFTTLED_EXE) + " plot " + csv + " --out " + png + " --size 900x700";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const Image im = read_png(png);
+  ASSERT_EQ(im.w, 900);
+  ASSERT_EQ(im.h, 700);
+
+  // The axes the command used (the same table, the same layout code).
+  const std::vector<PlotPanel> panels = run_plot_panels(read_csv_table(csv), "lines.csv");
+  std::vector<PlotAxes> axes;
+  (void)plot_panels(panels, 900, 700, &axes);
+  ASSERT_EQ(axes.size(), 2u);
+  // Straight-line data: each axis range is the nice range around it.
+  EXPECT_DOUBLE_EQ(axes[0].x0, 0);
+  EXPECT_DOUBLE_EQ(axes[0].x1, 0.2);
+  EXPECT_DOUBLE_EQ(axes[0].y0, 10);
+  EXPECT_DOUBLE_EQ(axes[0].y1, 20);
+
+  auto check = [&](std::size_t p, const PlotSeries& s, double t, double y) {
+    const int x = int(std::lround(axes[p].px(t))), yy = int(std::lround(axes[p].py(y)));
+    EXPECT_TRUE(near_color(im, x, yy, s.color, 2)) << s.name << " not at t = " << t << " (" << x << ", " << yy << ")";
+    EXPECT_FALSE(near_color(im, x, yy - 12, s.color, 1)) << s.name << " also 12 px above t = " << t;
+    EXPECT_FALSE(near_color(im, x, yy + 12, s.color, 1)) << s.name << " also 12 px below t = " << t;
+  };
+  // Rows and points between rows (t = 0.035: halfway between two rows), away from crossings.
+  for (double t : {0.02, 0.035, 0.07, 0.13, 0.165, 0.18}) {
+    const double s = t / 0.2;
+    check(0, panels[0].series[0], t, 10 + 50 * t);
+    check(1, panels[1].series[0], t, 5 * s);
+    check(1, panels[1].series[2], t, -4 * s);
+    if (std::fabs(s - 0.5) > 0.1) check(1, panels[1].series[1], t, 5 * (1 - s));
+  }
+}
+
+TEST(Plot, MissingColumnIsAnInputError) {
+  const std::string dir = std::string(SOFTTLED_TEST_PLOT_OUT);
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/bad.csv";
+  std::ofstream(csv) << "t,cx\n0,1\n";
+  EXPECT_THROW(run_plot_panels(read_csv_table(csv)), InputError);
+  const std::string cmd = std::string(SOFTTLED_EXE) + " plot " + csv + " --out " + dir + "/bad.png 2>/dev/null";
+  const int rc = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 2);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad.png"));
+}
