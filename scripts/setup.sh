@@ -9,7 +9,8 @@ source "$ROOT/scripts/packages.sh"
 ensure_packages cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-dev libeigen3-dev libhwy-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
   libgl-dev libegl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglew-dev libimgui-dev libstb-dev \
-  xvfb xauth xdotool imagemagick
+  xvfb xauth xdotool imagemagick \
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 
 # The CUDA backend compiles wherever the toolkit is (it runs only where a GPU is).
 if ! command -v nvcc >/dev/null && [ -x /usr/local/cuda/bin/nvcc ]; then
