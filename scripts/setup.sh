@@ -10,6 +10,7 @@ ensure_packages cmake g++ pkg-config libtet1.5-dev libtomlplusplus-dev libcli11-
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
   libgl-dev libegl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglew-dev libimgui-dev libstb-dev \
   xvfb xauth xdotool imagemagick \
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib \
   ffmpeg  # render --video and the viewer's recording pipe frames to the ffmpeg program; ffprobe checks them in the tests
 
 # The CUDA backend compiles wherever the toolkit is (it runs only where a GPU is).

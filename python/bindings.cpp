@@ -1,0 +1,380 @@
+// The pybind11 glue of `import softtled` (the compiled part, softtled._softtled): the
+// exceptions, the Simulation class over PySimulation (py_simulation.h), NumPy arrays of
+// the state and rest mesh, and two helpers of `softtled run`'s output. The Python side
+// (softtled/__init__.py) adds scenes given as dicts.
+//
+// Arrays: what is a view and what is a copy (README, "Python").
+//  * displacements(), contact_state(): read-only views of the Simulation's host copy of
+//    the live state (Simulation::state(): the solver's u, in float or double, copied to
+//    double once per step count; the watchdog and diagnostics read the same copy). No
+//    further copy. The view follows that copy: the module refreshes it after every call,
+//    so a view shows the state after the latest advance()/step() (take .copy() to keep one).
+//  * rest_positions(), tets(), surface_triangles(), lumped_mass(): read-only views of the
+//    rest mesh (never changes).
+//  * positions() (X + u) and velocities() (du / dt) are computed: new arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+
+#include "app/cli_support.h"
+#include "python/py_render.h"
+#include "python/py_simulation.h"
+#include "sim/core/input_error.h"
+#include "sim/io/output_file.h"
+#include "sim/io/vtu_writer.h"
+
+namespace py = pybind11;
+using namespace softtled;
+
+namespace {
+
+// A read-only NumPy view of n rows x cols values at p (row stride row_bytes, column stride
+// col_bytes) that keeps `owner` (the Python Simulation) alive.
+template <class T>
+py::array view(const T* p, py::ssize_t n, py::ssize_t cols, py::ssize_t row_bytes, py::ssize_t col_bytes,
+               const py::object& owner) {
+  std::vector<py::ssize_t> shape{n}, strides{row_bytes};
+  if (cols > 0) {
+    shape.push_back(cols);
+    strides.push_back(col_bytes);
+  }
+  py::array a(py::dtype::of<T>(), shape, strides, p, owner);
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+// n x 3 array of an SoA field (3 x n, component-major) f(k, i).
+template <class F>
+py::array_t<double> rows_of(int n, F f) {
+  py::array_t<double> a({py::ssize_t(n), py::ssize_t(3)});
+  auto r = a.mutable_unchecked<2>();
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) r(i, k) = f(k, i);
+  return a;
+}
+
+PySimulation& self_of(const py::object& self) { return self.cast<PySimulation&>(); }
+
+// Steps with Python's Ctrl-C answered between chunks; the host copy refreshed afterwards
+// (also after a watchdog stop, which rolled the state back).
+void run_steps(PySimulation& s, long n) {
+  bool stopped = false;
+  try {
+    stopped = s.step(n, [] { return PyErr_CheckSignals() != 0; });
+  } catch (...) {
+    s.refresh();
+    throw;
+  }
+  s.refresh();
+  if (stopped) throw py::error_already_set();
+}
+
+ParamValue param_value(const std::string& key, const py::handle& v) {
+  ParamValue p;
+  if (py::isinstance<py::bool_>(v)) {
+    p.kind = ParamValue::kBool;
+    p.flag = v.cast<bool>();
+  } else if (py::isinstance<py::str>(v)) {
+    p.kind = ParamValue::kString;
+    p.text = v.cast<std::string>();
+  } else if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::hasattr(v, "__float__")) {
+    if (py::hasattr(v, "__len__")) {  // a NumPy array of one value passes __float__ too
+      p.kind = ParamValue::kVector;
+      p.vec = v.cast<std::vector<double>>();
+    } else {
+      p.kind = ParamValue::kNumber;
+      p.number = v.cast<double>();
+    }
+  } else if (py::isinstance<py::sequence>(v)) {
+    p.kind = ParamValue::kVector;
+    p.vec = v.cast<std::vector<double>>();
+  } else {
+    throw py::type_error("set_params: " + key + ": unsupported value type " + std::string(py::str(v.get_type())));
+  }
+  return p;
+}
+
+py::dict diagnostics_dict(Simulation& sim) {
+  const Diagnostics d = sim.diagnostics();
+  py::dict r;
+  r["t"] = d.t;
+  r["centroid"] = py::make_tuple(d.centroid[0], d.centroid[1], d.centroid[2]);
+  r["min_gap"] = d.min_gap;
+  r["ke"] = d.ke;
+  r["se"] = d.se;
+  r["pe"] = d.pe;
+  r["n_contact"] = d.n_contact;
+  r["n_stick"] = d.n_stick;
+  r["max_u"] = d.max_u;
+  r["tracked"] = d.tracked;              // 3 per tracked node: displacement [m]
+  r["body_centroid"] = d.body_centroid;  // 3 per body with >= 2 bodies, else empty
+  py::dict w;
+  w["trips"] = sim.watchdog_trips();  // adaptive step: trips survived so far
+  w["dt_over_dt_cr"] = sim.params().dt / sim.time_step().dt_cr;
+  r["watchdog"] = w;
+  return r;
+}
+
+py::dict params_dict(PySimulation& s) {
+  const PhysicsParams& p = s.sim().params();
+  py::dict r;
+  r["E"] = p.E;
+  r["nu"] = p.nu;
+  r["alpha"] = p.alpha;
+  r["beta"] = p.beta;
+  r["mu"] = p.mu;
+  r["contact_mode"] = contact_mode_name(p.contact_mode);
+  r["body_contact"] = p.body_contact;
+  r["self_contact"] = p.self_contact;
+  r["dt"] = p.dt;
+  r["dt_auto"] = p.dt_auto;
+  r["dt_adaptive"] = p.dt_adaptive;
+  r["lambda"] = p.lambda;
+  r["dt_max"] = p.dt_max;
+  r["g"] = py::make_tuple(p.g[0], p.g[1], p.g[2]);
+  r["floor"] = s.floor_on();
+  r["slope"] = s.slope_on();
+  r["slope_angle_deg"] = s.slope_deg();  // asked for; slope_now(): where it is
+  r["slope_now_deg"] = s.slope_now();
+  r["slope_turning"] = s.slope_turning();
+  py::list planes;  // [m]: the floor first when on, then the slope (scene_planes)
+  for (const PlaneSpec& pl : p.planes) {
+    py::dict d;
+    d["point"] = py::make_tuple(pl.point[0], pl.point[1], pl.point[2]);
+    d["normal"] = py::make_tuple(pl.normal[0], pl.normal[1], pl.normal[2]);
+    planes.append(d);
+  }
+  r["planes"] = planes;
+  return r;
+}
+
+py::dict time_step_dict(Simulation& sim) {
+  const TimeStepInfo& t = sim.time_step();
+  py::dict r;
+  r["c"] = t.c;
+  r["min_Le"] = t.min_Le;
+  r["dt_le"] = t.dt_le;
+  r["dt_eigen"] = t.dt_eigen;
+  r["dt_cr"] = t.dt_cr;
+  r["dt"] = t.dt;
+  r["dt_live"] = t.dt_live;
+  return r;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_softtled, m) {
+  m.doc() = "SoftTLED soft-body simulation (TLED FEM): the compiled part of `import softtled`";
+
+  // The CLI's exit-2 errors: the message is the text after "softtled: error: ".
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  // The CLI's exit-5 errors (no EGL, disk full, write errors).
+  py::register_exception<ResourceError>(m, "ResourceError", PyExc_RuntimeError);
+  // The CLI's exit 4: the watchdog stopped a diverging run (the state is rolled back).
+  static py::exception<SimulationDiverged> diverged(m, "SimulationDiverged", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const SimulationDiverged& e) {
+      py::object err = py::reinterpret_borrow<py::object>(diverged)(e.what());
+      err.attr("element") = e.element;
+      PyErr_SetObject(diverged.ptr(), err.ptr());
+    }
+  });
+
+  m.def("time_decimals", &time_decimals, py::arg("dt"),
+        "Decimals of `softtled run`'s CSV column t: 3 significant digits of dt, at least 6.");
+  m.def(
+      "step_count", [](double duration, double dt) { return checked_step_count(duration, dt, "step_count"); },
+      py::arg("duration"), py::arg("dt"), "Steps to cover duration at dt, rounded, as `softtled run` counts them.");
+  m.attr("CHUNK_STEPS") = PySimulation::kChunkSteps;
+  m.attr("HAVE_RENDER") = png_render_available();
+  m.attr("LIVE_PARAMETERS") = PySimulation::param_names();
+
+  py::class_<PySimulation>(m, "Simulation")
+      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&,
+                    const std::vector<std::string>&>(),
+           py::arg("path"), py::arg("text"), py::arg("source"), py::arg("backend"), py::arg("overrides"),
+           "Low level: a scene file (path) or TOML text (text, named source); use softtled.Simulation.")
+      // ---- stepping ----
+      .def(
+          "step", [](PySimulation& s, long n) {
+            if (n < 0) throw py::value_error("step: n must be >= 0");
+            run_steps(s, n);
+          },
+          py::arg("n") = 1,
+          "n steps, as `softtled run` takes them: chunks of at most CHUNK_STEPS, the watchdog checking after each "
+          "(SimulationDiverged: the state is rolled back to the last healthy check); Ctrl-C between chunks.")
+      .def(
+          "advance", [](PySimulation& s, double seconds) {
+            if (!(seconds >= 0) || !std::isfinite(seconds)) throw InputError("advance: seconds must be finite and >= 0");
+            if (s.sim().params().dt_adaptive) {
+              try {
+                s.advance_to_adaptive(s.sim().time() + seconds);
+              } catch (...) {
+                s.refresh();
+                throw;
+              }
+              s.refresh();
+            } else {
+              run_steps(s, s.steps_for(seconds));
+            }
+          },
+          py::arg("seconds"),
+          "Simulated seconds: round(seconds / dt) steps as step(); with time.dt = \"adaptive\" to time + seconds.")
+      .def(
+          "advance_to", [](PySimulation& s, double t) {
+            if (!std::isfinite(t)) throw InputError("advance_to: t must be finite");
+            if (s.sim().params().dt_adaptive) {
+              try {
+                s.advance_to_adaptive(t);
+              } catch (...) {
+                s.refresh();
+                throw;
+              }
+              s.refresh();
+            } else if (t > s.sim().time()) {
+              run_steps(s, s.steps_for(t - s.sim().time()));
+            }
+          },
+          py::arg("t"), "To simulated time t (as `softtled run` reaches its output times).")
+      .def(
+          "reset", [](PySimulation& s) {
+            s.sim().reset();
+            s.refresh();
+          },
+          "Back to the initial state (the viewer's drop again); parameters stay as set.")
+      .def_property_readonly("time", [](PySimulation& s) { return s.sim().time(); }, "simulated time [s]")
+      .def_property_readonly("dt", [](PySimulation& s) { return s.sim().params().dt; }, "time step in use [s]")
+      .def_property_readonly("dt_cr", [](PySimulation& s) { return s.sim().time_step().dt_cr; },
+                             "stable step bound [s] (min of Le/c and 2/omega_max)")
+      .def_property_readonly("steps", [](PySimulation& s) { return s.sim().total_steps(); }, "steps taken")
+      .def("time_step", [](PySimulation& s) { return time_step_dict(s.sim()); }, "Stable-step details [m/s, m, s].")
+      // ---- the scene ----
+      .def_property_readonly("backend", [](PySimulation& s) { return s.sim().backend(); })
+      .def_property_readonly("precision", [](PySimulation& s) { return std::string(precision_name(s.scene().precision)); })
+      .def_property_readonly("source", [](PySimulation& s) { return s.scene().source; })
+      .def_property_readonly("duration", [](PySimulation& s) { return s.scene().duration; }, "the scene's time.duration [s]")
+      .def_property_readonly("output_every", [](PySimulation& s) { return s.scene().output_every; },
+                             "the scene's time.output_every [s]")
+      .def_property_readonly("adaptive", [](PySimulation& s) { return s.sim().params().dt_adaptive; },
+                             "time.dt = \"adaptive\"")
+      .def_property_readonly("nnode", [](PySimulation& s) { return s.sim().mesh().nnode(); })
+      .def_property_readonly("ntet", [](PySimulation& s) { return s.sim().mesh().ntet(); })
+      .def_property_readonly("nbody", [](PySimulation& s) { return s.sim().mesh().nbody(); })
+      .def_property_readonly("tracked_nodes", [](PySimulation& s) { return s.sim().tracked_nodes(); },
+                             "node of each output.track_points entry")
+      .def_property_readonly("fixed_node_count", [](PySimulation& s) { return s.sim().fixed_node_count(); })
+      // ---- arrays ----
+      .def(
+          "displacements", [](py::object self) {
+            PySimulation& s = self_of(self);
+            const std::vector<double>& u = s.sim().state().u;
+            const py::ssize_t n = s.sim().mesh().nnode();
+            return view(u.data(), n, 3, sizeof(double), n * py::ssize_t(sizeof(double)), self);
+          },
+          "u [m], nnode x 3: a read-only view (no copy) of the host copy of the state, which the module refreshes "
+          "after every step; .copy() keeps a snapshot.")
+      .def(
+          "contact_state", [](py::object self) {
+            PySimulation& s = self_of(self);
+            const std::vector<std::uint8_t>& c = s.sim().state().contact;
+            return view(c.data(), py::ssize_t(c.size()), 0, 1, 0, self);
+          },
+          "ContactState per node (0 free, 1 sticking, 2 sliding): a read-only view like displacements().")
+      .def(
+          "positions", [](PySimulation& s) {
+            const HostState& st = s.sim().state();
+            const std::vector<double>& X = s.sim().mesh().X;
+            const int n = s.sim().mesh().nnode();
+            return rows_of(n, [&](int k, int i) { return X[3 * i + k] + st.u[std::size_t(k) * n + i]; });
+          },
+          "x = X + u [m], nnode x 3 (a new array).")
+      .def(
+          "velocities", [](PySimulation& s) {
+            const HostState& st = s.sim().state();
+            const double dt = s.sim().params().dt;
+            const int n = s.sim().mesh().nnode();
+            return rows_of(n, [&](int k, int i) { return st.du[std::size_t(k) * n + i] / dt; });
+          },
+          "du / dt [m/s], nnode x 3 (a new array): the integrator's half-step velocity over (t - dt, t), "
+          "the one the CSV's ke uses.")
+      .def(
+          "rest_positions", [](py::object self) {
+            const TetMesh& m = self_of(self).sim().mesh();
+            return view(m.X.data(), m.nnode(), 3, 3 * sizeof(double), sizeof(double), self);
+          },
+          "X [m], nnode x 3: read-only view of the rest mesh.")
+      .def(
+          "tets", [](py::object self) {
+            const TetMesh& m = self_of(self).sim().mesh();
+            return view(m.tet.data(), m.ntet(), 4, 4 * sizeof(int), sizeof(int), self);
+          },
+          "ntet x 4 node indices: read-only view.")
+      .def(
+          "surface_triangles", [](py::object self) {
+            const TetMesh& m = self_of(self).sim().mesh();
+            return view(m.boundary_tri.data(), m.nbtri(), 3, 3 * sizeof(int), sizeof(int), self);
+          },
+          "nbtri x 3 boundary triangles (outward): read-only view.")
+      .def(
+          "lumped_mass", [](py::object self) {
+            const std::vector<double>& mass = self_of(self).sim().lumped_mass();
+            return view(mass.data(), py::ssize_t(mass.size()), 0, sizeof(double), 0, self);
+          },
+          "lumped mass per node [kg]: read-only view.")
+      // ---- parameters and measures ----
+      .def(
+          "set_params", [](PySimulation& s, py::kwargs kw) {
+            std::map<std::string, ParamValue> changes;
+            const auto& names = PySimulation::param_names();
+            for (const auto& [k, v] : kw) {
+              const std::string key = k.cast<std::string>();
+              if (std::find(names.begin(), names.end(), key) == names.end()) {
+                std::string known;
+                for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+                throw py::type_error("set_params() got an unexpected keyword argument '" + key +
+                                     "' (live parameters: " + known + ")");
+              }
+              changes[key] = param_value(key, v);
+            }
+            try {
+              return s.set_params(changes);
+            } catch (const std::invalid_argument& e) {  // a value of the wrong kind
+              throw py::type_error(e.what());
+            }
+          },
+          "Live changes as the viewer's panel makes them (LIVE_PARAMETERS); returns a warning (a fixed dt "
+          "above dt_cr is clamped) or ''.")
+      .def("params", &params_dict, "The live parameters now.")
+      .def("diagnostics", [](PySimulation& s) { return diagnostics_dict(s.sim()); },
+           "The CSV's measures of the state now (energies [J], centroid [m], min_gap [m], contacts, watchdog).")
+      // ---- output ----
+      .def(
+          "write_vtu", [](PySimulation& s, const std::string& path) {
+            check_output_file(path, "write_vtu");
+            Simulation& sim = s.sim();
+            write_vtu(path, sim.mesh(), &sim.state(), sim.time_step().dt,
+                      neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
+          },
+          py::arg("path"), "One ParaView .vtu of the state now (the point and cell data of `run --vtu`).")
+      .def(
+          "render_png", [](PySimulation& s, const std::string& path, int width, int height, const std::string& color,
+                           int samples, float azimuth, float elevation, float zoom) {
+            PngOptions o;
+            o.width = width;
+            o.height = height;
+            o.color = color;
+            o.samples = samples;
+            o.azimuth_deg = azimuth;
+            o.elevation_deg = elevation;
+            o.zoom = zoom;
+            return render_png(s.sim(), path, o);
+          },
+          py::arg("path"), py::arg("width") = 960, py::arg("height") = 720, py::arg("color") = "shaded",
+          py::arg("samples") = 4, py::arg("azimuth") = 30.0f, py::arg("elevation") = 18.0f, py::arg("zoom") = 1.0f,
+          "One PNG of the state now through `softtled render`'s EGL path; returns the GL renderer's name. "
+          "ResourceError (a RuntimeError) when no EGL context can be made.");
+}

@@ -1,0 +1,73 @@
+#include "python/py_render.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "sim/core/input_error.h"
+#include "sim/io/output_file.h"
+
+#ifdef SOFTTLED_PY_RENDER
+#include "app/headless_render.h"
+#endif
+
+namespace softtled {
+
+bool png_render_available() {
+#ifdef SOFTTLED_PY_RENDER
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::string render_png(Simulation& sim, const std::string& path, const PngOptions& o) {
+  // The same ranges as `softtled render`'s flags.
+  if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
+    throw InputError("render_png: size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                     ": each side must be between 16 and 8192");
+  if (o.samples < 0 || o.samples > 8) throw InputError("render_png: samples must be between 0 and 8");
+  if (!(std::fabs(o.azimuth_deg) <= 360) || !(std::fabs(o.elevation_deg) <= 89) || !(o.zoom >= 0.01f && o.zoom <= 100))
+    throw InputError("render_png: azimuth in [-360, 360], elevation in [-89, 89], zoom in [0.01, 100]");
+  if (o.color != "shaded" && o.color != "displacement" && o.color != "contact")
+    throw InputError("render_png: color '" + o.color + "': use shaded, displacement or contact");
+  check_output_file(path, "render_png");
+#ifdef SOFTTLED_PY_RENDER
+  HeadlessOptions h;
+  h.times = {sim.time()};  // the current state: render_headless takes no step for it
+  h.width = o.width;
+  h.height = o.height;
+  h.samples = o.samples;
+  h.azimuth_deg = o.azimuth_deg;
+  h.elevation_deg = o.elevation_deg;
+  h.zoom = o.zoom;
+  h.style.color = o.color == "displacement" ? ColorMode::kDisplacement
+                  : o.color == "contact"    ? ColorMode::kContact
+                                            : ColorMode::kShaded;
+  h.context.backend = "egl";
+  h.context.cuda_device = sim.render_buffer_on_device() ? 0 : -1;
+  HeadlessInfo info;
+  std::vector<HeadlessFrame> frames = render_headless(sim, h, &info);
+  if (frames.empty()) throw ResourceError("render_png: no frame was rendered");
+  // To PATH.tmp, renamed when complete, as `softtled render` writes its frames.
+  const std::string tmp = path + ".tmp";
+  try {
+    write_png(tmp, frames.front().image);
+  } catch (const std::exception&) {
+    std::remove(tmp.c_str());
+    throw ResourceError(path + ": cannot write PNG: " + std::strerror(errno));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    throw ResourceError(path + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
+  }
+  return info.renderer;
+#else
+  (void)sim;
+  throw ResourceError("render_png: this softtled module was built without the renderer (SOFTTLED_RENDER=OFF or no OpenGL)");
+#endif
+}
+
+}  // namespace softtled

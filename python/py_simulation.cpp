@@ -1,0 +1,152 @@
+#include "python/py_simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "app/cli_support.h"
+#include "sim/core/input_error.h"
+#include "sim/scene/plane_motion.h"
+#include "sim/scene/scene_geometry.h"
+
+namespace softtled {
+
+namespace {
+// The viewer's rate for a slope that would cut into the body (viewer_app.cpp, request_planes).
+constexpr double kSlopeRateDegPerS = 300;
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+PySimulation::PySimulation(const std::string& path, const std::string& text, const std::string& source,
+                           const std::string& backend, const std::vector<std::string>& overrides) {
+  if (backend != "auto" && backend != "cpu" && backend != "cuda")
+    throw std::invalid_argument("backend '" + backend + "': use auto, cpu or cuda");
+  // As `softtled run`: load_scene (the file's messages) or parse_scene, then make_simulation
+  // (resolve_backend; meshing errors get the scene's name).
+  scene_ = path.empty() ? parse_scene(text, source, overrides) : load_scene(path, overrides);
+  sim_ = make_simulation(scene_, backend);
+  floor_ = scene_.floor;
+  slope_ = scene_.slope;
+  slope_deg_ = scene_.slope_angle_deg;
+}
+
+long PySimulation::steps_for(double seconds) const {
+  return checked_step_count(seconds, sim_->params().dt, "advance(" + std::to_string(seconds) + ")");
+}
+
+const std::vector<std::string>& PySimulation::param_names() {
+  static const std::vector<std::string> names = {"E",      "nu",      "alpha",           "beta",     "mu",
+                                                 "contact_mode", "body_contact", "self_contact", "dt", "dt_auto",
+                                                 "lambda", "dt_max", "g", "floor", "slope", "slope_angle_deg"};
+  return names;
+}
+
+std::vector<PlaneSpec> PySimulation::planes_for(bool floor, bool slope, double deg) const {
+  Scene s = scene_;
+  s.floor = floor;
+  s.slope = slope;
+  s.slope_angle_deg = deg;
+  return scene_planes(s);
+}
+
+double PySimulation::slope_now() {
+  const auto& planes = sim_->params().planes;
+  const std::size_t i = std::size_t(slope_index());
+  return slope_ && i < planes.size() ? slope_angle_deg(scene_, planes[i]) : 0.0;
+}
+
+bool PySimulation::slope_turning() const {
+  const std::size_t i = std::size_t(slope_index());
+  return slope_ && i < sim_->plane_motion().size() && sim_->plane_motion()[i].moving();
+}
+
+std::string PySimulation::set_params(const std::map<std::string, ParamValue>& changes) {
+  PhysicsParams p = sim_->params();
+  bool floor = floor_, slope = slope_, planes = false;
+  double deg = slope_deg_;
+  auto number = [](const std::string& key, const ParamValue& v, double lo, double hi, bool lo_open) {
+    if (v.kind != ParamValue::kNumber) throw std::invalid_argument("set_params: " + key + " takes a number");
+    const double x = v.number;
+    if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo))
+      throw InputError("set_params: " + key + " = " + std::to_string(x) + ": must be finite and in " +
+                       (lo_open ? "(" : "[") + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return x;
+  };
+  auto flag = [](const std::string& key, const ParamValue& v) {
+    if (v.kind != ParamValue::kBool) throw std::invalid_argument("set_params: " + key + " takes a bool");
+    return v.flag;
+  };
+  constexpr double kBig = 1e300;
+  for (const auto& [key, v] : changes) {
+    if (key == "E") p.E = number(key, v, 0, kBig, true);
+    else if (key == "nu") p.nu = number(key, v, -1, 0.4999, true);  // the panel's cap
+    else if (key == "alpha") p.alpha = number(key, v, 0, kBig, false);
+    else if (key == "beta") p.beta = number(key, v, 0, kBig, false);
+    else if (key == "mu") p.mu = number(key, v, 0, kBig, false);
+    else if (key == "dt") {
+      p.dt = number(key, v, 0, kBig, true);
+      p.dt_auto = false;
+      p.dt_adaptive = false;
+    } else if (key == "lambda") p.lambda = number(key, v, 0, 1, true);
+    else if (key == "dt_max") p.dt_max = number(key, v, 0, kBig, true);
+    else if (key == "slope_angle_deg") {
+      deg = number(key, v, -60, 60, false);  // the panel's range
+      planes = true;
+    } else if (key == "dt_auto") {
+      p.dt_auto = flag(key, v);
+      if (p.dt_auto) p.dt_adaptive = false;
+    } else if (key == "body_contact") p.body_contact = flag(key, v);
+    else if (key == "self_contact") p.self_contact = flag(key, v);
+    else if (key == "floor") {
+      floor = flag(key, v);
+      planes = true;
+    } else if (key == "slope") {
+      slope = flag(key, v);
+      planes = true;
+    } else if (key == "contact_mode") {
+      if (v.kind != ParamValue::kString) throw std::invalid_argument("set_params: contact_mode takes a string");
+      bool found = false;
+      for (ContactMode mode : {kSliding, kStatic, kCoulomb})
+        if (v.text == contact_mode_name(mode)) {
+          p.contact_mode = mode;
+          found = true;
+        }
+      if (!found) throw InputError("set_params: contact_mode '" + v.text + "': use sliding, static or coulomb");
+    } else if (key == "g") {
+      if (v.kind != ParamValue::kVector || v.vec.size() != 3) throw std::invalid_argument("set_params: g takes 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(v.vec[k])) throw InputError("set_params: g: must be finite");
+        p.g[k] = v.vec[k];
+      }
+    } else {
+      std::string known;
+      for (const std::string& n : param_names()) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("set_params: unknown parameter '" + key + "' (live parameters: " + known + ")");
+    }
+  }
+  if (p.dt_auto && changes.count("dt")) throw InputError("set_params: dt and dt_auto = True together");
+  if (!planes) return sim_->set_params(p);
+  // The planes as the viewer sets them (request_planes): at once when the new ones do not
+  // cut into the body; otherwise the slope turns towards its angle as a kinematic plane
+  // at kSlopeRateDegPerS of simulated time, pushing the body like a moving wall.
+  const std::vector<PlaneSpec> target = planes_for(floor, slope, deg);
+  std::string warning;
+  if (!slope || sim_->gap_to(target) >= -1e-7) {
+    p.planes = target;
+    warning = sim_->set_params(p);
+  } else {
+    const double from = slope_ ? slope_now() : 0.0;
+    p.planes = planes_for(floor, slope, from);
+    warning = sim_->set_params(p);
+    PlaneMotion turn;
+    turn.omega[2] = (deg > from ? 1 : -1) * kSlopeRateDegPerS * kPi / 180;
+    turn.duration = std::fabs(deg - from) / kSlopeRateDegPerS;
+    sim_->set_plane_motion(std::size_t(floor ? 1 : 0), turn);
+  }
+  floor_ = floor;
+  slope_ = slope;
+  slope_deg_ = deg;
+  return warning;
+}
+
+}  // namespace softtled

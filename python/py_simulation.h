@@ -1,0 +1,91 @@
+#pragma once
+// The Python module's Simulation: one softtled::Simulation driven the way `softtled run`
+// drives it (app/cmd_run.cpp), plus the viewer's live parameters by name. Plain C++ (no
+// pybind11 here): bindings.cpp exposes it, and what it throws (InputError, ResourceError,
+// SimulationDiverged) becomes the module's exceptions there.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/scene/scene.h"
+#include "sim/scene/simulation.h"
+
+namespace softtled {
+
+// One live parameter by name, as Python passes it: a number, a bool, a string or a vector.
+struct ParamValue {
+  enum Kind { kNumber, kBool, kString, kVector } kind = kNumber;
+  double number = 0;
+  bool flag = false;
+  std::string text;
+  std::vector<double> vec;
+};
+
+class PySimulation {
+ public:
+  // Exactly one of path (a scene file, as `--scene`) and text (TOML, named `source` in
+  // messages; relative file paths in it resolve as for a file of that name). overrides are
+  // `--set` strings; backend "auto", "cpu" or "cuda" as `--backend`.
+  PySimulation(const std::string& path, const std::string& text, const std::string& source, const std::string& backend,
+               const std::vector<std::string>& overrides);
+
+  Simulation& sim() { return *sim_; }
+  const Scene& scene() const { return scene_; }
+
+  // ---- stepping, as `softtled run` steps (cmd_run.cpp) ----
+  // n steps in chunks of at most kChunkSteps, the watchdog checking at the end of each
+  // (Simulation::advance(m, m)); between chunks `interrupted` is asked whether to stop
+  // (Python's Ctrl-C), and returns true when it did.
+  static constexpr long kChunkSteps = 20000;  // cmd_run.cpp's kMaxChunkSteps
+  template <class Interrupted>
+  bool step(long n, Interrupted interrupted);
+  // The step count `seconds` takes at the current dt (checked_step_count: rounded, an
+  // InputError when it overflows or rounds to zero for a positive time).
+  long steps_for(double seconds) const;
+  // time.dt = "adaptive": Simulation::advance_to (cmd_run's call for such a scene).
+  void advance_to_adaptive(double t_end) { sim_->advance_to(t_end); }
+
+  // ---- live parameters (the viewer's panel, app/viewer_app.cpp apply_params) ----
+  // Keys: E, nu, alpha, beta, mu, contact_mode ("sliding" | "static" | "coulomb"),
+  // body_contact, self_contact, dt (a fixed step: dt_auto off), dt_auto, lambda, dt_max,
+  // g (3 numbers), floor, slope (bools), slope_angle_deg. Unknown keys and values of the
+  // wrong kind: std::invalid_argument (TypeError); NaN or out-of-range values: InputError
+  // naming the key. All are checked before anything changes. Returns
+  // Simulation::set_params's warning (a clamped dt), or "".
+  std::string set_params(const std::map<std::string, ParamValue>& changes);
+  static const std::vector<std::string>& param_names();
+  // The panel's state of the planes (what set_params(floor=, slope=, slope_angle_deg=) edits).
+  bool floor_on() const { return floor_; }
+  bool slope_on() const { return slope_; }
+  double slope_deg() const { return slope_deg_; }
+  // The slope's angle now (it may still be turning towards slope_deg) and whether it turns.
+  double slope_now();
+  bool slope_turning() const;
+
+  // Refreshes the facade's host copy of the state (Simulation::state()), so that views of
+  // it show the state after every call of the module.
+  void refresh() { (void)sim_->state(); }
+
+ private:
+  std::vector<PlaneSpec> planes_for(bool floor, bool slope, double deg) const;
+  int slope_index() const { return floor_ ? 1 : 0; }
+
+  Scene scene_;
+  std::unique_ptr<Simulation> sim_;
+  bool floor_ = true, slope_ = false;
+  double slope_deg_ = 0;
+};
+
+template <class Interrupted>
+bool PySimulation::step(long n, Interrupted interrupted) {
+  for (long k = 0; k < n;) {
+    if (k > 0 && interrupted()) return true;
+    const long m = std::min(kChunkSteps, n - k);
+    sim_->advance(m, m);
+    k += m;
+  }
+  return false;
+}
+
+}  // namespace softtled

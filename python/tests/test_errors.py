@@ -1,0 +1,111 @@
+"""Errors: the CLI's exit-2 messages become softtled.InputError (a ValueError) with the
+same text as the CLI prints after "softtled: error: "."""
+import math
+
+import pytest
+
+import softtled
+from conftest import run_cli, scene
+
+CLI_PREFIX = "softtled: error: "
+
+
+def cli_message(exe, *args):
+    rc, _, err = run_cli(exe, "run", *args, check=False)
+    assert rc == 2, err
+    line = [ln for ln in err.splitlines() if ln.startswith(CLI_PREFIX)]
+    assert len(line) == 1, err
+    return line[0][len(CLI_PREFIX):]
+
+
+def py_message(path, sets=()):
+    with pytest.raises(softtled.InputError) as e:
+        softtled.Simulation(path, backend="cpu", set=list(sets))
+    assert isinstance(e.value, ValueError)
+    return str(e.value)
+
+
+@pytest.mark.parametrize("sets", [
+    ["material.colour=red"],            # unknown key
+    ["banana.E=1"],                     # unknown table
+    ["material.E=nan"],                 # NaN parameter
+    ["material.nu=0.7"],                # out of range
+    ["time.dt=1.0"],                    # fixed dt above dt_cr (refused after meshing)
+    ["body.0.velocity=[0,1]"],          # wrong shape
+])
+def test_bad_override_same_message_as_cli(exe, sets):
+    path = scene("torus_coarse.toml")
+    args = ["--scene", path, "--backend", "cpu"] + [a for s in sets for a in ("--set", s)]
+    assert py_message(path, sets) == cli_message(exe, *args)
+
+
+def test_missing_file_same_message_as_cli(exe, tmp_path):
+    path = str(tmp_path / "no_such_scene.toml")
+    msg = py_message(path)
+    assert "No such file or directory" in msg
+    assert msg == cli_message(exe, "--scene", path, "--backend", "cpu")
+
+
+def test_bad_toml_in_a_dict_scene_names_the_key():
+    with pytest.raises(softtled.InputError, match=r"<dict>: material\.E"):
+        softtled.Simulation({"material": {"E": math.nan}}, backend="cpu")
+
+
+def test_set_params_errors():
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    before = sim.params()
+    with pytest.raises(softtled.InputError, match="E = nan"):
+        sim.set_params(E=math.nan)
+    with pytest.raises(softtled.InputError, match="nu"):
+        sim.set_params(nu=0.6)
+    with pytest.raises(softtled.InputError, match="contact_mode 'glue'"):
+        sim.set_params(contact_mode="glue")
+    with pytest.raises(TypeError, match="unexpected keyword argument 'rho'"):
+        sim.set_params(rho=1200.0)  # rebuilds the body in the viewer: not a live parameter
+    with pytest.raises(TypeError, match="g takes 3 numbers"):
+        sim.set_params(g=[0, -9.81])
+    with pytest.raises(TypeError, match="takes a number"):
+        sim.set_params(E="stiff")
+    # nothing was applied by a refused call (all values are checked first)
+    with pytest.raises(softtled.InputError):
+        sim.set_params(mu=0.9, E=-1.0)
+    assert sim.params() == before
+
+
+def test_bad_backend_and_scene_type():
+    with pytest.raises(ValueError, match="backend 'gpu'"):
+        softtled.Simulation(scene("torus_coarse.toml"), backend="gpu")
+    with pytest.raises(TypeError):
+        softtled.Simulation(42)
+
+
+def test_watchdog_stop_raises_simulation_diverged():
+    # A fixed step far above dt_cr, insisted on: the watchdog stops it and rolls back.
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu",
+                              set=["time.allow_unstable=true", "time.dt=4e-4"])
+    with pytest.raises(softtled.SimulationDiverged) as e:
+        for _ in range(200):
+            sim.step(25)
+    assert isinstance(e.value, RuntimeError)
+    assert isinstance(e.value.element, int)
+    d = sim.diagnostics()
+    assert math.isfinite(d["ke"])  # the rolled-back, healthy state
+
+
+def test_ctrl_c_stops_between_chunks():
+    import signal
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    old = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with pytest.raises(KeyboardInterrupt):
+            sim.step(10**7)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    assert 0 < sim.steps < 10**7 and sim.steps % softtled.CHUNK_STEPS == 0  # at a chunk's end
+    assert sim.diagnostics()["t"] == sim.time
