@@ -66,9 +66,8 @@ int stop_signal() { return int(g_stop); }
 
 int exit_code_for_signal(int sig) { return sig == SIGINT ? kExitSigint : sig == SIGTERM ? kExitSigterm : 128 + sig; }
 
-std::string resolve_backend(const std::string& requested, const Scene* scene) {
+std::string resolve_backend(const std::string& requested) {
   if (requested != "auto") return requested;
-  (void)scene;  // (every stage runs on both backends; kept for a scene-dependent choice)
 #if defined(SOFTTLED_HAVE_CUDA)
   std::string why;
   if (cuda::device_count(&why) > 0) return "cuda";
@@ -81,7 +80,7 @@ std::string resolve_backend(const std::string& requested, const Scene* scene) {
 
 std::unique_ptr<Simulation> make_simulation(const Scene& s, const std::string& backend) {
   try {
-    return std::make_unique<Simulation>(s, resolve_backend(backend, &s));
+    return std::make_unique<Simulation>(s, resolve_backend(backend));
   } catch (const InputError& e) {
     const std::string what = e.what();
     if (what.compare(0, s.source.size(), s.source) == 0) throw;

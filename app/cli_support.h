@@ -36,10 +36,10 @@ int stop_signal();  // 0, SIGINT or SIGTERM
 inline bool stop_requested() { return stop_signal() != 0; }
 int exit_code_for_signal(int sig);
 
-// "auto" becomes "cuda" when a CUDA device is usable and the scene (when given) needs no
-// CPU-only stage (body-body contact), else "cpu"; the reason is printed only with -v
-// (asking for "cuda" explicitly reports it as an error).
-std::string resolve_backend(const std::string& requested, const Scene* scene = nullptr);
+// "auto" becomes "cuda" when a CUDA device is usable (every stage runs on both backends),
+// else "cpu"; the reason is printed only with -v (asking for "cuda" explicitly reports it
+// as an error).
+std::string resolve_backend(const std::string& requested);
 
 // The Simulation of a scene on a backend (resolve_backend). InputErrors from meshing that
 // do not name the scene file yet ("mesh too large ...", "TetGen ... crashed") get it.

@@ -43,7 +43,7 @@ class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : opt_(o) {
     scene_ = load_scene(o.scene, o.set);
-    sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend, &scene_));
+    sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend));
     settings_from_scene();
     set_.paused = o.paused;
     if (o.substeps > 0) set_.fixed_substeps = true, set_.substeps = o.substeps;
