@@ -30,6 +30,7 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   active_.assign(tab_.nbody, 0);
   tri_box_.assign(6 * std::size_t(nt), T(0));
   count_.assign(n, 0);
+  moved_.assign(n, 0);
   acc_.assign(3 * std::size_t(n), T(0));
 }
 
@@ -59,12 +60,20 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   if (cand_start_.empty()) return;  // nothing near anything
 
   last_candidates_ = int(cand_list_.size());
-  for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) sweep_once(X0, u, du, ub, beta_dt, contact, mode, mu);
+  for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
+    sweep_once(X0, u, du, ub, beta_dt, contact, mode, mu, sweep > 0);
+    // The nodes this sweep moved; the next sweep retests only pairs with one of them.
+    for (int i : moved_list_) moved_[i] = 0;
+    moved_list_ = touched_;
+    for (int i : moved_list_) moved_[i] = 1;
+  }
+  for (int i : moved_list_) moved_[i] = 0;
+  moved_list_.clear();
 }
 
 template <class T>
 void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode,
-                                   T mu) {
+                                   T mu, bool only_moved) {
   const int n = tab_.nnode;
   const std::vector<int>& surf = tab_.surf;
   const std::vector<int>& tri = tab_.tri;
@@ -78,6 +87,9 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
     for (int c = c0; c < c1; ++c) {
       const int t = cand_list_[c];
       const int j[4] = {i, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
+      // A pair none of whose nodes the last sweep moved has the inputs it had then, when it
+      // was rejected (an accepted pair moves its nodes): skipping it changes nothing.
+      if (only_moved && !moved_[j[0]] && !moved_[j[1]] && !moved_[j[2]] && !moved_[j[3]]) continue;
       T x[4][3], d[4][3];
       for (int a = 0; a < 4; ++a)
         for (int k = 0; k < 3; ++k) {

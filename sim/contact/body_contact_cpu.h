@@ -68,7 +68,9 @@ class CpuBodyContact {
   bool lists_valid_ = false, lists_bodies_ = false, lists_self_ = false;
   long rebuilds_ = 0;
   void rebuild(const T* X0, const T* u, bool bodies, bool self);
-  void sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
+  // only_moved: test only the pairs with a node the last sweep moved (moved_).
+  void sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu,
+                  bool only_moved);
   std::vector<std::array<unsigned, 2>> entries_;  // (cell, triangle) in triangle order
   std::vector<int> cand_;
   // narrow phase: the accepted pairs of this step (node, triangle, correction), in key
@@ -80,7 +82,9 @@ class CpuBodyContact {
   std::vector<Accepted> accepted_;
   std::vector<int> count_;       // nnode
   std::vector<T> acc_;           // 3 x nnode: this step's summed corrections
-  std::vector<int> touched_;     // nodes with a correction this step
+  std::vector<int> touched_;     // nodes with a correction this sweep
+  std::vector<std::uint8_t> moved_;  // nnode: corrected by the last sweep (moved_list_)
+  std::vector<int> moved_list_;
   int last_candidates_ = 0, last_contacts_ = 0;
 };
 
