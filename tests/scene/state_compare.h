@@ -1,5 +1,6 @@
 #pragma once
-// Two runs' displacements compared (backends, execution modes, obstacle shapes).
+// Two runs' displacements compared (backends, execution modes, obstacle shapes), and the
+// nodes' smallest distance to something.
 #include <algorithm>
 #include <cmath>
 
@@ -20,6 +21,20 @@ inline double max_abs_u(Simulation& a) {
   double w = 0;
   for (double v : a.state().u) w = std::max(w, std::fabs(v));
   return w;
+}
+
+// Smallest dist(x) over every node's current position x [m] (e.g. a signed distance).
+template <class F>
+double min_node_distance(Simulation& sim, F dist) {
+  const HostState& st = sim.state();
+  const int n = sim.mesh().nnode();
+  double g = 1e300;
+  for (int i = 0; i < n; ++i) {
+    const double x[3] = {sim.mesh().X[3 * i] + st.u[i], sim.mesh().X[3 * i + 1] + st.u[n + i],
+                         sim.mesh().X[3 * i + 2] + st.u[2 * n + i]};
+    g = std::min(g, dist(x));
+  }
+  return g;
 }
 
 }  // namespace softtled::test

@@ -41,20 +41,6 @@ std::string write_file(const std::string& name, const std::string& text) {
   return path;
 }
 
-// Smallest signed distance of any node from obstacle o, by `dist` (pose now) [m].
-template <class F>
-double min_node_distance(Simulation& sim, F dist) {
-  const HostState& st = sim.state();
-  const int n = sim.mesh().nnode();
-  double g = 1e300;
-  for (int i = 0; i < n; ++i) {
-    const double x[3] = {sim.mesh().X[3 * i] + st.u[i], sim.mesh().X[3 * i + 1] + st.u[n + i],
-                         sim.mesh().X[3 * i + 2] + st.u[2 * n + i]};
-    g = std::min(g, dist(x));
-  }
-  return g;
-}
-
 std::string error_of(const Scene& s, const std::string& backend = "cpu") {
   try {
     Simulation sim(s, backend);

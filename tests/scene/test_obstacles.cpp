@@ -27,15 +27,7 @@ SOFTTLED_ON_EACH_BACKEND(Obstacles);
 
 // Smallest signed distance of any node from obstacle o (pose now) [m].
 double gap_to_obstacle(Simulation& sim, int o) {
-  const HostState& st = sim.state();
-  const int n = sim.mesh().nnode();
-  double g = 1e300;
-  for (int i = 0; i < n; ++i) {
-    const double x[3] = {sim.mesh().X[3 * i] + st.u[i], sim.mesh().X[3 * i + 1] + st.u[n + i],
-                         sim.mesh().X[3 * i + 2] + st.u[2 * n + i]};
-    g = std::min(g, signed_distance(sim.params().obstacles[o], x));
-  }
-  return g;
+  return min_node_distance(sim, [&](const double* x) { return signed_distance(sim.params().obstacles[o], x); });
 }
 
 // A 6 mm cube on an incline of theta through the origin (as tests/solver/test_tled_dynamics.cpp),
