@@ -11,6 +11,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/headless_render.h"
+#include "app/render_handoff.h"
 #include "app/video_encoder.h"
 #include "sim/io/output_file.h"
 #include "sim/scene/scene.h"
@@ -95,10 +96,7 @@ Command add_render_command(CLI::App& app) {
     if (!is_video) h.times = parse_times(o->at);
     parse_size(o->size, h.width, h.height);
     h.legend = !o->no_legend;
-    if (o->color == "shaded") h.style.color = ColorMode::kShaded;
-    else if (o->color == "displacement") h.style.color = ColorMode::kDisplacement;
-    else if (o->color == "contact") h.style.color = ColorMode::kContact;
-    else throw InputError("--color '" + o->color + "': use shaded, displacement or contact");
+    h.style.color = parse_color_mode(o->color, "--color");
     if (o->context != "egl" && o->context != "glfw") throw InputError("--context '" + o->context + "': use egl or glfw");
     if (!(o->zoom > 0)) throw InputError("--zoom must be positive");
     h.samples = o->samples;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "sim/core/input_error.h"
 #include "sim/fem/surface_render.h"
 
 namespace softtled {
@@ -85,6 +86,13 @@ float default_plane_half(const Simulation& sim) {
   Vec3 lo, hi;
   rest_bounds(sim, lo, hi);
   return 2.5f * length(hi - lo);
+}
+
+ColorMode parse_color_mode(const std::string& name, const std::string& option) {
+  if (name == "shaded") return ColorMode::kShaded;
+  if (name == "displacement") return ColorMode::kDisplacement;
+  if (name == "contact") return ColorMode::kContact;
+  throw InputError(option + " '" + name + "': use shaded, displacement or contact");
 }
 
 ColorLegend color_legend(const RenderStyle& style) {

@@ -3,6 +3,7 @@
 // vertex buffer and its per-frame fill, the planes and obstacles as plain geometry, and a camera and
 // plane size that frame the body. The viewer and the offscreen frames share these.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "render/body_buffer.h"
@@ -28,6 +29,10 @@ std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& ob
 // range the body shader maps, 0 .. style.umax, in mm ("displacement [mm]", "magnitude, turbo"); for the
 // contact map its three states; none when shaded.
 ColorLegend color_legend(const RenderStyle& style);
+
+// --color / color=: "shaded", "displacement" or "contact"; anything else is an InputError
+// naming the option (`option`: how the caller's user spells it, e.g. "--color").
+ColorMode parse_color_mode(const std::string& name, const std::string& option);
 
 // Camera that frames the body's rest shape and the floor below it, seen slightly from above.
 Camera default_camera(const Simulation& sim);

@@ -48,9 +48,7 @@ class Viewer {
     set_.paused = o.paused;
     if (o.substeps > 0) set_.fixed_substeps = true, set_.substeps = o.substeps;
     set_.time_scale = o.time_scale;
-    if (o.color == "displacement") set_.style.color = ColorMode::kDisplacement;
-    else if (o.color == "contact") set_.style.color = ColorMode::kContact;
-    else if (o.color != "shaded") throw InputError("--color '" + o.color + "': use shaded, displacement or contact");
+    set_.style.color = parse_color_mode(o.color, "--color");
 
     ContextOptions co;
     co.backend = "glfw";
