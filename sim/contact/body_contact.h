@@ -63,6 +63,46 @@ struct NodeTriangleCorrection {
   T dp[3], da[3], db[3], dc[3];
 };
 
+// A point's projection onto triangle (a, b, c) (Ericson, Real-Time Collision Detection
+// 3.4): the triangle's unit normal n (right-handed a, b, c: outward on the boundary), the
+// point's signed distance d from its plane, and the barycentric weights w of its foot.
+// False when the triangle is degenerate, the point is behind the plane by more than -d_min,
+// or its foot falls outside the triangle.
+template <class T>
+struct TriangleProjection {
+  T n[3];
+  T d;
+  T w[3];
+};
+template <class T>
+SIM_HD inline bool project_onto_triangle(const T xp[3], const T xa[3], const T xb[3], const T xc[3], T d_min,
+                                         TriangleProjection<T>& p) {
+  const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
+  const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
+  T* n = p.n;
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  const T nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  if (!(nn > T(0))) return false;
+  const T inv_len = T(1) / sqrt(nn);
+  for (int k = 0; k < 3; ++k) n[k] *= inv_len;
+  const T q[3] = {xp[0] - xa[0], xp[1] - xa[1], xp[2] - xa[2]};
+  p.d = n[0] * q[0] + n[1] * q[1] + n[2] * q[2];
+  if (p.d < d_min) return false;
+  const T d11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+  const T d12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+  const T d22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+  const T q1 = q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2];
+  const T q2 = q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2];
+  const T den = d11 * d22 - d12 * d12;
+  if (!(den > T(0))) return false;
+  p.w[1] = (d22 * q1 - d12 * q2) / den;
+  p.w[2] = (d11 * q2 - d12 * q1) / den;
+  p.w[0] = T(1) - p.w[1] - p.w[2];
+  return !(p.w[0] < T(0) || p.w[1] < T(0) || p.w[2] < T(0));
+}
+
 // x*: positions at time t; du*: the steps from t (predicted); inv_m*: inverse lumped
 // masses (0: fixed). tol: a node behind the triangle's plane by more than tol (or whose
 // projection falls outside the triangle) is not in contact with it; a node behind it by
@@ -73,28 +113,10 @@ SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], con
                                                               T inv_mb, const T xc[3], const T duc[3], T inv_mc, T tol,
                                                               int mode, T mu) {
   NodeTriangleCorrection<T> r;
-  const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-  const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
-  T n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-  const T nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-  if (!(nn > T(0))) return r;
-  const T inv_len = T(1) / sqrt(nn);
-  for (int k = 0; k < 3; ++k) n[k] *= inv_len;
-  const T q[3] = {xp[0] - xa[0], xp[1] - xa[1], xp[2] - xa[2]};
-  const T d0 = n[0] * q[0] + n[1] * q[1] + n[2] * q[2];
-  if (d0 < -tol) return r;
-  // Barycentric weights of the node's projection (Ericson, Real-Time Collision Detection 3.4).
-  const T d11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-  const T d12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
-  const T d22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-  const T q1 = q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2];
-  const T q2 = q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2];
-  const T den = d11 * d22 - d12 * d12;
-  if (!(den > T(0))) return r;
-  const T wb = (d22 * q1 - d12 * q2) / den;
-  const T wc = (d11 * q2 - d12 * q1) / den;
-  const T wa = T(1) - wb - wc;
-  if (wa < T(0) || wb < T(0) || wc < T(0)) return r;
+  TriangleProjection<T> tp;
+  if (!project_onto_triangle(xp, xa, xb, xc, -tol, tp)) return r;
+  const T* n = tp.n;
+  const T d0 = tp.d, wa = tp.w[0], wb = tp.w[1], wc = tp.w[2];
   T rel[3], proj[3];
   for (int k = 0; k < 3; ++k) {
     rel[k] = dup[k] - (wa * dua[k] + wb * dub[k] + wc * duc[k]);

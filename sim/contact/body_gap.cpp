@@ -35,16 +35,6 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
       box[3 + k] = std::max(xa[k], std::max(xb[k], xc[k])) + t.tol;
     }
     if (!grid_box(box, inv_h)) continue;
-    const double e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-    const double e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 0)) continue;
-    for (double& v : n) v /= len;
-    const double d11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
-    const double d12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
-    const double d22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-    const double den = d11 * d22 - d12 * d12;
     const int body = t.tri_body[f];
     for (long long ix = grid_cell(box[0], inv_h); ix <= grid_cell(box[3], inv_h); ++ix)
       for (long long iy = grid_cell(box[1], inv_h); iy <= grid_cell(box[4], inv_h); ++iy)
@@ -54,14 +44,9 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
           for (int p : it->second) {
             const bool own = t.node_body[p] == body;
             if (own ? !self || in_one_ring(p, a, b, c, t.ring_start.data(), t.ring.data()) : !bodies) continue;
-            const double q[3] = {x[3 * p] - xa[0], x[3 * p + 1] - xa[1], x[3 * p + 2] - xa[2]};
-            const double d = n[0] * q[0] + n[1] * q[1] + n[2] * q[2];
-            if (d < -t.tol || d > t.tol || !(den > 0)) continue;
-            const double q1 = q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2];
-            const double q2 = q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2];
-            const double wb = (d22 * q1 - d12 * q2) / den, wc = (d11 * q2 - d12 * q1) / den;
-            if (wb < 0 || wc < 0 || wb + wc > 1) continue;
-            gap = std::min(gap, d);
+            TriangleProjection<double> tp;
+            if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
+            gap = std::min(gap, tp.d);
           }
         }
   }
