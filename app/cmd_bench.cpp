@@ -280,8 +280,10 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       const cuda::ExecMode keep = gpu->exec_mode();
       const int keep_lanes = gpu->node_lanes();
       const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
-      // The product's two steps (what auto picks between) and graph-pdl's fallback.
-      for (cuda::ExecMode m : {cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph}) {
+      // The product's two steps (what auto picks between), the opt-in multi-step launch
+      // and graph-pdl's fallback.
+      for (cuda::ExecMode m : {cuda::ExecMode::kMulti, cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl,
+                               cuda::ExecMode::kGraph}) {
         sim.reset();
         gpu->set_exec_mode(m);
         r.modes.emplace_back(cuda::exec_mode_name(m) + lanes_tag, timed_samples(gpu));
@@ -386,8 +388,8 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
-  c->add_option("--mode", o->mode, "CUDA execution: auto, fused, graph-pdl, graph")
-      ->check(CLI::IsMember({"auto", "fused", "graph-pdl", "graph"}))->capture_default_str();
+  c->add_option("--mode", o->mode, "CUDA execution: auto, multi, fused, graph-pdl, graph")
+      ->check(CLI::IsMember({"auto", "multi", "fused", "graph-pdl", "graph"}))->capture_default_str();
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
   c->add_option("--cpu-path", o->cpu_path, "CPU stages: simd (the product) or scalar (the reference they are tested against)")
       ->check(CLI::IsMember({"simd", "scalar"}))->capture_default_str();

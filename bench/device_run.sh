@@ -58,7 +58,7 @@ if has cpu; then
 fi
 
 if has sanitize; then
-  for mode in fused graph-pdl graph; do
+  for mode in multi fused graph-pdl graph; do
     say "compute-sanitizer memcheck: torus drop, 5 ms, mode $mode"
     SOFTTLED_CUDA_MODE=$mode compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.005 solver.precision=float > "$OUT/memcheck_$mode.txt" 2>&1
@@ -66,12 +66,14 @@ if has sanitize; then
     grep -E "ERROR SUMMARY|LEAK SUMMARY|simulated" "$OUT/memcheck_$mode.txt" | tee -a "$LOG"
     rm -f "$OUT/memcheck_$mode.txt"
   done
-  say "compute-sanitizer racecheck: fused step (shared memory), torus drop, 2 ms"
-  SOFTTLED_CUDA_MODE=fused compute-sanitizer --tool racecheck --error-exitcode 9 \
-    "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.002 solver.precision=float > "$OUT/racecheck.txt" 2>&1
-  echo "racecheck (fused) rc=$?" | tee -a "$LOG"
-  grep -E "RACECHECK SUMMARY|ERROR SUMMARY|hazard" "$OUT/racecheck.txt" | head -5 | tee -a "$LOG"
-  rm -f "$OUT/racecheck.txt"
+  for mode in multi fused; do
+    say "compute-sanitizer racecheck: $mode step (shared memory), torus drop, 2 ms"
+    SOFTTLED_CUDA_MODE=$mode compute-sanitizer --tool racecheck --error-exitcode 9 \
+      "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.002 solver.precision=float > "$OUT/racecheck.txt" 2>&1
+    echo "racecheck ($mode) rc=$?" | tee -a "$LOG"
+    grep -E "RACECHECK SUMMARY|ERROR SUMMARY|hazard" "$OUT/racecheck.txt" | head -5 | tee -a "$LOG"
+    rm -f "$OUT/racecheck.txt"
+  done
   say "compute-sanitizer memcheck: render, energy, external forces"
   compute-sanitizer --tool memcheck --error-exitcode 9 "$B/tests/solver/cuda/test_cuda_solver" \
     --gtest_filter='*Render*:*External*' > "$OUT/memcheck_tests.txt" 2>&1

@@ -32,6 +32,7 @@ namespace cuda {
 const char* exec_mode_name(ExecMode m) {
   switch (m) {
     case ExecMode::kAuto: return "auto";
+    case ExecMode::kMulti: return "multi";
     case ExecMode::kFused: return "fused";
     case ExecMode::kGraphPdl: return "graph-pdl";
     case ExecMode::kGraph: return "graph";
@@ -40,9 +41,9 @@ const char* exec_mode_name(ExecMode m) {
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kMulti, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, fused, graph-pdl or graph)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, multi, fused, graph-pdl or graph)");
 }
 
 Options options_from_env() {
@@ -244,7 +245,9 @@ class CudaSolver final : public CudaSolverApi {
       point_at_grids(first);
       const StepArgs<T> a = args(first);
       dt_mid_ = 0;
-      if (run_mode() == ExecMode::kFused) {
+      if (use_multi(a)) {
+        enqueue_multi(a, 1);
+      } else if (fused_step()) {
         enqueue_fused_step(a, 0, false);
         copy_back_fused(a);
       } else {
@@ -252,12 +255,16 @@ class CudaSolver final : public CudaSolverApi {
       }
       if (--nsteps == 0) return;
     }
+    const StepArgs<T> a = args(cfg_.step);
+    if (use_multi(a)) {  // no graphs: one launch per kMaxMultiSteps steps
+      enqueue_multi(a, nsteps);
+      return;
+    }
     if (nsteps == 1 && graphs_.empty()) {
       // One step right after set_params: a moving obstacle or plane is posed before every
       // step (Simulation::move_planes), so a one-step graph captured now would be thrown
       // away by the next set_params. Launched directly instead: the same kernels.
-      const StepArgs<T> a = args(cfg_.step);
-      if (run_mode() == ExecMode::kFused) {
+      if (fused_step()) {
         enqueue_fused_step(a, 0, false);
         copy_back_fused(a);
       } else {
@@ -296,7 +303,7 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(du0.data(), live_.du.data(), du0.bytes(), cudaMemcpyDeviceToDevice, stream_));
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(c0.data(), live_.contact.data(), c0.bytes(), cudaMemcpyDeviceToDevice, stream_));
 
-    const bool pdl = run_mode() == ExecMode::kGraphPdl || run_mode() == ExecMode::kFused;
+    const bool pdl = run_mode() == ExecMode::kGraphPdl || fused_step();
     const StepArgs<T> a = args(cfg_.step);
     StepParams<T> free_p = cfg_.step;
     free_p.contact.nplanes = 0;
@@ -551,6 +558,41 @@ class CudaSolver final : public CudaSolverApi {
   // (tled_step.cu).
   ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
   ExecMode run_mode() const { return mode_; }
+  // multi runs the fused step's phases, and falls back to fused graphs where it cannot run.
+  bool fused_step() const { return mode_ == ExecMode::kFused || mode_ == ExecMode::kMulti; }
+
+  // Multi-step launches (launch_multi_step): not with a contact stage (it runs between
+  // steps), nor when the blocks cannot all be resident (the cooperative launch's rule;
+  // checked once per kernel variant).
+  bool use_multi(const StepArgs<T>& a) {
+    if (mode_ != ExecMode::kMulti || contact_on()) return false;
+    const int key = a.lanes * 2 + (a.anp ? 1 : 0);
+    auto it = multi_fits_.find(key);
+    if (it == multi_fits_.end()) {
+      const cudaError_t e =
+          launch_multi_step<T>(stream_, fused_block(), nsm_, a, multi_buffers(a), 1, true);
+      if (e != cudaSuccess && e != cudaErrorCooperativeLaunchTooLarge) SOFTTLED_CUDA_CHECK(e);
+      it = multi_fits_.emplace(key, e == cudaSuccess).first;
+    }
+    return it->second;
+  }
+  MultiStepBuffers<T> multi_buffers(const StepArgs<T>& a) {
+    const bool beta = a.b.ub != nullptr;
+    return {{live_.u.data(), live_.u2.data()},
+            {live_.du.data(), live_.du2.data()},
+            {beta ? live_.ub.data() : nullptr, beta ? live_.ub2.data() : nullptr}};
+  }
+  // n steps in launches of at most kMaxMultiSteps (even, so only the last can end in
+  // buffer 1), then the state back in (u, du).
+  void enqueue_multi(const StepArgs<T>& a, long n) {
+    const MultiStepBuffers<T> buf = multi_buffers(a);
+    int last = 0;
+    for (long left = n; left > 0; left -= last) {
+      last = int(std::min<long>(left, kMaxMultiSteps));
+      SOFTTLED_CUDA_CHECK(launch_multi_step<T>(stream_, fused_block(), nsm_, a, buf, last));
+    }
+    if (last & 1) copy_back_fused(a);
+  }
 
   // Fused step: nodes in order, packed into blocks of at most fused_block() gather entries
   // (a node with more entries gets a block of its own; the kernel loops over them).
@@ -666,7 +708,7 @@ class CudaSolver final : public CudaSolverApi {
     if (it != graphs_.end()) return it->second;
     if (graphs_.size() >= kMaxGraphs) clear_graphs();
     const StepArgs<T> a = args(cfg_.step);
-    const bool fused = run_mode() == ExecMode::kFused;
+    const bool fused = fused_step();
     const bool pdl = run_mode() == ExecMode::kGraphPdl || (fused && fused_pdl_);
     cudaGraphExec_t exec = nullptr;
     try {
@@ -782,6 +824,11 @@ class CudaSolver final : public CudaSolverApi {
   std::map<GraphKey, cudaGraphExec_t> graphs_;
   // begin_omega_max's kernels per iteration count, for the amplitude probe_a_.
   std::map<int, cudaGraphExec_t> probe_graphs_;
+  // Whether the multi-step kernel fits, per (lanes, T4ANP) variant (use_multi).
+  std::map<int, bool> multi_fits_;
+  // Steps per multi-step launch: even; a few ms of device time on the torus, so a
+  // long run still returns to the host (and a display GPU's watchdog) between launches.
+  static constexpr int kMaxMultiSteps = 2048;
   double probe_a_ = 0;
 };
 

@@ -2,7 +2,7 @@
 // CUDA backend of Solver. Plain C++ header: no CUDA types, so the factory, the bench and
 // the tests include it with the ordinary compiler.
 //
-// How the steps reach the GPU is the ExecMode; `auto` picks one of the first two:
+// How the steps reach the GPU is the ExecMode; `auto` picks one of fused and graph-pdl:
 //   fused       the GPU step (tled_step.cu): one kernel per step, node blocks each
 //               computing the corner forces of their nodes' elements (every element 4
 //               times) into shared memory, then the node stage; two displacement buffers
@@ -16,6 +16,12 @@
 //               larger meshes
 //   graph       graph-pdl without PDL: what graph-pdl falls back to on a driver that
 //               cannot capture programmatic launches
+//   multi       the fused step's phases, many steps per cooperative launch with a grid
+//               barrier between steps (tled_step.cu, multi_step_kernel): one launch per
+//               step(n), rest data kept in registers. Opt-in: slower than fused on the
+//               H100 (bench/NOTES.md, "Multi-step launches"). Where it cannot run (a
+//               body-contact stage between steps, blocks that do not all fit at once) it
+//               runs as fused
 // All modes call the same value functions and give bitwise identical results. No host
 // round trip inside step(n): it only enqueues work. Measurements: bench/NOTES.md.
 #include <memory>
@@ -27,9 +33,9 @@
 namespace softtled {
 namespace cuda {
 
-enum class ExecMode { kAuto, kFused, kGraphPdl, kGraph };
+enum class ExecMode { kAuto, kMulti, kFused, kGraphPdl, kGraph };
 const char* exec_mode_name(ExecMode m);
-ExecMode parse_exec_mode(const std::string& s);  // "auto", "fused", "graph-pdl", "graph"
+ExecMode parse_exec_mode(const std::string& s);  // "auto", "multi", "fused", "graph-pdl", "graph"
 
 struct Options {
   ExecMode mode = ExecMode::kAuto;

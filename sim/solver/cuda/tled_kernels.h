@@ -2,7 +2,8 @@
 // Host-callable launchers of the CUDA kernels (plain C++: no CUDA syntax here, so the
 // solver's host code compiles with the ordinary C++ compiler). Where each lives:
 //   tled_step.cu    THE GPU STEP: fused_step_kernel, one kernel per step (launch_fused_step;
-//                   `auto` on meshes up to 256 tets per SM; T4ANP adds fused_pressure_kernel)
+//                   `auto` on meshes up to 256 tets per SM; T4ANP adds fused_pressure_kernel),
+//                   and multi_step_kernel, many such steps per launch (launch_multi_step)
 //   tled_stages.cu  the two-kernel step (graphs, with or without PDL; larger meshes and
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
@@ -99,6 +100,24 @@ constexpr int kFusedMaxThreads = 256;
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next);
+
+// Multi-step launch (tled_step.cu, multi_step_kernel): nsteps fused steps in one
+// cooperative launch with a grid barrier after each (T4ANP: also between its pressure and
+// force phases), same blocks, lanes and value functions as launch_fused_step, so bitwise
+// identical to it. Step s reads (u[s & 1], du[s & 1]) and writes the other pair; with
+// beta > 0 the element stage reads ub[s & 1] and the node stage writes ub[1 - (s & 1)]
+// (ub null: beta = 0). After an odd nsteps the state is in buffer 1. Returns
+// cudaErrorCooperativeLaunchTooLarge when the blocks cannot all be resident on nsm
+// multiprocessors; check_only: that test alone, nothing launched.
+template <class T>
+struct MultiStepBuffers {
+  T* u[2];
+  T* du[2];
+  T* ub[2];
+};
+template <class T>
+cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
+                              int nsteps, bool check_only = false);
 
 // ---- the two-kernel step (tled_stages.cu) ----
 // T4: element_corner_forces (ls: one thread per element).

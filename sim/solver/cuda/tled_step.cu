@@ -18,6 +18,11 @@
 // buffered: (u_prev, du_prev) in, (u_next, du_next) out (with beta > 0 also the element
 // stage's displacement ub, central_difference.h). The sums and the value
 // functions are those of the two-kernel step, so both give bitwise identical results.
+// The two phases are device functions (fused_pressure_phase, fused_force_phase), shared
+// by the one-step kernels and multi_step_kernel (opt-in mode `multi`: many steps per
+// cooperative launch, a grid barrier between them).
+#include <cooperative_groups.h>
+
 #include <algorithm>
 #include <cstddef>
 
@@ -53,23 +58,34 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
   r.vol = m.vol[e];
 }
 
+// Loads of live data (u, the pressures). The one-step kernels read what an earlier kernel
+// wrote: ordinary loads. The multi-step kernel reads, after a grid barrier, what other
+// blocks of the same launch wrote: ld.global.cg goes to L2, past the SM's L1, which is
+// not coherent between SMs within a kernel (CUDA C++ Programming Guide, "Memory fence
+// functions"). The same values either way, so the results stay bitwise identical.
+template <bool kCoherent, class T>
+__device__ __forceinline__ T live_load(const T* p) {
+  if constexpr (kCoherent) return __ldcg(p);
+  return *p;
+}
+
 // The force of one corner, bit for bit what element_corner_forces (tet_forces.h) writes
 // for it: the same deformation_gradient, neo_hookean_pk1 and corner_force value functions
 // on the same numbers (--fmad=false: no contraction, so the same operations round the
 // same way).
 // T4ANP (kAnp): the stress of anp_corner_forces, with the element's pressure the mean of
 // its nodes' (p_node, written by fused_pressure_kernel), summed in the same order.
-template <class T, bool kAnp>
-__device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int nnode, const T* __restrict__ u,
-                                                   const T* __restrict__ p_node, const CornerRest<T>& r, T f[3]) {
+template <class T, bool kAnp, bool kCoherent>
+__device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int nnode, const T* u, const T* p_node,
+                                                   const CornerRest<T>& r, T f[3]) {
   T ue[4][3];
 #pragma unroll
   for (int b = 0; b < 4; ++b)
 #pragma unroll
-    for (int k = 0; k < 3; ++k) ue[b][k] = u[k * nnode + r.node[b]];
+    for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * nnode + r.node[b]);
   if (kAnp) {
     T p = T(0);
-    for (int b = 0; b < 4; ++b) p += p_node[r.node[b]];
+    for (int b = 0; b < 4; ++b) p += live_load<kCoherent>(p_node + r.node[b]);
     p *= T(0.25);
     corner_force(anp_stress(mat, deformation_gradient(r.g, ue), p), r.vol, r.ga, f);
   } else {
@@ -91,34 +107,28 @@ __device__ __forceinline__ FusedBlock fused_block_range(const StepArgs<T>& a) {
   return b;
 }
 
-// T4ANP, first kernel of a fused step: the nodal pressures of the block's nodes
+// T4ANP, first phase of a fused step: the nodal pressures of the block's nodes
 // (anp_node_pressure). One thread per gather entry computes its element's current volume
 // (anp_element_volume; each element again by each of its 4 nodes) into shared memory,
 // then G lanes per node sum them in the node stage's lane split and lane_sum, as
 // anp_pressure_lanes does: the same sums in the same order, so the pressures are those of
-// the two-kernel step bit for bit.
-template <class T, int G>
-__global__ void __launch_bounds__(kFusedMaxThreads)
-    fused_pressure_kernel(const StepArgs<T> a, const T* __restrict__ ue_prev) {
-  extern __shared__ __align__(16) unsigned char fused_smem[];
+// the two-kernel step bit for bit. r: the rest data of the block's first pass (entry
+// jb + tid), loaded by the caller when `first`.
+template <class T, int G, bool kCoherent>
+__device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
+                                                     T* smem, const T* ue_prev) {
   const int S = a.fsmem_entries;
-  T* vs = reinterpret_cast<T*>(fused_smem);  // S current element volumes
-  T* v0s = vs + S;                           // S rest volumes
-  pdl_launch_dependents();
+  T* vs = smem;      // S current element volumes
+  T* v0s = vs + S;   // S rest volumes
   const TetMeshView<T>& m = a.m;
-  const FusedBlock fb = fused_block_range(a);
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
-  CornerRest<T> r;
-  const bool first = fb.jb + tid < fb.je;
-  if (first) load_corner_rest(m, fb.jb + tid, r);
-  pdl_wait();  // ue_prev is written by the previous step
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
     if (j != fb.jb + tid) load_corner_rest(m, j, r);
     T ue[4][3];
 #pragma unroll
     for (int b = 0; b < 4; ++b)
 #pragma unroll
-      for (int k = 0; k < 3; ++k) ue[b][k] = ue_prev[k * m.nnode + r.node[b]];
+      for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(ue_prev + k * m.nnode + r.node[b]);
     vs[j - fb.jb] = anp_element_volume(r.g, r.vol, ue);
     v0s[j - fb.jb] = r.vol;
   }
@@ -144,65 +154,119 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   }
 }
 
+// Second (T4: only) phase of a fused step: corner forces, one thread per gather entry of
+// the block (S >= their number; one pass unless a block has more entries than threads),
+// into shared memory; then the node stage: G lanes per node, lane l sums the node's
+// corners l, l + G, ... in order, then lane_sum: the same sums in the same order as the
+// two-kernel step's node kernel. The loop bound is uniform over the block, so whole warps
+// shuffle together. r as in fused_pressure_phase.
+template <class T, int G, bool kAnp, bool kCoherent>
+__device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
+                                                  T* fs, const T* u_prev, const T* du_prev, T* u_next, T* du_next,
+                                                  const T* ue_prev, T* ub_next) {
+  const int S = a.fsmem_entries;
+  const TetMeshView<T>& m = a.m;
+  const int tid = int(threadIdx.x), nt = int(blockDim.x);
+  for (int j = fb.jb + tid; j < fb.je; j += nt) {
+    if (j != fb.jb + tid) load_corner_rest(m, j, r);
+    T f[3];
+    fused_corner_force<T, kAnp, kCoherent>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
+    for (int k = 0; k < 3; ++k) fs[k * S + (j - fb.jb)] = f[k];
+  }
+  __syncthreads();
+  const int nb = fb.n1 - fb.n0;
+  for (int t0 = 0; t0 < nb * G; t0 += nt) {
+    const int t = t0 + tid;
+    const bool valid = t < nb * G;
+    const int i = fb.n0 + t / G, lane = t % G;
+    int j0 = 0, j1 = 0;
+    if (valid) {
+      j0 = m.gather_start[i] - fb.jb;
+      j1 = m.gather_start[i + 1] - fb.jb;
+    }
+    T f[3] = {T(0), T(0), T(0)};
+    for (int j = j0 + lane; j < j1; j += G)
+      for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
+    for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
+    // The node's own u and du were written by this same thread in the previous step of a
+    // multi-step launch, so ordinary loads see them.
+    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next);
+  }
+}
+
+// The first pass's rest data, and with G > 1 the node stage's rest data pulled into L1;
+// both before the PDL wait.
+template <class T, int G>
+__device__ __forceinline__ void load_block_rest(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T>& r) {
+  const TetMeshView<T>& m = a.m;
+  const int tid = int(threadIdx.x);
+  if (fb.jb + tid < fb.je) load_corner_rest(m, fb.jb + tid, r);
+  if (G > 1 && tid < (fb.n1 - fb.n0) * G && tid % G == 0) {
+    const int i = fb.n0 + tid / G;
+    prefetch_l1(m.flags + i);
+    prefetch_l1(m.inv_mass + i);
+    prefetch_l1(m.gather_start + i);
+    for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
+  }
+}
+
+// T4ANP, first kernel of a one-step launch.
+template <class T, int G>
+__global__ void __launch_bounds__(kFusedMaxThreads)
+    fused_pressure_kernel(const StepArgs<T> a, const T* __restrict__ ue_prev) {
+  extern __shared__ __align__(16) unsigned char fused_smem[];
+  pdl_launch_dependents();
+  const FusedBlock fb = fused_block_range(a);
+  CornerRest<T> r;
+  load_block_rest<T, 1>(a, fb, r);
+  pdl_wait();  // ue_prev is written by the previous step
+  fused_pressure_phase<T, G, false>(a, fb, r, reinterpret_cast<T*>(fused_smem), ue_prev);
+}
+
+// One step per launch (graphs of K launches with PDL).
 template <class T, int G, bool kAnp>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
                       T* __restrict__ u_next, T* __restrict__ du_next, const T* __restrict__ ue_prev,
                       T* __restrict__ ub_next) {
   extern __shared__ __align__(16) unsigned char fused_smem[];
-  T* fs = reinterpret_cast<T*>(fused_smem);  // 3 x a.fsmem_entries, this block's corner forces
-  const int S = a.fsmem_entries;
   pdl_launch_dependents();
-  const TetMeshView<T>& m = a.m;
   const FusedBlock fb = fused_block_range(a);
-  const int n0 = fb.n0, n1 = fb.n1, jb = fb.jb, je = fb.je;
-  const int tid = int(threadIdx.x), nt = int(blockDim.x);
-
-  // Corner forces, one thread per gather entry of the block (S >= their number; one pass
-  // unless a block has more entries than threads). The first pass's rest data is loaded
-  // before the PDL wait; live data (u_prev) only after it.
   CornerRest<T> r;
-  const bool first = jb + tid < je;
-  if (first) load_corner_rest(m, jb + tid, r);
-  if (G > 1 && tid < (n1 - n0) * G && tid % G == 0) {  // the node stage's rest data
-    const int i = n0 + tid / G;
-    prefetch_l1(m.flags + i);
-    prefetch_l1(m.inv_mass + i);
-    prefetch_l1(m.gather_start + i);
-    for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
-  }
+  load_block_rest<T, G>(a, fb, r);
   pdl_wait();  // u_prev is written by the previous step (T4ANP: p_node by the pressure kernel)
-  if (first) {
-    T f[3];
-    fused_corner_force<T, kAnp>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
-    for (int k = 0; k < 3; ++k) fs[k * S + tid] = f[k];
-  }
-  for (int j = jb + tid + nt; j < je; j += nt) {
-    load_corner_rest(m, j, r);
-    T f[3];
-    fused_corner_force<T, kAnp>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
-    for (int k = 0; k < 3; ++k) fs[k * S + (j - jb)] = f[k];
-  }
-  __syncthreads();
+  fused_force_phase<T, G, kAnp, false>(a, fb, r, reinterpret_cast<T*>(fused_smem), u_prev, du_prev, u_next, du_next,
+                                       ue_prev, ub_next);
+}
 
-  // Node stage: G lanes per node, lane l sums the node's corners l, l + G, ... in order,
-  // then lane_sum: the same sums in the same order as the two-kernel step's node kernel.
-  // The loop bound is uniform over the block, so whole warps shuffle together.
-  const int nb = n1 - n0;
-  for (int t0 = 0; t0 < nb * G; t0 += nt) {
-    const int t = t0 + tid;
-    const bool valid = t < nb * G;
-    const int i = n0 + t / G, lane = t % G;
-    int j0 = 0, j1 = 0;
-    if (valid) {
-      j0 = m.gather_start[i] - jb;
-      j1 = m.gather_start[i + 1] - jb;
+// nsteps steps in one cooperative launch (every block resident): the same phases, with a
+// grid barrier after each (T4ANP: also between its two phases), so the host launches once
+// per output interval instead of once per step, and each thread's rest data stays in its
+// registers across the steps. Step s reads buffer s & 1 and writes the other; the barrier
+// (cooperative_groups grid sync: a fence, then an arrival count in global memory) orders
+// every read of a buffer before the next step's writes to it.
+// Measured slower than the fused step's graphs on the H100 (bench/NOTES.md, "Multi-step
+// launches"): the barrier costs more than the launch gap that PDL already hides.
+template <class T, int G, bool kAnp>
+__global__ void __launch_bounds__(kFusedMaxThreads)
+    multi_step_kernel(const StepArgs<T> a, MultiStepBuffers<T> buf, int nsteps) {
+  extern __shared__ __align__(16) unsigned char fused_smem[];
+  T* smem = reinterpret_cast<T*>(fused_smem);
+  cooperative_groups::grid_group grid = cooperative_groups::this_grid();
+  const FusedBlock fb = fused_block_range(a);
+  CornerRest<T> r;
+  load_block_rest<T, G>(a, fb, r);
+  const bool beta = buf.ub[0] != nullptr;
+  for (int s = 0; s < nsteps; ++s) {
+    const int p = s & 1;
+    const T* ue = beta ? buf.ub[p] : buf.u[p];
+    if (kAnp) {
+      fused_pressure_phase<T, G, true>(a, fb, r, smem, ue);
+      grid.sync();
     }
-    T f[3] = {T(0), T(0), T(0)};
-    for (int j = j0 + lane; j < j1; j += G)
-      for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
-    for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
-    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next);
+    fused_force_phase<T, G, kAnp, true>(a, fb, r, smem, buf.u[p], buf.du[p], buf.u[1 - p], buf.du[1 - p], ue,
+                                        beta ? buf.ub[1 - p] : nullptr);
+    if (s + 1 < nsteps) grid.sync();
   }
 }
 
@@ -241,6 +305,59 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
   }
   return cudaErrorInvalidValue;
 }
+
+namespace {
+template <class T, int G, bool kAnp>
+cudaError_t launch_multi(cudaStream_t s, int block, const StepArgs<T>& a, const MultiStepBuffers<T>& buf, int nsteps,
+                         int nsm, bool check_only) {
+  auto k = multi_step_kernel<T, G, kAnp>;
+  const std::size_t smem = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
+  if (smem > 48 * 1024) {
+    const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem));
+    if (e != cudaSuccess) return e;
+  }
+  // A cooperative launch needs every block resident at once.
+  int per_sm = 0;
+  cudaError_t e = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, k, block, smem);
+  if (e != cudaSuccess) return e;
+  if (per_sm * nsm < a.nfblock) return cudaErrorCooperativeLaunchTooLarge;
+  if (check_only) return cudaSuccess;
+  cudaLaunchConfig_t cfg = {};
+  cfg.gridDim = dim3(unsigned(a.nfblock));
+  cfg.blockDim = dim3(unsigned(block));
+  cfg.dynamicSmemBytes = smem;
+  cfg.stream = s;
+  cudaLaunchAttribute attr[1];
+  attr[0].id = cudaLaunchAttributeCooperative;
+  attr[0].val.cooperative = 1;
+  cfg.attrs = attr;
+  cfg.numAttrs = 1;
+  return cudaLaunchKernelEx(&cfg, k, a, buf, nsteps);
+}
+
+}  // namespace
+
+template <class T>
+cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
+                              int nsteps, bool check_only) {
+  if (a.nfblock <= 0 || nsteps <= 0) return cudaSuccess;
+  if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
+  if (a.anp && !a.p_node) return cudaErrorInvalidValue;
+  switch (a.lanes * 2 + (a.anp ? 1 : 0)) {
+    case 2: return launch_multi<T, 1, false>(s, block, a, buf, nsteps, nsm, check_only);
+    case 3: return launch_multi<T, 1, true>(s, block, a, buf, nsteps, nsm, check_only);
+    case 8: return launch_multi<T, 4, false>(s, block, a, buf, nsteps, nsm, check_only);
+    case 9: return launch_multi<T, 4, true>(s, block, a, buf, nsteps, nsm, check_only);
+    case 16: return launch_multi<T, 8, false>(s, block, a, buf, nsteps, nsm, check_only);
+    case 17: return launch_multi<T, 8, true>(s, block, a, buf, nsteps, nsm, check_only);
+  }
+  return cudaErrorInvalidValue;
+}
+
+template cudaError_t launch_multi_step<float>(cudaStream_t, int, int, const StepArgs<float>&,
+                                              const MultiStepBuffers<float>&, int, bool);
+template cudaError_t launch_multi_step<double>(cudaStream_t, int, int, const StepArgs<double>&,
+                                               const MultiStepBuffers<double>&, int, bool);
 
 template cudaError_t launch_fused_step<float>(cudaStream_t, int, bool, const StepArgs<float>&, const float*,
                                              const float*, float*, float*, const float*, float*);

@@ -217,19 +217,20 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   auto cpu = make_sim(torus("double"), "cpu");
   auto gpu = make_gpu(torus("double"), cuda::ExecMode::kGraphPdl);
   auto fused = make_gpu(torus("double"), cuda::ExecMode::kFused);
+  auto multi = make_gpu(torus("double"), cuda::ExecMode::kMulti);
   auto missed = make_sim(torus("double"), "cpu");  // the same run without the live edit
   const int n = cpu->mesh().nnode();
   std::vector<double> f(3 * n, 0.0);
   const int pulled = cpu->tracked_nodes().at(2);  // the top of the torus
   f[0 * n + pulled] = 2e-4;                        // 0.2 mN sideways
   f[1 * n + pulled] = 5e-4;                        // 0.5 mN up
-  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), missed.get()}) {
+  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), multi.get(), missed.get()}) {
     s->set_external_forces(f);
     s->step(1500);
   }
   // Sliding contact under the pull: the backends differ only by rounding.
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-12);
-  for (Simulation* s : {cpu.get(), gpu.get(), fused.get()}) {
+  for (Simulation* s : {cpu.get(), gpu.get(), fused.get(), multi.get()}) {
     s->set_external_forces({});
     PhysicsParams p = s->params();
     p.alpha = 30;                 // a live edit: the graphs must be rebuilt
@@ -248,6 +249,7 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   EXPECT_GT(max_diff(*cpu, *missed), 1e-5) << "the live edit must change the run";
   EXPECT_LT(max_diff(*cpu, *gpu), 1e-7);
   EXPECT_EQ(max_diff(*gpu, *fused), 0.0) << "fused and graph-pdl modes must be bitwise identical";
+  EXPECT_EQ(max_diff(*gpu, *multi), 0.0) << "multi and graph-pdl modes must be bitwise identical";
   HostState a = gpu->state();
   EXPECT_GT(std::abs(a.u[0 * n + pulled]), 1e-7) << "the sideways pull must have moved the node";
 }
@@ -306,4 +308,25 @@ TEST(CudaSolver, ObstacleScenesAllExecutionModesAreBitwiseIdentical) {
                                  [](cuda::ExecMode, cuda::CudaSolverApi&) {});
   expect_modes_bitwise_identical(obstacle_scene("paddle", "float"), 600, "moving paddle, ",
                                  [](cuda::ExecMode, cuda::CudaSolverApi&) {});
+}
+
+// Multi-step launches (tled_step.cu, multi_step_kernel): one step(n) call longer than a
+// launch (kMaxMultiSteps = 2048), with an odd total so the state ends in the second
+// buffer, then a continuation: bitwise the fused step's result, T4 and T4ANP, with the
+// neighbour-flag barriers carrying their counters across launches.
+TEST(CudaSolver, MultiStepLaunchesMatchTheFusedStepAcrossLaunches) {
+  SKIP_WITHOUT_GPU();
+  for (const char* element : {"T4", "T4ANP"}) {
+    const Scene s = torus("float", {std::string("material.element=") + element});
+    auto fused = make_gpu(s, cuda::ExecMode::kFused);
+    auto multi = make_gpu(s, cuda::ExecMode::kMulti);
+    auto& api = dynamic_cast<cuda::CudaSolverApi&>(SolverAccess::of(*multi));
+    ASSERT_EQ(api.exec_mode(), cuda::ExecMode::kMulti);
+    for (long n : {4097L, 1L, 2L, 999L}) {
+      fused->step(n);
+      multi->step(n);
+      EXPECT_TRUE(bitwise_equal(multi->state(), fused->state())) << element << ", after " << multi->steps() << " steps";
+    }
+    EXPECT_GT(multi->diagnostics().n_contact, 0) << element << ": the torus should have reached the floor";
+  }
 }
