@@ -12,6 +12,8 @@
 //  * rest_positions(), tets(), surface_triangles(), lumped_mass(): read-only views of the
 //    rest mesh (never changes).
 //  * positions() (X + u) and velocities() (du / dt) are computed: new arrays.
+//  * device_displacements(), device_increments() (GPU backend): the solver's live
+//    buffers in GPU memory through __cuda_array_interface__ (DeviceArray below), no copy.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -56,6 +58,47 @@ py::array_t<double> rows_of(int n, F f) {
 }
 
 PySimulation& self_of(const py::object& self) { return self.cast<PySimulation&>(); }
+
+// One live state array in GPU memory for CuPy, PyTorch or Numba: __cuda_array_interface__
+// version 3 (https://numba.readthedocs.io/en/stable/cuda/cuda_array_interface.html),
+// nnode x 3 in the solver's precision over its struct-of-arrays layout (strides: one value
+// to the next row, nnode values to the next component), rows in the solver's node order
+// (`rows`: the mesh node of each row). The interface points at the solver's own buffer:
+// no copy, it shows each new step, and `stream` is the stream the steps run on, which a
+// consumer orders itself after.
+struct DeviceArray {
+  py::object owner;  // the Simulation: keeps the buffer and `rows` alive
+  const void* data = nullptr;
+  int nnode = 0, value_bytes = 0;
+  void* stream = nullptr;
+  py::array rows;
+};
+
+DeviceArray device_array(const py::object& self, bool increments, const char* name) {
+  const DeviceStateView v = self_of(self).sim().device_state();
+  if (!v.u)
+    throw py::value_error(std::string(name) + "(): backend '" + self_of(self).sim().backend() +
+                          "' keeps its state in host memory; use displacements() (a NumPy view)");
+  DeviceArray a;
+  a.owner = self;
+  a.data = increments ? v.du : v.u;
+  a.nnode = v.nnode;
+  a.value_bytes = v.value_bytes;
+  a.stream = v.stream;
+  a.rows = view(v.rows->data(), py::ssize_t(v.rows->size()), 0, sizeof(int), 0, self);
+  return a;
+}
+
+py::dict cuda_array_interface(const DeviceArray& a) {
+  py::dict d;
+  d["shape"] = py::make_tuple(a.nnode, 3);
+  d["typestr"] = a.value_bytes == 4 ? "<f4" : "<f8";
+  d["data"] = py::make_tuple(reinterpret_cast<std::uintptr_t>(a.data), true);  // read-only
+  d["strides"] = py::make_tuple(a.value_bytes, py::ssize_t(a.nnode) * a.value_bytes);
+  d["version"] = 3;
+  d["stream"] = reinterpret_cast<std::uintptr_t>(a.stream);
+  return d;
+}
 
 // Steps with Python's Ctrl-C answered between chunks; the host copy refreshed afterwards
 // (also after a watchdog stop, which rolled the state back).
@@ -184,6 +227,10 @@ PYBIND11_MODULE(_softtled, m) {
     }
   });
 
+  py::class_<DeviceArray>(m, "DeviceArray", "A live state array in GPU memory (Simulation.device_displacements).")
+      .def_property_readonly("__cuda_array_interface__", &cuda_array_interface)
+      .def_property_readonly("rows", [](const DeviceArray& a) { return a.rows; }, "mesh node of each row")
+      .def_property_readonly("shape", [](const DeviceArray& a) { return py::make_tuple(a.nnode, 3); });
   m.def("time_decimals", &time_decimals, py::arg("dt"),
         "Decimals of `softtled run`'s CSV column t: 3 significant digits of dt, at least 6.");
   m.def(
@@ -301,6 +348,14 @@ PYBIND11_MODULE(_softtled, m) {
           },
           "du / dt [m/s], nnode x 3 (a new array): the integrator's half-step velocity over (t - dt, t), "
           "the one the CSV's ke uses.")
+      .def(
+          "device_displacements", [](py::object self) { return device_array(self, false, "device_displacements"); },
+          "u [m] in GPU memory (CUDA backend): an object with __cuda_array_interface__ (cupy.asarray, "
+          "torch.as_tensor) over the solver's live buffer, no copy; nnode x 3 in the solver's precision, row r "
+          "is mesh node .rows[r]. ValueError on a CPU backend.")
+      .def(
+          "device_increments", [](py::object self) { return device_array(self, true, "device_increments"); },
+          "du = u(t) - u(t - dt) [m] in GPU memory, as device_displacements() (du / dt is velocities()).")
       .def(
           "rest_positions", [](py::object self) {
             const TetMesh& m = self_of(self).sim().mesh();

@@ -123,6 +123,8 @@ class Simulation {
   // node into dst, which must be device memory (a mapped GL buffer) when
   // render_buffer_on_device() and host memory otherwise.
   bool render_buffer_on_device() const { return solver_->render_buffer_on_device(); }
+  // The live state in device memory (GPU backends; solver.h, DeviceStateView), no copy.
+  DeviceStateView device_state() const { return solver_->device_state(); }
   void write_render_vertices(float* dst) { solver_->write_render_vertices(dst); }
 
   // Rest-state node flags (kNodeContact, kNodeFixed), nnode.

@@ -104,6 +104,20 @@ struct PhysicsParams {
   bool self_contact = false;
 };
 
+// The live state where a GPU backend keeps it, for readers on the same device (the Python
+// module's __cuda_array_interface__): struct-of-arrays in the solver's precision,
+// component k of row r at [k * nnode + r]. Rows are in the solver's node order: row r is
+// mesh node rows[r]. The arrays change with the next step or state change; work that
+// writes them is queued on `stream` (a cudaStream_t), which a reader orders itself after.
+struct DeviceStateView {
+  const void* u = nullptr;   // null: the backend keeps its state in host memory
+  const void* du = nullptr;  // u(t) - u(t - dt)
+  int nnode = 0;
+  int value_bytes = 0;  // 4 (float) or 8 (double)
+  const std::vector<int>* rows = nullptr;
+  void* stream = nullptr;
+};
+
 // Host copy of the live state, struct-of-arrays, always in double.
 struct HostState {
   std::vector<double> u;               // 3 x nnode
@@ -133,6 +147,8 @@ class Solver {
   // buffer) when render_buffer_on_device() is true.
   virtual bool render_buffer_on_device() const = 0;
   virtual void write_render_vertices(float* dst) = 0;
+  // The live state in device memory; an empty view (u null) on a host backend.
+  virtual DeviceStateView device_state() const { return {}; }
 
   // ---- variable step (central_difference.h, make_step_params) ----
   // After set_params with a new dt: du *= scale (= dt_new / dt_old, so du / dt keeps the

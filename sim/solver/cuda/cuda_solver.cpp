@@ -499,6 +499,16 @@ class CudaSolver final : public CudaSolverApi {
   const std::vector<std::uint8_t>& node_flags() const override { return flags_; }
 
   bool render_buffer_on_device() const override { return true; }
+  DeviceStateView device_state() const override {
+    DeviceStateView v;
+    v.u = live_.u.data();  // step(n) always leaves the state here (copy_back_fused)
+    v.du = live_.du.data();
+    v.nnode = n_;
+    v.value_bytes = int(sizeof(T));
+    v.rows = &perm_.node_old;
+    v.stream = stream_;
+    return v;
+  }
   void write_render_vertices(float* dst) override {
     if (rest_.surface.nvert == 0) return;
     const LaunchShape ls = shape_for(rest_.surface.nvert, nsm_, false);

@@ -330,3 +330,42 @@ TEST(CudaSolver, MultiStepLaunchesMatchTheFusedStepAcrossLaunches) {
     EXPECT_GT(multi->diagnostics().n_contact, 0) << element << ": the torus should have reached the floor";
   }
 }
+
+// The live state in device memory (Simulation::device_state, what the Python module hands
+// to CuPy or PyTorch through __cuda_array_interface__): read here with cudaMemcpy after
+// ordering on its stream, row r is mesh node rows[r], bit for bit what state() downloads;
+// the same buffer (no copy per call) shows the next step's state.
+TEST(CudaSolver, DeviceStateViewIsTheLiveStateInPlace) {
+  SKIP_WITHOUT_GPU();
+  auto sim = make_sim(torus("float"), "cuda");
+  const int n = sim->mesh().nnode();
+  auto read = [&](const DeviceStateView& v, const void* p) {
+    std::vector<float> h(3 * std::size_t(n));
+    EXPECT_EQ(cudaStreamSynchronize(static_cast<cudaStream_t>(v.stream)), cudaSuccess);
+    EXPECT_EQ(cudaMemcpy(h.data(), p, h.size() * sizeof(float), cudaMemcpyDeviceToHost), cudaSuccess);
+    return h;
+  };
+  const void* first = nullptr;
+  for (long steps : {4500L, 1L}) {  // in contact, then one more step
+    sim->step(steps);
+    const DeviceStateView v = sim->device_state();
+    ASSERT_NE(v.u, nullptr);
+    ASSERT_EQ(v.nnode, n);
+    ASSERT_EQ(v.value_bytes, int(sizeof(float)));
+    ASSERT_EQ(v.rows->size(), std::size_t(n));
+    if (!first) first = v.u;
+    EXPECT_EQ(v.u, first) << "the view is the live buffer, not a copy per call";
+    const std::vector<float> u = read(v, v.u), du = read(v, v.du);
+    const HostState& s = sim->state();
+    std::vector<int> seen(n, 0);
+    for (int r = 0; r < n; ++r) {
+      const int i = (*v.rows)[r];
+      ASSERT_TRUE(i >= 0 && i < n && !seen[i]++) << "rows must be a permutation of the mesh's nodes";
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(double(u[std::size_t(k) * n + r]), s.u[std::size_t(k) * n + i]) << "row " << r << ", node " << i;
+        ASSERT_EQ(double(du[std::size_t(k) * n + r]), s.du[std::size_t(k) * n + i]) << "row " << r << ", node " << i;
+      }
+    }
+  }
+  EXPECT_GT(sim->diagnostics().n_contact, 0);
+}
