@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <memory>
 #include <string>
 
@@ -59,6 +60,7 @@ Command add_run_command(CLI::App& app) {
   struct Opts {
     std::string scene, csv, vtu, backend = "auto";
     long every = 1;
+    bool sync_checks = false;
     std::vector<std::string> set;
   };
   auto o = std::make_shared<Opts>();
@@ -69,6 +71,9 @@ Command add_run_command(CLI::App& app) {
   c->add_option("--backend", o->backend, "cpu, cuda or auto")->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--vtu", o->vtu, "write a ParaView series (DIR/frame_*.vtu + DIR/series.pvd)");
   c->add_option("--every", o->every, "with --vtu: one frame per N output times")->check(int_range(1, 1000000000))->capture_default_str();
+  c->add_flag("--sync-checks", o->sync_checks,
+              "on a GPU, step each output interval only after the last one is checked and written (the same "
+              "numbers, slower; by default the device steps the next interval meanwhile)");
   return [o]() {
     // Every output path is checked before anything is read, meshed or truncated.
     if (!o->csv.empty()) check_output_file(o->csv, "--csv", true);
@@ -106,9 +111,9 @@ Command add_run_command(CLI::App& app) {
     FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     std::unique_ptr<VtuSeries> vtu;
     long out_index = 0;
-    auto write_frame = [&] {
+    auto write_frame = [&](double t, const HostState& st) {
       if (!vtu || out_index++ % o->every) return;
-      vtu->add(sim.time(), sim.mesh(), sim.state(), sim.time_step().dt,
+      vtu->add(t, sim.mesh(), st, sim.time_step().dt,
                neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
@@ -118,7 +123,7 @@ Command add_run_command(CLI::App& app) {
       if (vtu) w += std::string(w.empty() ? "" : ", ") + std::to_string(vtu->size()) + " frames to " + o->vtu + "/series.pvd";
       return w.empty() ? std::string("no output files") : w;
     };
-    write_frame();
+    write_frame(sim.time(), sim.state());
     const bool tty = isatty(2);
     // A changing step (time.dt = "adaptive") advances by output times, not step counts.
     const bool adaptive = sim.params().dt_adaptive;
@@ -131,32 +136,10 @@ Command add_run_command(CLI::App& app) {
     double min_gap = d.min_gap, max_ke = d.ke;
     int max_contact = 0;
     bool warned = false;
-    for (long done = 0; done < intervals && !stop_requested();) {
-      const long n = std::min(per_interval, intervals - done);
-      long k = 0;
-      try {
-        // The output interval in chunks, so that a signal is answered within one chunk;
-        // the watchdog checks at the end of each.
-        if (adaptive) {
-          sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
-          k = n;
-        }
-        while (k < n && !stop_requested()) {
-          const long m = std::min(kMaxChunkSteps, n - k);
-          sim.advance(m, m);
-          k += m;
-        }
-      } catch (const SimulationDiverged& e) {
-        if (tty) std::fprintf(stderr, "\n");
-        std::fprintf(stderr, "softtled: %s\n", e.what());
-        write_row(sim.diagnostics());  // the rolled-back, last healthy state
-        if (csv) csv->close();
-        return int(kExitDiverged);
-      }
-      done += k;
-      if (k < n) break;  // stopped inside an output interval: rows and frames stay on output times
-      d = sim.diagnostics();
-      write_frame();
+    // One output time: its frame, row and summary figures, from the state checked there.
+    auto output = [&](long done, const Diagnostics& dd, const HostState& st) {
+      d = dd;
+      write_frame(d.t, st);
       write_row(d);
       min_gap = std::min(min_gap, d.min_gap);
       max_ke = std::max(max_ke, d.ke);
@@ -172,6 +155,53 @@ Command add_run_command(CLI::App& app) {
                        tty ? "\n" : "", left / 60, 100.0 * double(done) / double(intervals), w);
       }
       if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * double(done) / double(intervals));
+    };
+    // On a GPU the device steps output interval k + 1 while the host checks and writes
+    // interval k (Simulation::queue / collect): the same states, checks and rows as the
+    // loop below, without the device waiting for the host.
+    const bool pipelined = !o->sync_checks && !adaptive && every <= kMaxChunkSteps && sim.pipelines();
+    try {
+      if (pipelined) {
+        long queued = 0, done = 0;
+        std::deque<long> sizes;  // steps of each queued interval, oldest first
+        auto queue_next = [&] {
+          sizes.push_back(std::min(per_interval, intervals - queued));
+          sim.queue(sizes.back());
+          queued += sizes.back();
+        };
+        queue_next();
+        while (!sizes.empty()) {
+          if (queued < intervals && !stop_requested()) queue_next();
+          const Simulation::Checkpoint& c = sim.collect();
+          done += sizes.front();
+          sizes.pop_front();
+          output(done, c.diag, c.state);
+        }
+      }
+      for (long done = 0; !pipelined && done < intervals && !stop_requested();) {
+        const long n = std::min(per_interval, intervals - done);
+        long k = 0;
+        // The output interval in chunks, so that a signal is answered within one chunk;
+        // the watchdog checks at the end of each.
+        if (adaptive) {
+          sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
+          k = n;
+        }
+        while (k < n && !stop_requested()) {
+          const long m = std::min(kMaxChunkSteps, n - k);
+          sim.advance(m, m);
+          k += m;
+        }
+        done += k;
+        if (k < n) break;  // stopped inside an output interval: rows and frames stay on output times
+        output(done, sim.diagnostics(), sim.state());
+      }
+    } catch (const SimulationDiverged& e) {
+      if (tty) std::fprintf(stderr, "\n");
+      std::fprintf(stderr, "softtled: %s\n", e.what());
+      write_row(sim.diagnostics());  // the rolled-back, last healthy state
+      if (csv) csv->close();
+      return int(kExitDiverged);
     }
     if (tty) std::fprintf(stderr, "\n");
     if (csv) csv->close();

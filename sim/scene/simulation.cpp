@@ -291,6 +291,7 @@ void Simulation::advance_to(double t_end) {
 
 void Simulation::apply_initial_state() {
   drop_estimate();
+  queued_.clear();
   const int n = mesh_.nnode();
   HostState s;
   s.u.assign(3 * n, 0.0);
@@ -372,6 +373,7 @@ void Simulation::account_work() {
 
 void Simulation::set_state(const HostState& s) {
   drop_estimate();
+  queued_.clear();
   solver_->set_state(s);
   state_changed();
   last_good_ = s;
@@ -395,13 +397,60 @@ void Simulation::advance(long n, long check_every) {
 }
 
 void Simulation::check_health() {
-  const HostState& s = state();
   account_work();
+  check_state(state(), diagnostics());
+}
+
+bool Simulation::pipelines() const {
+  bool planes = false;
+  for (const PlaneMotion& m : plane_motion_) planes = planes || m.moving();
+  return solver_->async_snapshots() && !params_.dt_adaptive && fext_.empty() && !planes && !obstacles_moving();
+}
+
+void Simulation::queue(long n) {
+  if (int(queued_.size()) >= Solver::kSnapshotSlots) throw std::logic_error("Simulation::queue: collect() first");
+  const int slot = next_slot_;
+  next_slot_ = (next_slot_ + 1) % Solver::kSnapshotSlots;
+  if (pipelines()) {
+    step(n);
+    solver_->begin_snapshot(slot);
+  }
+  queued_.push_back({slot, n, nsteps_, total_steps_, t_offset_});
+}
+
+const Simulation::Checkpoint& Simulation::collect() {
+  if (queued_.empty()) throw std::logic_error("Simulation::collect: nothing queued");
+  const Queued q = queued_.front();
+  queued_.erase(queued_.begin());
+  Checkpoint& c = checkpoints_[q.slot];
+  if (!pipelines()) {  // nothing to overlap: advance(n, n) now, in the same order
+    advance(q.n, q.n);
+    c.state = state();
+    c.diag = diagnostics();
+    return c;
+  }
+  double se = 0;
+  solver_->end_snapshot(q.slot, c.state, se);
+  // The check at the snapshot's own step count and time; the live count runs ahead.
+  const long live_steps = nsteps_, live_total = total_steps_;
+  const double live_offset = t_offset_;
+  nsteps_ = q.nsteps, total_steps_ = q.total_steps, t_offset_ = q.t_offset;
+  c.diag = diagnostics_of(c.state, se);
+  try {
+    check_state(c.state, c.diag);
+  } catch (...) {
+    queued_.clear();  // rolled back: what was queued after it is gone
+    throw;
+  }
+  nsteps_ = live_steps, total_steps_ = live_total, t_offset_ = live_offset;
+  return c;
+}
+
+void Simulation::check_state(const HostState& s, const Diagnostics& d) {
   if (planes_moved_) watchdog_.rebase();  // a moving plane did work nobody counted
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
-  const std::optional<WatchdogFinding> f =
-      watchdog_.check(mesh_, s, diagnostics(), work_, params_.material_model, unstable_dt);
+  const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, params_.material_model, unstable_dt);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
     drop_estimate();
@@ -526,9 +575,10 @@ Diagnostics Simulation::diagnostics() {
   return diag_;
 }
 
-Diagnostics Simulation::diagnostics_of(const HostState& s) {
-  Diagnostics d =
-      measure_diagnostics(mesh_, s, solver_->lumped_mass(), params_, tracked_, time(), solver_->strain_energy());
+Diagnostics Simulation::diagnostics_of(const HostState& s) { return diagnostics_of(s, solver_->strain_energy()); }
+
+Diagnostics Simulation::diagnostics_of(const HostState& s, double strain_energy) {
+  Diagnostics d = measure_diagnostics(mesh_, s, solver_->lumped_mass(), params_, tracked_, time(), strain_energy);
   if ((params_.body_contact && mesh_.nbody() >= 2) || params_.self_contact) {  // body-body and self gaps too
     if (contact_tables_.nnode == 0) contact_tables_ = build_body_contact_tables(mesh_);
     const int n = mesh_.nnode();

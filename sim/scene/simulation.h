@@ -94,6 +94,25 @@ class Simulation {
   // the user's forces). On failure the state is rolled back to the last good check and
   // SimulationDiverged is thrown.
   void advance(long n, long check_every);
+
+  // ---- pipelined stepping (softtled run on a GPU) ----
+  // queue(n): n steps, then a snapshot of the state after them (Solver::begin_snapshot);
+  // on a GPU backend it returns at once. At most Solver::kSnapshotSlots are queued.
+  // collect(): waits for the oldest, runs the watchdog on it exactly as advance() does at
+  // a check (a finding rolls back to the last healthy check, drops what is queued, and
+  // throws SimulationDiverged), and returns it with its diagnostics. So the host checks
+  // and writes output interval k while the device steps interval k + 1: the same states,
+  // checks and numbers as advance(n, n) per interval. pipelines(): whether that overlaps
+  // anything (asynchronous snapshots, a fixed step, no moving plane or obstacle and no
+  // user force, which the host applies between steps); where false, collect() does
+  // advance(n, n) for its queue() call.
+  struct Checkpoint {
+    HostState state;
+    Diagnostics diag;
+  };
+  bool pipelines() const;
+  void queue(long n);
+  const Checkpoint& collect();
   void reset();  // back to the initial state (the viewer's "drop again")
   // The live state on the host, downloaded at most once per step count: every reader of
   // one frame (watchdog, diagnostics, picking, drag spring, plot) shares this copy.
@@ -135,8 +154,22 @@ class Simulation {
 
   void apply_initial_state();
   void check_health();
-  // Diagnostics of a state already on the host (the solver supplies only strain energy).
+  // The watchdog on state s with diagnostics d at the live bookkeeping (nsteps_, time());
+  // check_health() and collect() both end here.
+  void check_state(const HostState& s, const Diagnostics& d);
+  struct Queued {
+    int slot;
+    long n;  // its steps
+    long nsteps, total_steps;  // the bookkeeping after them
+    double t_offset;
+  };
+  std::vector<Queued> queued_;  // oldest first
+  Checkpoint checkpoints_[Solver::kSnapshotSlots];
+  int next_slot_ = 0;
+  // Diagnostics of a state already on the host at time(), given its strain energy (the
+  // solver's, of the live state, when not given).
   Diagnostics diagnostics_of(const HostState& s);
+  Diagnostics diagnostics_of(const HostState& s, double strain_energy);
   void state_changed() { state_valid_ = diag_valid_ = false; }
   // Moves the kinematic planes for the next steps; returns how many (at most max_steps)
   // may run before the next move.

@@ -150,6 +150,17 @@ class Solver {
   // The live state in device memory; an empty view (u null) on a host backend.
   virtual DeviceStateView device_state() const { return {}; }
 
+  // ---- asynchronous snapshots (Simulation::queue / collect) ----
+  // begin_snapshot queues, after the steps queued so far, a copy of the state and its
+  // strain energy into slot (0 .. kSnapshotSlots - 1) and returns at once; end_snapshot
+  // waits for that copy and hands it over, so the host can check one output interval
+  // while the device steps the next. A backend that cannot (the host backends, where
+  // stepping and checking share the CPU anyway) has no async_snapshots and none of this.
+  static constexpr int kSnapshotSlots = 2;
+  virtual bool async_snapshots() const { return false; }
+  virtual void begin_snapshot(int slot) { (void)slot; }
+  virtual void end_snapshot(int slot, HostState& s, double& strain_energy) { (void)slot, (void)s, (void)strain_energy; }
+
   // ---- variable step (central_difference.h, make_step_params) ----
   // After set_params with a new dt: du *= scale (= dt_new / dt_old, so du / dt keeps the
   // velocity), and the next step's velocity update spans dt_mid = (dt_old + dt_new) / 2

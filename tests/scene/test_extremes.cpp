@@ -84,6 +84,59 @@ TEST_P(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
   EXPECT_LE(live.time_step().dt, dt_cr);
 }
 
+// softtled run's pipelined loop (Simulation::queue / collect: on a GPU the device steps
+// the next output interval while the host checks this one) gives the checks and numbers
+// of advance(n, n) per interval, bit for bit, and rolls back to the same state at the same
+// check when the watchdog stops a diverging run. (On the CPU queue() is advance itself.)
+TEST_P(Extremes, PipelinedChecksAreTheChecksOfAdvance) {
+  auto run = [&](const Scene& sc, bool pipelined, long n, int intervals, std::vector<Diagnostics>& rows,
+                 HostState& end, double& t_end) {
+    Simulation sim(sc, backend());
+    bool diverged = false;
+    try {
+      if (pipelined) {
+        int queued = 0;
+        sim.queue(n), ++queued;
+        for (int collected = 0; collected < queued; ++collected) {
+          if (queued < intervals) sim.queue(n), ++queued;
+          rows.push_back(sim.collect().diag);
+        }
+      } else {
+        for (int k = 0; k < intervals; ++k) {
+          sim.advance(n, n);
+          rows.push_back(sim.diagnostics());
+        }
+      }
+    } catch (const SimulationDiverged&) {
+      diverged = true;
+    }
+    end = sim.state();
+    t_end = sim.time();
+    return diverged;
+  };
+  auto same = [](const Diagnostics& a, const Diagnostics& b) {
+    return a.t == b.t && a.ke == b.ke && a.se == b.se && a.pe == b.pe && a.min_gap == b.min_gap &&
+           a.n_contact == b.n_contact && a.centroid[0] == b.centroid[0] && a.centroid[1] == b.centroid[1] &&
+           a.centroid[2] == b.centroid[2];
+  };
+  const double dt_eigen = Simulation(box_on_floor(""), backend()).time_step().dt_eigen;
+  for (const std::string& extra : {std::string(""), "[time]\nallow_unstable = true\ndt = " + std::to_string(1.5 * dt_eigen) + "\n"}) {
+    const Scene sc = box_on_floor(extra);
+    std::vector<Diagnostics> a, b;
+    HostState ea, eb;
+    double ta = 0, tb = 0;
+    const bool da = run(sc, false, 20, 150, a, ea, ta), db = run(sc, true, 20, 150, b, eb, tb);
+    const std::string what = extra.empty() ? "a box landing" : "a step of 1.5 x 2/omega_max";
+    EXPECT_EQ(da, db) << what;
+    EXPECT_EQ(da, !extra.empty()) << what << ": the watchdog must stop exactly the diverging run";
+    ASSERT_EQ(a.size(), b.size()) << what << ": rows before the stop";
+    for (std::size_t k = 0; k < a.size(); ++k) EXPECT_TRUE(same(a[k], b[k])) << what << ", row " << k;
+    EXPECT_EQ(ta, tb) << what << ": rolled back to the same check";
+    EXPECT_TRUE(ea.u == eb.u && ea.du == eb.du) << what << ": the same state at the end";
+    for (double v : eb.u) ASSERT_TRUE(std::isfinite(v)) << what;
+  }
+}
+
 TEST_P(Extremes, FastImpactFromOneMetre) {
   // 1 m fall: 4.4 m/s at impact on a 10 mm box of soft tissue.
   for (const char* model : {"stable_neo_hookean", "neo_hookean"}) {

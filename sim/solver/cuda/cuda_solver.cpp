@@ -6,11 +6,13 @@
 #include <cuda_runtime_api.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <stdexcept>
 
 #include "sim/contact/body_contact_tables.h"
@@ -340,10 +342,47 @@ class CudaSolver final : public CudaSolverApi {
     unsigned overflow = 0;
     contact_.download_overflow(&overflow, stream_);
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    to_host_state(u.data(), du.data(), c.data(), overflow, s);
+  }
+
+  // Snapshots (solver.h): the state's D2H copies and the strain energy's kernels queued
+  // behind the steps, into pinned buffers, with an event that end_snapshot waits for; the
+  // next steps queued after them cannot touch the state before the copies are done
+  // (stream order).
+  bool async_snapshots() const override { return true; }
+  void begin_snapshot(int slot) override {
+    Snapshot& sn = snaps_.at(std::size_t(slot));
+    const std::size_t n3 = 3 * std::size_t(n_);
+    if (!sn.u) {  // first use
+      sn.u = std::make_unique<PinnedBuffer<T>>(n3);
+      sn.du = std::make_unique<PinnedBuffer<T>>(n3);
+      sn.contact = std::make_unique<PinnedBuffer<std::uint8_t>>(std::size_t(std::max(n_, 1)));
+      sn.se.resize(1);
+    }
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.u->data(), live_.u.data(), live_.u.bytes(), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.du->data(), live_.du.data(), live_.du.bytes(), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.contact->data(), live_.contact.data(), live_.contact.bytes(),
+                                        cudaMemcpyDeviceToHost, stream_));
+    contact_.download_overflow(sn.overflow.data(), stream_);
+    enqueue_strain_energy(sn.se.data());
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.energy.data(), sn.se.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaEventRecord(sn.done.get(), stream_));
+  }
+  void end_snapshot(int slot, HostState& s, double& strain_energy) override {
+    Snapshot& sn = snaps_.at(std::size_t(slot));
+    SOFTTLED_CUDA_CHECK(cudaEventSynchronize(sn.done.get()));
+    strain_energy = sn.energy[0];
+    to_host_state(sn.u->data(), sn.du->data(), sn.contact->data(), sn.overflow[0], s);
+  }
+
+  // Device arrays (solver order, T) to a HostState (mesh order, double); a contact-stage
+  // overflow seen with them is an error.
+  void to_host_state(const T* u, const T* du, const std::uint8_t* c, unsigned overflow, HostState& s) const {
     if (overflow) throw std::runtime_error(DeviceContactStage<T>::overflow_message(overflow));
-    s.u.resize(u.size());
-    s.du.resize(du.size());
-    s.contact.resize(c.size());
+    const std::size_t n3 = 3 * std::size_t(n_);
+    s.u.resize(n3);
+    s.du.resize(n3);
+    s.contact.resize(std::size_t(n_));
     for (int i = 0; i < n_; ++i) {
       const int o = perm_.node_old[i];
       for (int k = 0; k < 3; ++k) {
@@ -462,11 +501,7 @@ class CudaSolver final : public CudaSolverApi {
 
   double strain_energy() const override {
     if (ne_ == 0) return 0;
-    const bool anp = cfg_.element == kT4ANP;
-    SOFTTLED_CUDA_CHECK(launch_strain_energy_terms<T>(stream_, shape_for(ne_, nsm_, false), shape_for(n_, nsm_, false),
-                                                      rest_.view, cfg_.mat, anp, live_.u.data(), energy_vol_.data(),
-                                                      energy_.data()));
-    SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), anp ? ne_ + n_ : ne_, partials_.data(), energy_sum_.data()));
+    enqueue_strain_energy(energy_sum_.data());
     double e = 0;
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(&e, energy_sum_.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
@@ -520,6 +555,19 @@ class CudaSolver final : public CudaSolverApi {
 
  private:
   bool beta_on() const { return cfg_.step.beta_dt > T(0); }
+
+  // The live state's strain energy into *sum (device), in stream order (no wait).
+  void enqueue_strain_energy(double* sum) const {
+    if (ne_ == 0) {
+      SOFTTLED_CUDA_CHECK(cudaMemsetAsync(sum, 0, sizeof(double), stream_));
+      return;
+    }
+    const bool anp = cfg_.element == kT4ANP;
+    SOFTTLED_CUDA_CHECK(launch_strain_energy_terms<T>(stream_, shape_for(ne_, nsm_, false), shape_for(n_, nsm_, false),
+                                                      rest_.view, cfg_.mat, anp, live_.u.data(), energy_vol_.data(),
+                                                      energy_.data()));
+    SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), anp ? ne_ + n_ : ne_, partials_.data(), sum));
+  }
 
   // Mesh obstacles (obstacle_sdf.h): each grid's values in T on the device; the kernels
   // take the views by value with these pointers.
@@ -810,6 +858,17 @@ class CudaSolver final : public CudaSolverApi {
   DeviceContactStage<T> contact_;  // allocated when a contact stage is first switched on
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
+  // Snapshot slots (begin_snapshot): pinned copies of u, du, contact; the strain energy
+  // on the device and, pinned, its copy and the contact stage's overflow bits.
+  struct Snapshot {
+    std::unique_ptr<PinnedBuffer<T>> u, du;
+    std::unique_ptr<PinnedBuffer<std::uint8_t>> contact;
+    DeviceBuffer<double> se;
+    PinnedBuffer<double> energy{1};
+    PinnedBuffer<unsigned> overflow{1};
+    Event done;
+  };
+  std::array<Snapshot, Solver::kSnapshotSlots> snaps_;
   bool fext_active_ = false;
   StepConfig<T> cfg_;
   PhysicsParams params_;
