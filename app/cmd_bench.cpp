@@ -156,7 +156,7 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps, bool simd) {
   });
   s.contact = std::max(0.0, with_contact - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
-  s.render = time_loop([&] { sim.write_render_vertices(buf.data()); });
+  s.render = time_loop([&] { sim.write_render_vertices(buf.data(), RenderScalar::kDisplacement); });  // the |u| map
   s.valid = true;
   return s;
 }

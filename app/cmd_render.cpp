@@ -77,8 +77,8 @@ Command add_render_command(CLI::App& app) {
       ->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--context", o->context, "GL context: egl (offscreen) or glfw (hidden window, needs a display)")
       ->check(CLI::IsMember({"egl", "glfw"}))->capture_default_str();
-  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")
-      ->check(CLI::IsMember({"shaded", "displacement", "contact"}))->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement, contact or von_mises")
+      ->check(CLI::IsMember(color_mode_names()))->capture_default_str();
   c->add_option("--azimuth", o->azimuth, "camera azimuth about +y [deg]")->check(finite_range(-360, 360))->capture_default_str();
   c->add_option("--elevation", o->elevation, "camera elevation [deg]")->check(finite_range(-89, 89))->capture_default_str();
   c->add_option("--zoom", o->zoom, "camera zoom factor")->check(finite_range(0.01, 100))->capture_default_str();

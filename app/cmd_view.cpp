@@ -7,6 +7,7 @@
 
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "app/render_handoff.h"
 #include "sim/io/output_file.h"
 #include "sim/mesh/surface_mesh.h"
 #include "app/video_encoder.h"
@@ -44,8 +45,8 @@ Command add_view_command(CLI::App& app) {
   c->add_option("--substeps", o->substeps, "fixed steps per frame (default 0: follow wall time)")->check(int_range(0, 100000));
   c->add_option("--time-scale", o->time_scale, "simulated seconds per wall second when following wall time")
       ->check(finite_range(1e-6, 1e3))->capture_default_str();
-  c->add_option("--color", o->color, "colour map: shaded, displacement or contact")
-      ->check(CLI::IsMember({"shaded", "displacement", "contact"}))->capture_default_str();
+  c->add_option("--color", o->color, "colour map: shaded, displacement, contact or von_mises")
+      ->check(CLI::IsMember(color_mode_names()))->capture_default_str();
   c->add_option("--screenshot-dir", o->screenshot_dir, "where P writes softtled_view_NNN.png")->capture_default_str();
   c->add_option("--record", o->record, "record a video from the start (.mp4, .mov or .mkv; V toggles recording)");
   c->add_option("--record-fps", o->record_fps, "frames per second of simulated time in recordings")

@@ -81,7 +81,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
     cam.distance /= std::max(o.zoom, 1e-3f);
     const float plane_half = default_plane_half(sim);
     RenderStyle style = o.style;
-    float umax = 0;
+    float umax = 0, vmmax = 0;
     const Diagnostics d0 = sim.diagnostics();
     Vec3 last_centroid{float(d0.centroid[0]), float(d0.centroid[1]), float(d0.centroid[2])};
 
@@ -115,9 +115,13 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       if (o.auto_umax) style.umax = std::max(umax, 1e-4f);
 
       t0 = Clock::now();
-      write_body_vertices(sim, *body);
+      write_body_vertices(sim, *body, style.color);
       f.upload_s = seconds_since(t0);
       if (info) info->vertex_path = body->path();
+      if (style.color == ColorMode::kVonMises) {  // the range of what is drawn: the surface's nodal values
+        vmmax = std::max(vmmax, body->scalar_max());
+        if (o.auto_vmmax) style.vmmax = std::max(vmmax, 1.f);
+      }
 
       t0 = Clock::now();
       target.bind();

@@ -23,7 +23,9 @@ struct HeadlessOptions {
   std::string stem = "frame";     // files are <out_dir>/<stem>_t<time>.png
   RenderStyle style;
   bool auto_umax = true;          // displacement colour range from the largest |u| so far
-  bool legend = true;             // the colour legend (displacement and contact maps)
+  // von Mises colour range from the largest von Mises value drawn so far (at least 1 Pa)
+  bool auto_vmmax = true;
+  bool legend = true;             // the colour legend (displacement, von Mises and contact maps)
   bool keep_images = true;        // false: frames are handed to on_frame only, not returned with images
   float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // camera relative to default_camera
   bool follow = true;             // the camera target follows the body's centroid

@@ -15,9 +15,11 @@ std::unique_ptr<BodyVertexBuffer> make_body_buffer(const SurfaceTopology& topo) 
   return std::make_unique<BodyVertexBuffer>(int(topo.node.size()), topo.tri);
 }
 
-void write_body_vertices(Simulation& sim, BodyVertexBuffer& body) {
+static_assert(kBodyScalarSlot == 6, "render/body_buffer.h's colour scalar is slot 6 of sim/fem/surface_render.h's vertex");
+
+void write_body_vertices(Simulation& sim, BodyVertexBuffer& body, ColorMode color) {
   float* dst = body.map(sim.render_buffer_on_device());
-  sim.write_render_vertices(dst);
+  sim.write_render_vertices(dst, color == ColorMode::kVonMises ? RenderScalar::kVonMises : RenderScalar::kDisplacement);
   body.unmap();
 }
 
@@ -88,11 +90,18 @@ float default_plane_half(const Simulation& sim) {
   return 2.5f * length(hi - lo);
 }
 
+const std::vector<std::string>& color_mode_names() {
+  static const std::vector<std::string> names = {"shaded", "displacement", "contact", "von_mises"};
+  return names;
+}
+
+const std::string& color_mode_name(ColorMode c) { return color_mode_names().at(std::size_t(c)); }
+
 ColorMode parse_color_mode(const std::string& name, const std::string& option) {
-  if (name == "shaded") return ColorMode::kShaded;
-  if (name == "displacement") return ColorMode::kDisplacement;
-  if (name == "contact") return ColorMode::kContact;
-  throw InputError(option + " '" + name + "': use shaded, displacement or contact");
+  const std::vector<std::string>& names = color_mode_names();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (name == names[k]) return ColorMode(int(k));
+  throw InputError(option + " '" + name + "': use shaded, displacement, contact or von_mises");
 }
 
 ColorLegend color_legend(const RenderStyle& style) {
@@ -104,7 +113,15 @@ ColorLegend color_legend(const RenderStyle& style) {
     lg.component = "magnitude";
     lg.colormap = "turbo";
     lg.min = 0;
-    lg.max = double(style.umax) * 1e3;  // the shader maps a_umag / u_umax, clamped to [0, 1]
+    lg.max = double(style.umax) * 1e3;  // the shader maps a_scalar / u_scalar_max, clamped to [0, 1]
+  } else if (style.color == ColorMode::kVonMises) {
+    lg.map = LegendMap::kTurbo;
+    lg.title = "von Mises";
+    lg.unit = "kPa";
+    lg.component = "Cauchy";  // of sigma = P F^T / J, the nodal mean (von_mises.h)
+    lg.colormap = "turbo";
+    lg.min = 0;
+    lg.max = double(style.vmmax) * 1e-3;  // the shader maps a_scalar / u_scalar_max
   } else if (style.color == ColorMode::kContact) {
     lg.map = LegendMap::kContactState;
     lg.title = "contact";

@@ -18,20 +18,26 @@ namespace softtled {
 // gives the vertex and triangle order the solver uses.
 std::unique_ptr<BodyVertexBuffer> make_body_buffer(const SurfaceTopology& topo);
 // The per-frame hand-off: the simulation writes its render vertices straight into the
-// mapped buffer (a device pointer on a GPU backend, host memory otherwise). On a GPU
+// mapped buffer (a device pointer on a GPU backend, host memory otherwise), their colour
+// scalar the one `color` maps (von Mises for ColorMode::kVonMises, else |u|). On a GPU
 // backend this waits for the queued steps.
-void write_body_vertices(Simulation& sim, BodyVertexBuffer& body);
+void write_body_vertices(Simulation& sim, BodyVertexBuffer& body, ColorMode color);
 
 std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
 std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles);
 
 // The legend of the colour map `style` uses, in plain numbers for render/: for |u| the
-// range the body shader maps, 0 .. style.umax, in mm ("displacement [mm]", "magnitude, turbo"); for the
-// contact map its three states; none when shaded.
+// range the body shader maps, 0 .. style.umax, in mm ("displacement [mm]", "magnitude,
+// turbo"); for von Mises 0 .. style.vmmax in kPa ("von Mises [kPa]", "Cauchy, turbo");
+// for the contact map its three states; none when shaded.
 ColorLegend color_legend(const RenderStyle& style);
 
-// --color / color=: "shaded", "displacement" or "contact"; anything else is an InputError
-// naming the option (`option`: how the caller's user spells it, e.g. "--color").
+// The colour maps' names as --color, render_png's color= and the viewer's log spell them,
+// indexed by ColorMode: "shaded", "displacement", "contact", "von_mises".
+const std::vector<std::string>& color_mode_names();
+const std::string& color_mode_name(ColorMode c);
+// One of color_mode_names(); anything else is an InputError naming the option (`option`:
+// how the caller's user spells it, e.g. "--color").
 ColorMode parse_color_mode(const std::string& name, const std::string& option);
 
 // Camera that frames the body's rest shape and the floor below it, seen slightly from above.

@@ -138,7 +138,11 @@ class Viewer {
       const auto t_step = Clock::now();
       const long steps = advance(wall_dt, act.step);
       read_slope();
-      write_body_vertices(*sim_, *body_);  // waits for the steps on a GPU backend
+      write_body_vertices(*sim_, *body_, set_.style.color);  // waits for the steps on a GPU backend
+      if (set_.style.color == ColorMode::kVonMises) {  // its range: the largest value drawn so far
+        vmmax_seen_ = std::max(vmmax_seen_, body_->scalar_max());
+        set_.style.vmmax = set_.auto_vmmax ? std::max(vmmax_seen_, 1.f) : set_.vmmax_kpa * 1e3f;
+      }
       if (steps > 0) {  // cost per step, for the wall-time budget
         const double c = since(t_step) / double(steps);
         cost_per_step_ = cost_per_step_ > 0 ? 0.8 * cost_per_step_ + 0.2 * c : c;
@@ -283,7 +287,7 @@ class Viewer {
 
   void on_reset() {
     budget_ = 0;
-    umax_seen_ = 0;
+    umax_seen_ = vmmax_seen_ = 0;
     st_.plot.clear();
     st_.diag = sim_->diagnostics();
     st_.pe0 = st_.diag.pe;
@@ -403,8 +407,8 @@ class Viewer {
           a.params = true;
           break;
         case GLFW_KEY_C:
-          set_.style.color = ColorMode((int(set_.style.color) + 1) % 3);
-          log("colour map %s", color_mode_name(set_.style.color));
+          set_.style.color = ColorMode((int(set_.style.color) + 1) % int(color_mode_names().size()));
+          log("colour map %s", color_mode_name(set_.style.color).c_str());
           break;
         case GLFW_KEY_S:
           set_.slope = !set_.slope;
@@ -698,7 +702,7 @@ class Viewer {
   std::future<std::unique_ptr<Simulation>> rebuild_;
   Clock::time_point rebuild_t0_;
   double budget_ = 0, cost_per_step_ = 0;
-  float umax_seen_ = 0;
+  float umax_seen_ = 0, vmmax_seen_ = 0;  // [m], [Pa]
   bool dirty_ = true;
   Vec3 last_centroid_;        // for the camera following the body
   bool have_centroid_ = false;

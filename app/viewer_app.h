@@ -17,7 +17,7 @@ struct ViewerOptions {
   bool paused = false;
   int substeps = 0;                  // > 0: fixed steps per frame instead of following wall time
   float time_scale = 1;              // simulated seconds per wall second (wall-time mode)
-  std::string color = "shaded";      // shaded | displacement | contact
+  std::string color = "shaded";      // shaded | displacement | contact | von_mises
   std::string screenshot_dir = ".";  // where P writes softtled_view_NNN.png
   double quit_after = 0;             // > 0: close the window after this many seconds (tests)
   std::string record;                // start recording this video at once (.mp4/.mov/.mkv); V toggles it too

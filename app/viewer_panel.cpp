@@ -10,10 +10,6 @@
 
 namespace softtled {
 
-const char* color_mode_name(ColorMode c) {
-  return c == ColorMode::kDisplacement ? "displacement" : c == ColorMode::kContact ? "contact" : "shaded";
-}
-
 namespace {
 void plot_component(const char* name, const std::vector<float>& v, ImU32 color) {
   if (v.empty()) return;
@@ -130,12 +126,19 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::RadioButton("|u|", &c, 1);
     ImGui::SameLine();
     ImGui::RadioButton("contact", &c, 2);
+    ImGui::SameLine();
+    ImGui::RadioButton("von Mises", &c, 3);
     s.style.color = ColorMode(c);
     if (s.style.color != ColorMode::kShaded) ImGui::Checkbox("legend", &s.legend);
     if (s.style.color == ColorMode::kDisplacement) {
       ImGui::Checkbox("auto range", &s.auto_umax);
       if (!s.auto_umax) ImGui::SliderFloat("|u| max [mm]", &s.umax_mm, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
       ImGui::TextDisabled("0 .. %.2f mm (turbo)", s.style.umax * 1e3);
+    } else if (s.style.color == ColorMode::kVonMises) {
+      ImGui::Checkbox("auto range", &s.auto_vmmax);
+      if (!s.auto_vmmax)
+        ImGui::SliderFloat("von Mises max [kPa]", &s.vmmax_kpa, 0.01f, 1000.f, "%.3g", ImGuiSliderFlags_Logarithmic);
+      ImGui::TextDisabled("0 .. %.4g kPa (turbo); Cauchy, nodal mean", s.style.vmmax * 1e-3);
     } else if (s.style.color == ColorMode::kContact) {
       const char* names[3] = {"free", "sticking", "sliding"};
       for (int k = 0; k < 3; ++k) {

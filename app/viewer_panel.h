@@ -39,7 +39,9 @@ struct ViewerSettings {
   bool follow = true;               // camera target follows the body
   bool auto_umax = true;
   float umax_mm = 5;
-  bool legend = true;               // colour legend over |u| and contact maps
+  bool auto_vmmax = true;
+  float vmmax_kpa = 1;
+  bool legend = true;               // colour legend over |u|, von Mises and contact maps
   // Drag spring.
   float drag_stiffness = 3.0f;      // [N/m]
   float drag_radius_mm = 1.5f;
@@ -106,7 +108,5 @@ std::vector<ViewerStats::Body> body_list(const Scene& scene);
 void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int window_h);
 // The picked node's x, y, z displacement over time (the paper's Fig. 4), bottom right.
 void draw_plot_window(const ViewerStats& st, int window_w, int window_h);
-
-const char* color_mode_name(ColorMode c);
 
 }  // namespace softtled

@@ -430,6 +430,7 @@ PYBIND11_MODULE(_softtled, m) {
           },
           py::arg("path"), py::arg("width") = 960, py::arg("height") = 720, py::arg("color") = "shaded",
           py::arg("samples") = 4, py::arg("azimuth") = 30.0f, py::arg("elevation") = 18.0f, py::arg("zoom") = 1.0f,
-          "One PNG of the state now through `softtled render`'s EGL path; returns the GL renderer's name. "
+          "One PNG of the state now through `softtled render`'s EGL path (color: shaded, displacement, contact or "
+          "von_mises, as render --color); returns the GL renderer's name. "
           "ResourceError (a RuntimeError) when no EGL context can be made.");
 }

@@ -30,8 +30,8 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   if (o.samples < 0 || o.samples > 8) throw InputError("render_png: samples must be between 0 and 8");
   if (!(std::fabs(o.azimuth_deg) <= 360) || !(std::fabs(o.elevation_deg) <= 89) || !(o.zoom >= 0.01f && o.zoom <= 100))
     throw InputError("render_png: azimuth in [-360, 360], elevation in [-89, 89], zoom in [0.01, 100]");
-  if (o.color != "shaded" && o.color != "displacement" && o.color != "contact")
-    throw InputError("render_png: color '" + o.color + "': use shaded, displacement or contact");
+  if (o.color != "shaded" && o.color != "displacement" && o.color != "contact" && o.color != "von_mises")
+    throw InputError("render_png: color '" + o.color + "': use shaded, displacement, contact or von_mises");
   check_output_file(path, "render_png");
 #ifdef SOFTTLED_PY_RENDER
   HeadlessOptions h;
@@ -44,6 +44,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   h.zoom = o.zoom;
   h.style.color = o.color == "displacement" ? ColorMode::kDisplacement
                   : o.color == "contact"    ? ColorMode::kContact
+                  : o.color == "von_mises"  ? ColorMode::kVonMises
                                             : ColorMode::kShaded;
   h.context.backend = "egl";
   h.context.cuda_device = sim.render_buffer_on_device() ? 0 : -1;

@@ -10,7 +10,7 @@ namespace softtled {
 
 struct PngOptions {
   int width = 960, height = 720;  // 16 - 8192 per side, as render --size
-  std::string color = "shaded";   // shaded | displacement | contact, as render --color
+  std::string color = "shaded";   // shaded | displacement | contact | von_mises, as render --color
   int samples = 4;                // MSAA, 0 - 8
   float azimuth_deg = 30, elevation_deg = 18, zoom = 1;  // as render --azimuth/--elevation/--zoom
 };

@@ -1,5 +1,7 @@
 #include "render/body_buffer.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "render/cuda_gl_buffer.h"
@@ -22,8 +24,8 @@ BodyVertexBuffer::BodyVertexBuffer(int nvert, const std::vector<int>& tri) : nve
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
   glEnableVertexAttribArray(1);  // normal
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
-  glEnableVertexAttribArray(2);  // |u| [m]
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(6 * sizeof(float)));
+  glEnableVertexAttribArray(2);  // the colour scalar: |u| [m] or von Mises [Pa]
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(kBodyScalarSlot * sizeof(float)));
   glEnableVertexAttribArray(3);  // contact state 0 free / 1 stick / 2 slide
   glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(7 * sizeof(float)));
   glGenBuffers(1, &ibo_);
@@ -74,6 +76,26 @@ void BodyVertexBuffer::unmap() {
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
   glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(nfloat * sizeof(float)), host_.data());
   glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+float BodyVertexBuffer::scalar_max() const {
+  if (path_.empty()) return 0.f;  // never written
+  const std::size_t nfloat = std::size_t(kBodyFloatsPerVertex) * nvert_;
+  std::vector<float> back;
+  const float* v = host_.data();  // the host and staging paths keep what they uploaded
+  if (path_ == "interop") {
+    back.resize(nfloat);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+    glGetBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(nfloat * sizeof(float)), back.data());
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    v = back.data();
+  }
+  float m = 0.f;
+  for (int i = 0; i < nvert_; ++i) {
+    const float s = v[std::size_t(kBodyFloatsPerVertex) * i + kBodyScalarSlot];
+    if (std::isfinite(s)) m = std::max(m, s);
+  }
+  return m;
 }
 
 void BodyVertexBuffer::draw() const {

@@ -15,9 +15,11 @@
 
 namespace softtled {
 
-// Vertex layout: position (3) [m], unit normal (3), |u| [m], contact state (0 free,
+// Vertex layout: position (3) [m], unit normal (3), the colour scalar (|u| [m] or von
+// Mises stress [Pa]: what the producer was asked for, ColorMode), contact state (0 free,
 // 1 stick, 2 slide), all float.
 constexpr int kBodyFloatsPerVertex = 8;
+constexpr int kBodyScalarSlot = 6;
 
 class CudaGlBuffer;
 
@@ -33,6 +35,9 @@ class BodyVertexBuffer {
   // on_device (throws in a build without CUDA-GL interop), host memory otherwise.
   float* map(bool on_device);
   void unmap();                  // hands the written vertices to GL
+  // The largest finite colour scalar of the vertices last written (0 when none): the top
+  // of an automatic colour range. Reads the GL buffer back on the interop path.
+  float scalar_max() const;
   void draw() const;             // triangles with the currently bound program
   const std::string& path() const { return path_; }  // "interop" | "staging" | "host" | "" (never mapped)
   int nvert() const { return nvert_; }

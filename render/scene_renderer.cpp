@@ -258,7 +258,7 @@ void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer
     body_.set_mat4("u_view_proj", vp.data());
     body_.set_mat4("u_model", identity.data());
     body_.set("u_color_mode", 0);
-    body_.set("u_umax", st.umax);
+    body_.set("u_scalar_max", st.umax);
     const float grey[3] = {0.55f, 0.60f, 0.68f};
     body_.set3("u_base_color", grey);
     body_.set3("u_eye", eye.data());
@@ -271,7 +271,7 @@ void SceneRenderer::draw(const Camera& cam, int w, int h, const BodyVertexBuffer
   body_.set_mat4("u_view_proj", vp.data());
   body_.set_mat4("u_model", identity.data());
   body_.set("u_color_mode", int(st.color));
-  body_.set("u_umax", st.umax);
+  body_.set("u_scalar_max", st.color == ColorMode::kVonMises ? st.vmmax : st.umax);
   body_.set3("u_base_color", st.base_color.data());
   body_.set3("u_eye", eye.data());
   body_.set3("u_key_dir", st.key_dir.data());

@@ -14,11 +14,15 @@
 
 namespace softtled {
 
-enum class ColorMode : int { kShaded = 0, kDisplacement = 1, kContact = 2 };
+// kDisplacement and kVonMises map the vertices' colour scalar (slot 6, body_buffer.h),
+// which the producer fills with |u| or von Mises to match, through turbo from 0 to umax
+// or vmmax.
+enum class ColorMode : int { kShaded = 0, kDisplacement = 1, kContact = 2, kVonMises = 3 };
 
 struct RenderStyle {
   ColorMode color = ColorMode::kShaded;
   float umax = 0.005f;            // |u| at the top of the displacement colour map [m]
+  float vmmax = 1000.f;           // von Mises stress at the top of its colour map [Pa]
   bool shadows = true;
   bool grid = true;
   bool edges = false;             // mesh edges over the body
@@ -48,7 +52,7 @@ struct RenderObstacle {
 };
 
 // Triangles of an obstacle's surface, 3 vertices each in the body's vertex layout
-// (kBodyFloatsPerVertex floats: position, outward normal, |u| = 0, contact = 0), appended
+// (kBodyFloatsPerVertex floats: position, outward normal, colour scalar = 0, contact = 0), appended
 // to out: a 32 x 16 UV sphere, a capsule of two such hemispheres and a cylinder, a box of
 // 12 flat triangles.
 void obstacle_triangles(const RenderObstacle& o, std::vector<float>& out);

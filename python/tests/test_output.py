@@ -37,17 +37,19 @@ def render_or_skip(sim, path, **kw):
         pytest.skip(f"no EGL context on this machine: {e}")
 
 
-def test_render_png_equals_softtled_render(exe, tmp_path):
+@pytest.mark.parametrize("color", ["displacement", "von_mises"])
+def test_render_png_equals_softtled_render(exe, tmp_path, color):
     # render_png frames the body with `softtled render --fixed-camera`'s camera (the rest
-    # pose's framing), and draws through the same headless loop: the same PNG, byte for byte.
+    # pose's framing), and draws through the same headless loop: the same PNG, byte for byte,
+    # for the |u| and the von Mises colour maps (their legends included).
     sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
     sim.advance(0.025)
     py_png = tmp_path / "py.png"
-    renderer = render_or_skip(sim, py_png, width=200, height=150, color="displacement")
+    renderer = render_or_skip(sim, py_png, width=200, height=150, color=color)
     assert renderer
     out = tmp_path / "cli"
     run_cli(exe, "render", "--scene", scene("torus_coarse.toml"), "--backend", "cpu", "--at", "0.025", "--out",
-            str(out), "--size", "200x150", "--color", "displacement", "--fixed-camera", "--stem", "cli")
+            str(out), "--size", "200x150", "--color", color, "--fixed-camera", "--stem", "cli")
     cli_png = out / "cli_t0.0250.png"
     assert py_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert py_png.read_bytes() == cli_png.read_bytes()

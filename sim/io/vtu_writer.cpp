@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "sim/fem/tet_kinematics.h"
+#include "sim/fem/von_mises.h"
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
@@ -65,20 +66,9 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
     const Mat3<double> F = element_F(m, s ? &s->u : nullptr, e);
     const double J = volume_ratio(F);
     o << J << '\n';
-    // Cauchy stress sigma = P F^T / J, von Mises = sqrt(3/2 s:s) of its deviator.
-    const Mat3<double> P = neo_hookean_pk1(mat, F);
-    Mat3<double> sig;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) sig(i, j) = (P(i, 0) * F(j, 0) + P(i, 1) * F(j, 1) + P(i, 2) * F(j, 2)) / J;
-    const double p = (sig(0, 0) + sig(1, 1) + sig(2, 2)) / 3;
-    double ss = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const double dij = sig(i, j) - (i == j ? p : 0.0);
-        ss += dij * dij;
-      }
-    // A body with its own E ([body.material]): the stress scales with E at a fixed nu.
-    vm[e] = std::sqrt(1.5 * ss) * (m.E_scale.empty() ? 1.0 : m.E_scale[e]);
+    // Cauchy von Mises (von_mises.h, also the render map's). A body with its own E
+    // ([body.material]): the stress scales with E at a fixed nu.
+    vm[e] = von_mises_stress(mat, F) * (m.E_scale.empty() ? 1.0 : m.E_scale[e]);
   }
   o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
   for (double v : vm) o << v << '\n';

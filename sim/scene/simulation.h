@@ -140,11 +140,12 @@ class Simulation {
 
   // Render hand-off (sim/fem/surface_render.h): kRenderFloatsPerVertex floats per boundary
   // node into dst, which must be device memory (a mapped GL buffer) when
-  // render_buffer_on_device() and host memory otherwise.
+  // render_buffer_on_device() and host memory otherwise. Slot 6, the colour map's scalar,
+  // is `scalar`: |u| [m] or the node's von Mises stress [Pa] at params()' material.
   bool render_buffer_on_device() const { return solver_->render_buffer_on_device(); }
+  void write_render_vertices(float* dst, RenderScalar scalar) { solver_->write_render_vertices(dst, scalar); }
   // The live state in device memory (GPU backends; solver.h, DeviceStateView), no copy.
   DeviceStateView device_state() const { return solver_->device_state(); }
-  void write_render_vertices(float* dst) { solver_->write_render_vertices(dst); }
 
   // Rest-state node flags (kNodeContact, kNodeFixed), nnode.
   const std::vector<std::uint8_t>& node_flags() const { return solver_->node_flags(); }

@@ -186,10 +186,11 @@ class CpuSolver final : public Solver {
   const std::vector<std::uint8_t>& node_flags() const override { return rest_.flags; }
 
   bool render_buffer_on_device() const override { return false; }
-  void write_render_vertices(float* dst) override {
+  void write_render_vertices(float* dst, RenderScalar scalar) override {
     const SurfaceView sv = surf_.view();
+    const NeoHookean<T> mat = cfg_.mat;
 #pragma omp parallel for schedule(static) num_threads(threads_)
-    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), dst, v);
+    for (int v = 0; v < sv.nvert; ++v) write_render_vertex(mesh_, sv, u_.data(), contact_.data(), scalar, mat, dst, v);
   }
 
  private:

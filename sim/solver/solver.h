@@ -14,6 +14,7 @@
 #include "sim/contact/node_contact.h"
 #include "sim/contact/plane_contact.h"
 #include "sim/fem/neo_hookean.h"
+#include "sim/fem/surface_render.h"
 #include "sim/mesh/tet_mesh.h"
 
 namespace softtled {
@@ -144,9 +145,10 @@ class Solver {
 
   // Render hand-off (surface_render.h): kRenderFloatsPerVertex floats per boundary node
   // into dst, which is host memory for the CPU backend and device memory (a mapped GL
-  // buffer) when render_buffer_on_device() is true.
+  // buffer) when render_buffer_on_device() is true; slot 6 holds `scalar` (|u| or the
+  // nodal von Mises stress of the current material).
   virtual bool render_buffer_on_device() const = 0;
-  virtual void write_render_vertices(float* dst) = 0;
+  virtual void write_render_vertices(float* dst, RenderScalar scalar) = 0;
   // The live state in device memory; an empty view (u null) on a host backend.
   virtual DeviceStateView device_state() const { return {}; }
 

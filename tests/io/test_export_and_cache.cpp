@@ -1,5 +1,6 @@
 // ParaView export carries the right fields (von Mises against the analytic uniaxial
-// Neo-Hookean stress), and the mesh cache returns exactly what TetGen produced.
+// Neo-Hookean stress, in the VTU cells and in the render vertices' von Mises scalar), and
+// the mesh cache returns exactly what TetGen produced.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +11,9 @@
 
 #include "io/vtu_read.h"
 #include "scene_helpers.h"
+#include "sim/fem/surface_render.h"
 #include "sim/mesh/mesh_cache.h"
+#include "sim/mesh/surface_topology.h"
 #include "sim/scene/simulation.h"
 #include "sim/mesh/surface_generators.h"
 #include "sim/io/vtu_writer.h"
@@ -18,29 +21,46 @@
 using namespace softtled;
 using namespace softtled::test;
 
-TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
-  Simulation sim(box_scene("[material]\nnu = 0.3\n"));
+namespace {
+// Homogeneous uniaxial stretch l1 along x with the traction-free lateral stretch (bisection
+// on the analytic P22 = 0, as in test_tet_forces), as a state of sim's mesh (moving at
+// 1 mm/s along x), and its Cauchy stress sigma11 and J.
+struct UniaxialStretch {
+  HostState state;
+  double sigma11 = 0, J = 0;
+};
+UniaxialStretch uniaxial_stretch(Simulation& sim, const NeoHookean<double>& mat, double l1) {
   const TetMesh& m = sim.mesh();
   const int n = m.nnode();
-  // Homogeneous uniaxial stretch with the traction-free lateral stretch (bisection on the
-  // analytic P22 = 0, as in test_tet_forces).
-  const auto mat = neo_hookean_from_E_nu<double>(3000, 0.3);
   auto P = [&](double l1, double l2, int i) {
     const double l[3] = {l1, l2, l2}, J = l1 * l2 * l2, I1 = l1 * l1 + 2 * l2 * l2;
     return l[i] * (mat.mu * std::pow(J, -2.0 / 3) * (1 - I1 / (3 * l[i] * l[i])) + mat.kappa * J * (J - 1) / (l[i] * l[i]));
   };
-  const double l1 = 1.2;
   double lo = 0.5, hi = 1.5;
   for (int it = 0; it < 200; ++it) ((P(l1, 0.5 * (lo + hi), 1) > 0) ? hi : lo) = 0.5 * (lo + hi);
-  const double l2 = 0.5 * (lo + hi), J = l1 * l2 * l2;
-  const double sigma11 = P(l1, l2, 0) * l1 / J;  // Cauchy = P F^T / J
-  HostState st = sim.state();
+  const double l2 = 0.5 * (lo + hi);
+  UniaxialStretch r;
+  r.J = l1 * l2 * l2;
+  r.sigma11 = P(l1, l2, 0) * l1 / r.J;  // Cauchy = P F^T / J
+  r.state = sim.state();
   for (int i = 0; i < n; ++i) {
-    st.u[i] = (l1 - 1) * m.X[3 * i];
-    st.u[n + i] = (l2 - 1) * m.X[3 * i + 1];
-    st.u[2 * n + i] = (l2 - 1) * m.X[3 * i + 2];
-    st.du[i] = 1e-3 * sim.time_step().dt;  // 1 mm/s along x
+    r.state.u[i] = (l1 - 1) * m.X[3 * i];
+    r.state.u[n + i] = (l2 - 1) * m.X[3 * i + 1];
+    r.state.u[2 * n + i] = (l2 - 1) * m.X[3 * i + 2];
+    r.state.du[i] = 1e-3 * sim.time_step().dt;
   }
+  return r;
+}
+}  // namespace
+
+TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
+  Simulation sim(box_scene("[material]\nnu = 0.3\n"));
+  const TetMesh& m = sim.mesh();
+  const int n = m.nnode();
+  const auto mat = neo_hookean_from_E_nu<double>(3000, 0.3);
+  const UniaxialStretch uni = uniaxial_stretch(sim, mat, 1.2);
+  const HostState& st = uni.state;
+  const double sigma11 = uni.sigma11, J = uni.J;
   sim.set_state(st);
   const std::string dir = ::testing::TempDir() + "vtu_series";
   std::filesystem::remove_all(dir);
@@ -59,6 +79,40 @@ TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   EXPECT_NEAR(disp[3 * 5], st.u[5], 1e-12);
   EXPECT_NEAR(vel[3 * 7], 1e-3, 1e-9);
   EXPECT_NE(read_text(dir + "/series.pvd").find("timestep=\"0.5\" file=\"frame_00001.vtu\""), std::string::npos);
+}
+
+TEST(Export, RenderVonMisesOfUniaxialStretchIsSigma11) {
+  // The render vertices under the same uniform stress, in a double and a float solver:
+  // every boundary node's von Mises scalar, the mean of equal element values, is |sigma11|;
+  // the |u| map's vertices differ in slot 6 only, which holds |u|.
+  for (const char* precision : {"double", "float"}) {
+    Simulation sim(box_scene(std::string("[material]\nnu = 0.3\n[solver]\nprecision = \"") + precision + "\"\n"));
+    const TetMesh& m = sim.mesh();
+    const int n = m.nnode();
+    const UniaxialStretch uni = uniaxial_stretch(sim, neo_hookean_from_E_nu<double>(3000, 0.3), 1.2);
+    const HostState& st = uni.state;
+    const double want = std::fabs(uni.sigma11);
+    sim.set_state(st);
+    const std::vector<int> vnode = build_surface_topology(m).node;  // the solvers' vertex order
+    const std::size_t nv = vnode.size();
+    std::vector<float> vert(nv * kRenderFloatsPerVertex), vert_u(nv * kRenderFloatsPerVertex);
+    sim.write_render_vertices(vert.data(), RenderScalar::kVonMises);
+    sim.write_render_vertices(vert_u.data(), RenderScalar::kDisplacement);
+    double worst = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+      const float* a = &vert[v * kRenderFloatsPerVertex];
+      const float* b = &vert_u[v * kRenderFloatsPerVertex];
+      worst = std::max(worst, std::fabs(a[6] - want));
+      for (int k : {0, 1, 2, 3, 4, 5, 7}) ASSERT_EQ(a[k], b[k]) << "vertex " << v << ", float " << k;
+      const int i = vnode[std::size_t(v)];
+      const double u_mag = std::sqrt(st.u[i] * st.u[i] + st.u[n + i] * st.u[n + i] + st.u[2 * n + i] * st.u[2 * n + i]);
+      EXPECT_NEAR(b[6], u_mag, 1e-6 * u_mag + 1e-12);
+    }
+    std::printf("%s: uniaxial stretch 1.2, |sigma11| = %.6g Pa; render von Mises max error %.3g Pa\n", precision, want,
+                worst);
+    // float: F - I from float displacements and the vertex's float, ~1e-7 relative each
+    EXPECT_LT(worst, 1e-5 * want) << precision << ": von Mises of uniaxial stress is |sigma11| at every vertex";
+  }
 }
 
 TEST(MeshCache, SecondMeshingIsACacheHitWithTheSameMesh) {

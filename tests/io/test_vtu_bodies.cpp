@@ -1,6 +1,7 @@
 // ParaView export of several bodies (vtu_writer.h, body_split.h): one file per body and
 // frame holding that body's nodes and elements alone, all parts of a frame listed in
-// series.pvd with the frame's time step, and a frame that fails part-way never listed.
+// series.pvd with the frame's time step, and a frame that fails part-way never listed; the
+// render map's von Mises is the nodal mean of the VTU's cells, each body with its own E.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,9 +10,11 @@
 #include <string>
 
 #include "io/vtu_read.h"
+#include "sim/fem/surface_render.h"
 #include "sim/io/body_split.h"
 #include "sim/io/output_file.h"
 #include "sim/io/vtu_writer.h"
+#include "sim/mesh/surface_topology.h"
 #include "sim/scene/simulation.h"
 
 using namespace softtled;
@@ -126,6 +129,57 @@ TEST(VtuBodies, StiffBodysVonMisesScalesWithItsOwnE) {
   EXPECT_GT(vm0[0], 10.0);  // Pa: a 10 % stretch of a 3 kPa body
   for (double v : vm0) EXPECT_NEAR(v, vm0[0], 1e-6 * vm0[0]);
   for (double v : vm1) EXPECT_NEAR(v, 2 * vm0[0], 1e-6 * vm0[0]);
+}
+
+TEST(VtuBodies, RenderVonMisesIsTheNodalMeanOfTheVtuCells) {
+  // A non-uniform deformation of both bodies (E 3000 and 6000): each boundary vertex's von
+  // Mises scalar (surface_render.h) is the mean of the von_mises cells (with each body's
+  // own E) of the elements around its node, in double and in float.
+  for (const char* precision : {"double", "float"}) {
+    Scene s = two_boxes();
+    s.precision = std::string(precision) == "float" ? Precision::kFloat : Precision::kDouble;
+    Simulation sim(s, "cpu");
+    const TetMesh& m = sim.mesh();
+    const int n = m.nnode();
+    HostState st = sim.state();
+    const double L = 6e-3;  // strains of a few per cent, varying over each body
+    for (int i = 0; i < n; ++i) {
+      const double x = m.X[3 * i] / L, y = m.X[3 * i + 1] / L, z = m.X[3 * i + 2] / L;
+      st.u[i] = L * (0.04 * x * x + 0.02 * y * z);
+      st.u[n + i] = L * (0.03 * x * y - 0.01 * z);
+      st.u[2 * n + i] = L * (0.02 * (x + y) * (x + y) - 0.015 * z * z);
+    }
+    sim.set_state(st);
+    const std::string path = ::testing::TempDir() + "vtu_bodies_nodal_mean.vtu";
+    write_vtu(path, m, &st, sim.time_step().dt, material_of(sim));  // the whole mesh: cells in mesh order
+    const std::vector<double> vm = data_array(read_text(path), "von_mises");
+    ASSERT_EQ(int(vm.size()), m.ntet());
+    std::vector<double> sum(std::size_t(n), 0.0);
+    std::vector<int> count(std::size_t(n), 0);
+    for (int e = 0; e < m.ntet(); ++e)
+      for (int a = 0; a < 4; ++a) {
+        sum[std::size_t(m.tet[4 * e + a])] += vm[std::size_t(e)];
+        ++count[std::size_t(m.tet[4 * e + a])];
+      }
+    const std::vector<int> vnode = build_surface_topology(m).node;  // the solvers' vertex order
+    std::vector<float> vert(vnode.size() * kRenderFloatsPerVertex);
+    sim.write_render_vertices(vert.data(), RenderScalar::kVonMises);
+    double top = 0, worst = 0, top_stiff = 0;
+    for (std::size_t v = 0; v < vnode.size(); ++v) {
+      const std::size_t i = std::size_t(vnode[v]);
+      const double want = sum[i] / count[i];
+      top = std::max(top, want);
+      if (m.node_body[i] == 1) top_stiff = std::max(top_stiff, want);
+      worst = std::max(worst, std::fabs(vert[v * kRenderFloatsPerVertex + 6] - want));
+    }
+    std::printf("%s: nodal von Mises up to %.5g Pa (stiff body %.5g Pa); render vs VTU mean: max difference %.3g Pa\n",
+                precision, top, top_stiff, worst);
+    EXPECT_GT(top, 10.0);
+    EXPECT_GT(top_stiff, 10.0);
+    // The VTU's 9 significant digits, the vertex's float, and in a float solver F - I from
+    // float displacements (relative error ~1e-7 / strain).
+    EXPECT_LT(worst, (std::string(precision) == "float" ? 3e-5 : 1e-7) * top) << precision;
+  }
 }
 
 TEST(VtuBodies, AFrameThatFailsPartWayIsNeverListed) {

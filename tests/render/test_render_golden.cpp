@@ -105,3 +105,9 @@ TEST(RenderGolden, TorusSlopeStaticContactColours) {
 TEST(RenderGolden, TorusDropDisplacement) {
   run_case({"torus_drop.toml", "torus_drop_u", {}, {0.05}, ColorMode::kDisplacement});
 }
+
+// Von Mises colour map at the same moment: highest along the side pressed onto the floor;
+// the legend in kPa.
+TEST(RenderGolden, TorusDropVonMises) {
+  run_case({"torus_drop.toml", "torus_drop_vm", {}, {0.05}, ColorMode::kVonMises});
+}

@@ -1,7 +1,8 @@
 // The colour legend: its bar shows the body's colour map (sampled in a rendered frame and
 // compared with turbo_rgb, the C++ twin of shaders/colormap.glsl), its range is the one
-// the body is mapped with (the state's max |u|), the contact legend's swatches are the
-// contact colours; and the numbers around it (tick labels, video frame times).
+// the body is mapped with (the state's max |u|; the surface's largest nodal von Mises
+// stress, in kPa), the contact legend's swatches are the contact colours; and the numbers
+// around it (tick labels, video frame times).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "app/render_handoff.h"
 #include "render/color_legend.h"
 #include "render/colormap.h"
+#include "sim/fem/surface_render.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 
@@ -51,6 +53,26 @@ void expect_color(const Image& im, int x, int y, Vec3 want, int tol, const std::
     EXPECT_NEAR(int(p[k]), int(std::lround(255.f * std::clamp(want[k], 0.f, 1.f))), tol)
         << what << " at pixel (" << x << ", " << y << "), channel " << k;
 }
+
+// The bar of a turbo legend, sampled at several heights: pixel row r has its centre at
+// r + 0.5, where the bar's value is (bottom - centre) / height.
+void expect_turbo_bar(const Image& im, const LegendLayout& L) {
+  const int x = int(std::lround(0.5 * (L.bar.x0 + L.bar.x1)));
+  const double bottom = L.bar.y1, height = L.bar.y1 - L.bar.y0;
+  ASSERT_GT(height, 50);
+  for (double frac : {0.05, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95}) {
+    const int row = int(std::floor(bottom - frac * height));
+    const double value = (bottom - (row + 0.5)) / height;
+    expect_color(im, x, row, turbo_rgb(float(value)), 3, "bar at " + std::to_string(value));
+  }
+}
+
+// Whether one of the layout's labels reads `text`.
+bool has_label(const LegendLayout& L, const std::string& text) {
+  for (const LegendLayout::Label& l : L.labels)
+    if (l.text == text) return true;
+  return false;
+}
 }  // namespace
 
 TEST(Legend, BarReproducesTheColourMapAndPrintsTheStatesMaxDisplacement) {
@@ -72,21 +94,39 @@ TEST(Legend, BarReproducesTheColourMapAndPrintsTheStatesMaxDisplacement) {
   ASSERT_FALSE(L.tick_values.empty());
   EXPECT_DOUBLE_EQ(L.tick_values.back(), f.legend.max);
   const std::string top = legend_number(f.legend.max, f.legend.min, f.legend.max);
-  bool found = false;
-  for (const LegendLayout::Label& l : L.labels) found = found || l.text == top;
-  EXPECT_TRUE(found) << "no label " << top;
+  EXPECT_TRUE(has_label(L, top)) << "no label " << top;
   EXPECT_NEAR(std::stod(top), max_u_mm, 0.5e-3 + 1e-9) << top;
+  expect_turbo_bar(f.image, L);
+}
 
-  // The bar, sampled at several heights: pixel row r has its centre at r + 0.5, where the
-  // bar's value is (bottom - centre) / height.
-  const int x = int(std::lround(0.5 * (L.bar.x0 + L.bar.x1)));
-  const double bottom = L.bar.y1, height = L.bar.y1 - L.bar.y0;
-  ASSERT_GT(height, 50);
-  for (double frac : {0.05, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95}) {
-    const int row = int(std::floor(bottom - frac * height));
-    const double value = (bottom - (row + 0.5)) / height;
-    expect_color(f.image, x, row, turbo_rgb(float(value)), 3, "bar at " + std::to_string(value));
-  }
+TEST(Legend, VonMisesLegendPrintsTheSurfacesLargestNodalStressInKPa) {
+  Simulation* sim = nullptr;
+  std::unique_ptr<Simulation> owner;
+  HeadlessFrame f;
+  if (!render_one("torus_drop.toml", 0.05, ColorMode::kVonMises, 480, 360, sim, f, owner)) GTEST_SKIP();
+  ASSERT_EQ(f.legend.map, LegendMap::kTurbo);
+  EXPECT_EQ(f.legend.title, "von Mises");
+  EXPECT_EQ(f.legend.unit, "kPa");
+  EXPECT_EQ(f.legend.component, "Cauchy");
+  EXPECT_EQ(f.legend.colormap, "turbo");
+  EXPECT_EQ(f.legend.min, 0.0);
+  // The range mapped: 0 .. the largest von Mises value drawn (one frame: this one's), the
+  // surface nodes' means of the Cauchy von Mises stress, asked of the simulation directly.
+  const std::size_t nv = sim->mesh().surface_nodes.size();
+  std::vector<float> vert(nv * kRenderFloatsPerVertex);
+  sim->write_render_vertices(vert.data(), RenderScalar::kVonMises);
+  double top_pa = 0;
+  for (std::size_t v = 0; v < nv; ++v) top_pa = std::max(top_pa, double(vert[v * kRenderFloatsPerVertex + 6]));
+  std::printf("torus_drop at 0.05 s: largest surface nodal von Mises %.5g Pa\n", top_pa);
+  ASSERT_GT(top_pa, 1.0);  // above the 1 Pa floor: in contact, so the range is the state's
+  EXPECT_NEAR(f.legend.max, top_pa * 1e-3, 1e-6 * top_pa * 1e-3);
+
+  const LegendLayout L = legend_layout(f.legend, f.image.w, f.image.h);
+  ASSERT_FALSE(L.labels.empty());
+  EXPECT_EQ(L.labels.front().text, "von Mises [kPa]");
+  EXPECT_TRUE(has_label(L, "Cauchy, turbo"));
+  EXPECT_TRUE(has_label(L, legend_number(f.legend.max, 0, f.legend.max)));
+  expect_turbo_bar(f.image, L);
 }
 
 TEST(Legend, ContactLegendShowsTheThreeStates) {
@@ -113,6 +153,16 @@ TEST(Legend, NoneWhenShaded) {
   st.umax = 0.0123f;
   const ColorLegend lg = color_legend(st);
   EXPECT_NEAR(lg.max, 12.3, 1e-5);
+  st.color = ColorMode::kVonMises;
+  st.vmmax = 1234.f;  // Pa
+  EXPECT_NEAR(color_legend(st).max, 1.234, 1e-6);
+}
+
+TEST(Legend, ColourMapNamesParseBackToTheirModes) {
+  for (ColorMode c : {ColorMode::kShaded, ColorMode::kDisplacement, ColorMode::kContact, ColorMode::kVonMises})
+    EXPECT_EQ(parse_color_mode(color_mode_name(c), "--color"), c);
+  EXPECT_EQ(color_mode_name(ColorMode::kVonMises), "von_mises");
+  EXPECT_THROW(parse_color_mode("stress", "--color"), InputError);
 }
 
 TEST(Legend, NumbersShowFourSignificantDigitsOfTheRange) {

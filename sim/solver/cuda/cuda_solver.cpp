@@ -322,7 +322,8 @@ class CudaSolver final : public CudaSolverApi {
     if (rest_.surface.nvert > 0)
       t.render_us = time_graph(reps, [&] {
                       return launch_render_vertices<T>(stream_, sr, rest_.view, rest_.surface, live_.u.data(),
-                                                       live_.contact.data(), render.data());
+                                                       live_.contact.data(), RenderScalar::kDisplacement, cfg_.mat,
+                                                       render.data());
                     }) / reps;
 
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(live_.u.data(), u0.data(), u0.bytes(), cudaMemcpyDeviceToDevice, stream_));
@@ -544,11 +545,11 @@ class CudaSolver final : public CudaSolverApi {
     v.stream = stream_;
     return v;
   }
-  void write_render_vertices(float* dst) override {
+  void write_render_vertices(float* dst, RenderScalar scalar) override {
     if (rest_.surface.nvert == 0) return;
     const LaunchShape ls = shape_for(rest_.surface.nvert, nsm_, false);
-    SOFTTLED_CUDA_CHECK(
-        launch_render_vertices<T>(stream_, ls, rest_.view, rest_.surface, live_.u.data(), live_.contact.data(), dst));
+    SOFTTLED_CUDA_CHECK(launch_render_vertices<T>(stream_, ls, rest_.view, rest_.surface, live_.u.data(),
+                                                  live_.contact.data(), scalar, cfg_.mat, dst));
     // The caller unmaps the GL buffer next: the vertices must be complete.
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
   }

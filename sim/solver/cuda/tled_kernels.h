@@ -215,9 +215,11 @@ cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m
                                 T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu);
 
 // ---- outside the step (tled_output.cu) ----
+// The render vertices (surface_render.h), slot 6 holding `scalar` (von Mises at mat).
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
-                                   const T* u, const std::uint8_t* contact, float* dst);
+                                   const T* u, const std::uint8_t* contact, RenderScalar scalar,
+                                   const NeoHookean<T>& mat, float* dst);
 
 // The strain energy's terms, in double: T4 (anp false): out[e] = V0 W(F_e), ntet terms
 // (le: one thread per element). T4ANP: out[e] = V0 W_dev(F_e), then out[ntet + i] =

@@ -13,10 +13,11 @@ namespace {
 
 template <class T>
 __global__ void render_vertices_kernel(const TetMeshView<T> m, const SurfaceView sv, const T* __restrict__ u,
-                                       const std::uint8_t* __restrict__ contact, float* __restrict__ dst) {
+                                       const std::uint8_t* __restrict__ contact, RenderScalar scalar,
+                                       const NeoHookean<T> mat, float* __restrict__ dst) {
   const int v = blockIdx.x * blockDim.x + threadIdx.x;
   if (v >= sv.nvert) return;
-  write_render_vertex(m, sv, u, contact, dst, v);
+  write_render_vertex(m, sv, u, contact, scalar, mat, dst, v);
 }
 
 // T4: out[e] = V0 W(F_e). T4ANP (anp.h): out[e] = V0 W_dev(F_e), and vol[e] = V0 J_e for
@@ -61,8 +62,9 @@ __global__ void block_sum_kernel(const double* __restrict__ in, int n, int chunk
 
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
-                                   const T* u, const std::uint8_t* contact, float* dst) {
-  return launch(s, ls, render_vertices_kernel<T>, m, sv, u, contact, dst);
+                                   const T* u, const std::uint8_t* contact, RenderScalar scalar,
+                                   const NeoHookean<T>& mat, float* dst) {
+  return launch(s, ls, render_vertices_kernel<T>, m, sv, u, contact, scalar, mat, dst);
 }
 
 template <class T>
@@ -87,7 +89,8 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
 
 #define SOFTTLED_INSTANTIATE(T)                                                                            \
   template cudaError_t launch_render_vertices<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,   \
-                                                 const SurfaceView&, const T*, const std::uint8_t*, float*); \
+                                                 const SurfaceView&, const T*, const std::uint8_t*,         \
+                                                 RenderScalar, const NeoHookean<T>&, float*);               \
   template cudaError_t launch_strain_energy_terms<T>(cudaStream_t, const LaunchShape&, const LaunchShape&,  \
                                                      const TetMeshView<T>&, const NeoHookean<T>&, bool, const T*, \
                                                      T*, double*);

@@ -1,8 +1,8 @@
 // CUDA backend against the CPU backend on the paper's torus drop: the same trajectory
 // within float tolerance, bitwise repeatable GPU runs (gather, not atomics) in every
-// execution mode (the fused one-kernel step included), and the same render buffer, strain
-// energy, masses and external-force response. Skipped with a message where no CUDA device
-// is usable.
+// execution mode (the fused one-kernel step included), and the same render buffer (|u| and
+// von Mises colour scalars), strain energy, masses and external-force response. Skipped
+// with a message where no CUDA device is usable.
 #include <cuda_runtime_api.h>
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -188,11 +188,11 @@ TEST(CudaSolver, RenderBufferEnergyAndMassesMatchCpu) {
   const std::size_t nv = cpu->mesh().surface_nodes.size();
   const std::size_t nf = nv * kRenderFloatsPerVertex;
   std::vector<float> hc(nf, -7.f), hg(nf, -7.f);
-  cpu->write_render_vertices(hc.data());
+  cpu->write_render_vertices(hc.data(), RenderScalar::kDisplacement);
   float* d = nullptr;
   ASSERT_EQ(cudaMalloc(reinterpret_cast<void**>(&d), nf * sizeof(float)), cudaSuccess);
   ASSERT_EQ(cudaMemset(d, 0xff, nf * sizeof(float)), cudaSuccess);  // NaN poison: every float must be written
-  gpu->write_render_vertices(d);
+  gpu->write_render_vertices(d, RenderScalar::kDisplacement);
   ASSERT_EQ(cudaMemcpy(hg.data(), d, nf * sizeof(float), cudaMemcpyDeviceToHost), cudaSuccess);
   ASSERT_EQ(cudaFree(d), cudaSuccess);
   double dpos = 0, dnrm = 0, du = 0;
@@ -210,6 +210,72 @@ TEST(CudaSolver, RenderBufferEnergyAndMassesMatchCpu) {
   EXPECT_LT(dnrm, 1e-4);
   EXPECT_LT(du, 1e-8);
   EXPECT_EQ(dcontact, 0);
+}
+
+namespace {
+// The render vertices of `sim` with `scalar` in slot 6, on the host (a device buffer
+// poisoned with NaN first on a GPU backend, so every float must be written).
+std::vector<float> render_vertices(Simulation& sim, RenderScalar scalar) {
+  const std::size_t nf = sim.mesh().surface_nodes.size() * kRenderFloatsPerVertex;
+  std::vector<float> h(nf, -7.f);
+  if (!sim.render_buffer_on_device()) {
+    sim.write_render_vertices(h.data(), scalar);
+    return h;
+  }
+  float* d = nullptr;
+  EXPECT_EQ(cudaMalloc(reinterpret_cast<void**>(&d), nf * sizeof(float)), cudaSuccess);
+  EXPECT_EQ(cudaMemset(d, 0xff, nf * sizeof(float)), cudaSuccess);
+  sim.write_render_vertices(d, scalar);
+  EXPECT_EQ(cudaMemcpy(h.data(), d, nf * sizeof(float), cudaMemcpyDeviceToHost), cudaSuccess);
+  EXPECT_EQ(cudaFree(d), cudaSuccess);
+  return h;
+}
+}  // namespace
+
+// The von Mises colour scalar (slot 6, von_mises.h: the nodal mean of the elements' Cauchy
+// von Mises stress) from the GPU kernel against the CPU loop at the same float state: the
+// torus in contact (T4 and T4ANP, whose von Mises is T4's), and two boxes of different E
+// (each element's own E recovered from the rest state, here through the GPU's reordered
+// mesh). Differences are float rounding: sums in another order, FMA contraction.
+TEST(CudaSolver, RenderVonMisesMatchesCpu) {
+  SKIP_WITHOUT_GPU();
+  const Scene two_boxes = parse_scene("units = \"mm\"\n"
+                                      "[[body]]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [2, 2, 2]\n"
+                                      "[[body]]\nshape = \"box\"\nsize = [6, 4, 4]\ndivisions = [3, 2, 2]\n"
+                                      "position = [6.5, 0, 0]\nvelocity = [-0.5, 0, 0]\n[body.material]\nE = 6000\n"
+                                      "[contact]\nbodies = true\n[solver]\nprecision = \"float\"\n",
+                                      "two_boxes");
+  struct Case {
+    std::string name;
+    Scene scene;
+    long steps;  // CPU steps before the comparison
+  };
+  const std::vector<Case> cases = {{"torus T4", torus("float"), 4500},
+                                   {"torus T4ANP", torus("float", {"material.element=T4ANP"}), 4500},
+                                   {"two boxes, E 3000 and 6000", two_boxes, 3000}};  // on the floor and each other
+  for (const Case& c : cases) {
+    auto cpu = make_sim(c.scene, "cpu");
+    auto gpu = make_sim(c.scene, "cuda");
+    cpu->step(c.steps);
+    gpu->set_state(cpu->state());
+    const std::vector<float> hc = render_vertices(*cpu, RenderScalar::kVonMises);
+    const std::vector<float> hg = render_vertices(*gpu, RenderScalar::kVonMises);
+    const std::size_t nv = cpu->mesh().surface_nodes.size();
+    ASSERT_EQ(hc.size(), hg.size());
+    double vmax = 0, worst = 0;
+    for (std::size_t v = 0; v < nv; ++v) vmax = std::max(vmax, double(hc[v * kRenderFloatsPerVertex + 6]));
+    for (std::size_t v = 0; v < nv; ++v) {
+      const float* a = &hc[v * kRenderFloatsPerVertex];
+      const float* b = &hg[v * kRenderFloatsPerVertex];
+      for (int k = 0; k < kRenderFloatsPerVertex; ++k) ASSERT_TRUE(std::isfinite(b[k])) << c.name << ", vertex " << v;
+      ASSERT_GE(b[6], 0.f) << c.name << ", vertex " << v;
+      worst = std::max(worst, double(std::abs(a[6] - b[6])));
+      for (int k = 0; k < 3; ++k) ASSERT_NEAR(a[k], b[k], 1e-7) << c.name << ": the positions as with |u|";
+    }
+    std::printf("%s: surface von Mises max %.4g Pa (CPU), max |gpu - cpu| %.3g Pa\n", c.name.c_str(), vmax, worst);
+    EXPECT_GT(vmax, 1.0) << c.name << ": a stressed state";
+    EXPECT_LT(worst, 1e-4 * vmax) << c.name;
+  }
 }
 
 TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
