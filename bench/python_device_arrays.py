@@ -48,6 +48,15 @@ def main():
     print(f"{path}: {sim.nnode} nodes, {sim.ntet} tets, backend {sim.backend}, {sim.precision}")
     print(f"  device_displacements().__cuda_array_interface__: {median_us(interface, reps):.2f} us (no copy)")
     print(f"  displacements() + upload (cudaMemcpy H2D, {host.nbytes} B): {median_us(host_round_trip, reps):.2f} us")
+    try:
+        import torch
+        d = sim.device_displacements()
+        t = torch.as_tensor(d, device="cuda")
+        shared = t.data_ptr() == d.__cuda_array_interface__["data"][0]
+        us = median_us(lambda: torch.as_tensor(sim.device_displacements(), device="cuda"), reps)
+        print(f"  torch.as_tensor(device_displacements()): {us:.2f} us, shares the buffer: {shared}")
+    except ImportError:
+        print("  (no torch here)")
     s1, s2 = median_us(step_then(interface), 300), median_us(step_then(host_round_trip), 300)
     print(f"  step(1) + interface: {s1:.1f} us;  step(1) + host round trip: {s2:.1f} us "
           "(step(1) downloads the state for the watchdog either way)")

@@ -93,7 +93,10 @@ py::dict cuda_array_interface(const DeviceArray& a) {
   py::dict d;
   d["shape"] = py::make_tuple(a.nnode, 3);
   d["typestr"] = a.value_bytes == 4 ? "<f4" : "<f8";
-  d["data"] = py::make_tuple(reinterpret_cast<std::uintptr_t>(a.data), true);  // read-only
+  // Not flagged read-only: PyTorch refuses such an interface ("the read only flag is not
+  // supported", torch 2.11 on the H100). Writing through it changes the live state behind
+  // the watchdog's back: the README says not to.
+  d["data"] = py::make_tuple(reinterpret_cast<std::uintptr_t>(a.data), false);
   d["strides"] = py::make_tuple(a.value_bytes, py::ssize_t(a.nnode) * a.value_bytes);
   d["version"] = 3;
   d["stream"] = reinterpret_cast<std::uintptr_t>(a.stream);

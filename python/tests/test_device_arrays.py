@@ -36,7 +36,7 @@ def gpu_sim():
 def read_back(rt, iface, n, dtype):
     """The n x 3 array the interface describes, copied to the host after its stream."""
     ptr, read_only = iface["data"]
-    assert read_only
+    assert not read_only  # PyTorch accepts no read-only interface (README)
     assert rt.cudaStreamSynchronize(ctypes.c_void_p(iface["stream"])) == 0
     soa = np.empty((3, n), dtype=dtype)  # the strides say struct-of-arrays: component-major
     assert rt.cudaMemcpy(soa.ctypes.data_as(ctypes.c_void_p), ctypes.c_void_p(ptr), ctypes.c_size_t(soa.nbytes),
@@ -63,6 +63,17 @@ def test_the_device_array_is_the_live_state_in_place(gpu_sim):
         du_dev = read_back(rt, gpu_sim.device_increments().__cuda_array_interface__, n, np.float32)
         np.testing.assert_array_equal(du_dev.astype(np.float64) / gpu_sim.dt, gpu_sim.velocities()[rows])
     assert gpu_sim.diagnostics()["n_contact"] > 0
+
+
+def test_torch_reads_the_buffer_in_place(gpu_sim):
+    """A real consumer: PyTorch (where installed) wraps the interface without a copy."""
+    torch = pytest.importorskip("torch")
+    gpu_sim.advance(0.02)
+    d = gpu_sim.device_displacements()
+    t = torch.as_tensor(d, device="cuda")
+    assert t.data_ptr() == d.__cuda_array_interface__["data"][0], "torch must share the solver's buffer"
+    assert t.shape == (gpu_sim.nnode, 3) and t.dtype == torch.float32
+    np.testing.assert_array_equal(t.cpu().numpy().astype(np.float64), gpu_sim.displacements()[d.rows])
 
 
 def test_cpu_backend_says_where_its_state_is():
