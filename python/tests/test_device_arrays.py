@@ -48,7 +48,7 @@ def test_the_device_array_is_the_live_state_in_place(gpu_sim):
     rt = cudart()
     n = gpu_sim.nnode
     first = None
-    for seconds in (0.02, 1e-4):  # in contact by then, then a few more steps
+    for seconds in (0.025, 1e-4):  # in contact by then (first contact ~0.02 s), then a few more steps
         gpu_sim.advance(seconds)
         d = gpu_sim.device_displacements()
         iface = d.__cuda_array_interface__
