@@ -159,7 +159,7 @@ Command add_run_command(CLI::App& app) {
     // On a GPU the device steps output interval k + 1 while the host checks and writes
     // interval k (Simulation::queue / collect): the same states, checks and rows as the
     // loop below, without the device waiting for the host.
-    const bool pipelined = !o->sync_checks && !adaptive && every <= kMaxChunkSteps && sim.pipelines();
+    const bool pipelined = !o->sync_checks && !adaptive && intervals > 0 && every <= kMaxChunkSteps && sim.pipelines();
     try {
       if (pipelined) {
         long queued = 0, done = 0;

@@ -411,11 +411,12 @@ void Simulation::queue(long n) {
   if (int(queued_.size()) >= Solver::kSnapshotSlots) throw std::logic_error("Simulation::queue: collect() first");
   const int slot = next_slot_;
   next_slot_ = (next_slot_ + 1) % Solver::kSnapshotSlots;
-  if (pipelines()) {
+  const bool overlap = pipelines();
+  if (overlap) {
     step(n);
     solver_->begin_snapshot(slot);
   }
-  queued_.push_back({slot, n, nsteps_, total_steps_, t_offset_});
+  queued_.push_back({slot, n, overlap, nsteps_, total_steps_, t_offset_});
 }
 
 const Simulation::Checkpoint& Simulation::collect() {
@@ -423,23 +424,32 @@ const Simulation::Checkpoint& Simulation::collect() {
   const Queued q = queued_.front();
   queued_.erase(queued_.begin());
   Checkpoint& c = checkpoints_[q.slot];
-  if (!pipelines()) {  // nothing to overlap: advance(n, n) now, in the same order
-    advance(q.n, q.n);
+  if (!q.overlap) {  // nothing to overlap: advance(n, n) now, in the same order
+    try {
+      advance(q.n, q.n);
+    } catch (...) {
+      queued_.clear();  // rolled back (or failed): what was queued after it never runs
+      throw;
+    }
     c.state = state();
     c.diag = diagnostics();
     return c;
   }
   double se = 0;
-  solver_->end_snapshot(q.slot, c.state, se);
   // The check at the snapshot's own step count and time; the live count runs ahead.
   const long live_steps = nsteps_, live_total = total_steps_;
   const double live_offset = t_offset_;
-  nsteps_ = q.nsteps, total_steps_ = q.total_steps, t_offset_ = q.t_offset;
-  c.diag = diagnostics_of(c.state, se);
   try {
-    check_state(c.state, c.diag);
+    solver_->end_snapshot(q.slot, c.state, se);
+    nsteps_ = q.nsteps, total_steps_ = q.total_steps, t_offset_ = q.t_offset;
+    c.diag = diagnostics_of(c.state, se);
+    check_state(c.state, c.diag);  // pipelines(): a fixed step, so a finding always throws
+  } catch (const SimulationDiverged&) {
+    queued_.clear();  // rolled back to the last healthy check: what was queued after it is gone
+    throw;
   } catch (...) {
-    queued_.clear();  // rolled back: what was queued after it is gone
+    queued_.clear();
+    nsteps_ = live_steps, total_steps_ = live_total, t_offset_ = live_offset;
     throw;
   }
   nsteps_ = live_steps, total_steps_ = live_total, t_offset_ = live_offset;

@@ -160,8 +160,9 @@ class Simulation {
   void check_state(const HostState& s, const Diagnostics& d);
   struct Queued {
     int slot;
-    long n;  // its steps
-    long nsteps, total_steps;  // the bookkeeping after them
+    long n;        // its steps
+    bool overlap;  // stepped and snapshotted at queue(); else collect() advances
+    long nsteps, total_steps;  // the bookkeeping after them (overlap only)
     double t_offset;
   };
   std::vector<Queued> queued_;  // oldest first

@@ -230,7 +230,10 @@ class CudaSolver final : public CudaSolverApi {
     if (m != mode_) clear_graphs();
     mode_ = m;
   }
-  ExecMode exec_mode() const override { return run_mode(); }
+  // What runs: multi reports fused where it falls back (use_multi).
+  ExecMode exec_mode() const override {
+    return mode_ == ExecMode::kMulti && !use_multi(args(cfg_.step)) ? ExecMode::kFused : run_mode();
+  }
 
   void set_node_lanes(int lanes) override {
     if (lanes == 0) lanes = auto_lanes();
@@ -623,7 +626,7 @@ class CudaSolver final : public CudaSolverApi {
   // Multi-step launches (launch_multi_step): not with a contact stage (it runs between
   // steps), nor when the blocks cannot all be resident (the cooperative launch's rule;
   // checked once per kernel variant).
-  bool use_multi(const StepArgs<T>& a) {
+  bool use_multi(const StepArgs<T>& a) const {
     if (mode_ != ExecMode::kMulti || contact_on()) return false;
     const int key = a.lanes * 2 + (a.anp ? 1 : 0);
     auto it = multi_fits_.find(key);
@@ -635,11 +638,12 @@ class CudaSolver final : public CudaSolverApi {
     }
     return it->second;
   }
-  MultiStepBuffers<T> multi_buffers(const StepArgs<T>& a) {
+  MultiStepBuffers<T> multi_buffers(const StepArgs<T>& a) const {
     const bool beta = a.b.ub != nullptr;
-    return {{live_.u.data(), live_.u2.data()},
-            {live_.du.data(), live_.du2.data()},
-            {beta ? live_.ub.data() : nullptr, beta ? live_.ub2.data() : nullptr}};
+    T* ub[2] = {const_cast<T*>(live_.ub.data()), const_cast<T*>(live_.ub2.data())};
+    return {{const_cast<T*>(live_.u.data()), const_cast<T*>(live_.u2.data())},
+            {const_cast<T*>(live_.du.data()), const_cast<T*>(live_.du2.data())},
+            {beta ? ub[0] : nullptr, beta ? ub[1] : nullptr}};
   }
   // n steps in launches of at most kMaxMultiSteps (even, so only the last can end in
   // buffer 1), then the state back in (u, du).
@@ -895,7 +899,7 @@ class CudaSolver final : public CudaSolverApi {
   // begin_omega_max's kernels per iteration count, for the amplitude probe_a_.
   std::map<int, cudaGraphExec_t> probe_graphs_;
   // Whether the multi-step kernel fits, per (lanes, T4ANP) variant (use_multi).
-  std::map<int, bool> multi_fits_;
+  mutable std::map<int, bool> multi_fits_;
   // Steps per multi-step launch: even; a few ms of device time on the torus, so a
   // long run still returns to the host (and a display GPU's watchdog) between launches.
   static constexpr int kMaxMultiSteps = 2048;

@@ -18,7 +18,7 @@
 //               cannot capture programmatic launches
 //   multi       the fused step's phases, many steps per cooperative launch with a grid
 //               barrier between steps (tled_step.cu, multi_step_kernel): one launch per
-//               step(n), rest data kept in registers. Opt-in: slower than fused on the
+//               up to 2048 steps of a step(n), rest data kept in registers. Opt-in: slower than fused on the
 //               H100 (bench/NOTES.md, "Multi-step launches"). Where it cannot run (a
 //               body-contact stage between steps, blocks that do not all fit at once) it
 //               runs as fused

@@ -113,7 +113,7 @@ __device__ __forceinline__ FusedBlock fused_block_range(const StepArgs<T>& a) {
 // then G lanes per node sum them in the node stage's lane split and lane_sum, as
 // anp_pressure_lanes does: the same sums in the same order, so the pressures are those of
 // the two-kernel step bit for bit. r: the rest data of the block's first pass (entry
-// jb + tid), loaded by the caller when `first`.
+// jb + tid), from load_block_rest.
 template <class T, int G, bool kCoherent>
 __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
                                                      T* smem, const T* ue_prev) {
@@ -241,7 +241,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
 
 // nsteps steps in one cooperative launch (every block resident): the same phases, with a
 // grid barrier after each (T4ANP: also between its two phases), so the host launches once
-// per output interval instead of once per step, and each thread's rest data stays in its
+// per up to kMaxMultiSteps steps instead of once per step, and each thread's rest data stays in its
 // registers across the steps. Step s reads buffer s & 1 and writes the other; the barrier
 // (cooperative_groups grid sync: a fence, then an arrival count in global memory) orders
 // every read of a buffer before the next step's writes to it.

@@ -159,6 +159,7 @@ TEST(CudaSolver, RepeatedRunsAndAllExecutionModesAreBitwiseIdentical) {
   SKIP_WITHOUT_GPU();
   const long steps = 5000;  // past the first contact (~3600 steps)
   expect_modes_bitwise_identical(torus("float"), steps, "", [](cuda::ExecMode m, cuda::CudaSolverApi& api) {
+    if (m == cuda::ExecMode::kMulti) EXPECT_EQ(api.exec_mode(), cuda::ExecMode::kMulti) << "multi must really run";
     if (m == cuda::ExecMode::kAuto)
       EXPECT_TRUE(api.exec_mode() == cuda::ExecMode::kFused || api.exec_mode() == cuda::ExecMode::kGraphPdl)
           << "auto picks one of the product's two steps, not " << cuda::exec_mode_name(api.exec_mode());
@@ -378,8 +379,8 @@ TEST(CudaSolver, ObstacleScenesAllExecutionModesAreBitwiseIdentical) {
 
 // Multi-step launches (tled_step.cu, multi_step_kernel): one step(n) call longer than a
 // launch (kMaxMultiSteps = 2048), with an odd total so the state ends in the second
-// buffer, then a continuation: bitwise the fused step's result, T4 and T4ANP, with the
-// neighbour-flag barriers carrying their counters across launches.
+// buffer, then a continuation: bitwise the fused step's result, T4 and T4ANP, across
+// several launches.
 TEST(CudaSolver, MultiStepLaunchesMatchTheFusedStepAcrossLaunches) {
   SKIP_WITHOUT_GPU();
   for (const char* element : {"T4", "T4ANP"}) {
