@@ -10,6 +10,7 @@
 
 #ifdef SOFTTLED_PY_RENDER
 #include "app/headless_render.h"
+#include "app/render_handoff.h"
 #endif
 
 namespace softtled {
@@ -30,6 +31,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   if (o.samples < 0 || o.samples > 8) throw InputError("render_png: samples must be between 0 and 8");
   if (!(std::fabs(o.azimuth_deg) <= 360) || !(std::fabs(o.elevation_deg) <= 89) || !(o.zoom >= 0.01f && o.zoom <= 100))
     throw InputError("render_png: azimuth in [-360, 360], elevation in [-89, 89], zoom in [0.01, 100]");
+  // Its own check of the names: a build without the renderer has no parse_color_mode.
   if (o.color != "shaded" && o.color != "displacement" && o.color != "contact" && o.color != "von_mises")
     throw InputError("render_png: color '" + o.color + "': use shaded, displacement, contact or von_mises");
   check_output_file(path, "render_png");
@@ -42,10 +44,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   h.azimuth_deg = o.azimuth_deg;
   h.elevation_deg = o.elevation_deg;
   h.zoom = o.zoom;
-  h.style.color = o.color == "displacement" ? ColorMode::kDisplacement
-                  : o.color == "contact"    ? ColorMode::kContact
-                  : o.color == "von_mises"  ? ColorMode::kVonMises
-                                            : ColorMode::kShaded;
+  h.style.color = parse_color_mode(o.color, "render_png: color");  // the name checked above
   h.context.backend = "egl";
   h.context.cuda_device = sim.render_buffer_on_device() ? 0 : -1;
   HeadlessInfo info;

@@ -248,16 +248,8 @@ class CudaSolver final : public CudaSolverApi {
     if (dt_mid_ > 0) {  // the first step after a change of dt: its own coefficients, launched directly
       StepParams<T> first = step_params_from<T>(params_, dt_mid_);
       point_at_grids(first);
-      const StepArgs<T> a = args(first);
       dt_mid_ = 0;
-      if (use_multi(a)) {
-        enqueue_multi(a, 1);
-      } else if (fused_step()) {
-        enqueue_fused_step(a, 0, false);
-        copy_back_fused(a);
-      } else {
-        enqueue_step(a, false);
-      }
+      enqueue_one_step(args(first));
       if (--nsteps == 0) return;
     }
     const StepArgs<T> a = args(cfg_.step);
@@ -269,12 +261,7 @@ class CudaSolver final : public CudaSolverApi {
       // One step right after set_params: a moving obstacle or plane is posed before every
       // step (Simulation::move_planes), so a one-step graph captured now would be thrown
       // away by the next set_params. Launched directly instead: the same kernels.
-      if (fused_step()) {
-        enqueue_fused_step(a, 0, false);
-        copy_back_fused(a);
-      } else {
-        enqueue_step(a, false);
-      }
+      enqueue_one_step(a);
       return;
     }
     // Binary decomposition: whole K-step graphs, then graphs of 2^j < K steps.
@@ -632,13 +619,26 @@ class CudaSolver final : public CudaSolverApi {
     auto it = multi_fits_.find(key);
     if (it == multi_fits_.end()) {
       const cudaError_t e =
-          launch_multi_step<T>(stream_, fused_block(), nsm_, a, multi_buffers(a), 1, true);
+          launch_multi_step<T>(stream_, fused_block(), nsm_, a, state_buffers(a), 1, true);
       if (e != cudaSuccess && e != cudaErrorCooperativeLaunchTooLarge) SOFTTLED_CUDA_CHECK(e);
       it = multi_fits_.emplace(key, e == cudaSuccess).first;
     }
     return it->second;
   }
-  MultiStepBuffers<T> multi_buffers(const StepArgs<T>& a) const {
+  // One step launched directly (no graph), in the mode's own kernels; the state ends in (u, du).
+  void enqueue_one_step(const StepArgs<T>& a) {
+    if (use_multi(a)) {
+      enqueue_multi(a, 1);
+    } else if (fused_step()) {
+      enqueue_fused_step(a, 0, false);
+      copy_back_fused(a);
+    } else {
+      enqueue_step(a, false);
+    }
+  }
+  // The double-buffered state of the fused and multi-step kernels: (u, du, ub) and
+  // (u2, du2, ub2); ub null while beta = 0.
+  MultiStepBuffers<T> state_buffers(const StepArgs<T>& a) const {
     const bool beta = a.b.ub != nullptr;
     T* ub[2] = {const_cast<T*>(live_.ub.data()), const_cast<T*>(live_.ub2.data())};
     return {{const_cast<T*>(live_.u.data()), const_cast<T*>(live_.u2.data())},
@@ -648,7 +648,7 @@ class CudaSolver final : public CudaSolverApi {
   // n steps in launches of at most kMaxMultiSteps (even, so only the last can end in
   // buffer 1), then the state back in (u, du).
   void enqueue_multi(const StepArgs<T>& a, long n) {
-    const MultiStepBuffers<T> buf = multi_buffers(a);
+    const MultiStepBuffers<T> buf = state_buffers(a);
     int last = 0;
     for (long left = n; left > 0; left -= last) {
       last = int(std::min<long>(left, kMaxMultiSteps));
@@ -713,14 +713,11 @@ class CudaSolver final : public CudaSolverApi {
   // Fused step s of a graph (kFused): even steps read (u, du) and write (u2, du2), odd
   // steps the other way round.
   void enqueue_fused_step(const StepArgs<T>& a, int s, bool pdl) {
-    T* u[2] = {live_.u.data(), live_.u2.data()};
-    T* du[2] = {live_.du.data(), live_.du2.data()};
-    T* ub[2] = {live_.ub.data(), live_.ub2.data()};
+    const MultiStepBuffers<T> b = state_buffers(a);
     const int p = s & 1;
-    const bool beta = a.b.ub != nullptr;
-    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, u[p], du[p], u[1 - p], du[1 - p],
-                                             beta ? ub[p] : u[p], beta ? ub[1 - p] : nullptr));
-    enqueue_contact(u[1 - p], du[1 - p], beta ? ub[1 - p] : nullptr);
+    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, b.u[p], b.du[p], b.u[1 - p], b.du[1 - p],
+                                             b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
+    enqueue_contact(b.u[1 - p], b.du[1 - p], b.ub[1 - p]);
   }
 
   // After an odd number of fused steps: the state from (u2, du2, ub2) back to (u, du, ub).

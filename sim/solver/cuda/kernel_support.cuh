@@ -39,25 +39,36 @@ __device__ __forceinline__ T lane_sum(T v) {
   return v;
 }
 
-// Every launch goes through here: the shape, the dynamic shared memory (raising the
-// kernel's limit when it needs more than the default 48 KiB) and, with ls.pdl, the
-// programmatic-stream-serialization attribute.
+// Raises kernel k's dynamic shared memory limit when it needs more than the default 48 KiB.
+template <class Kernel>
+cudaError_t allow_dynamic_smem(Kernel k, std::size_t bytes) {
+  if (bytes <= 48 * 1024) return cudaSuccess;
+  return cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(bytes));
+}
+
+// Every launch goes through here: the shape, the dynamic shared memory and, with ls.pdl,
+// the programmatic-stream-serialization attribute, with ls.cooperative the cooperative one.
 template <class Kernel, class... Args>
 cudaError_t launch(cudaStream_t s, const LaunchShape& ls, Kernel k, Args... args) {
-  if (ls.smem_bytes > 48 * 1024) {
-    const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(ls.smem_bytes));
-    if (e != cudaSuccess) return e;
-  }
+  const cudaError_t e = allow_dynamic_smem(k, ls.smem_bytes);
+  if (e != cudaSuccess) return e;
   cudaLaunchConfig_t cfg = {};
   cfg.gridDim = dim3(unsigned(ls.grid));
   cfg.blockDim = dim3(unsigned(ls.block));
   cfg.dynamicSmemBytes = ls.smem_bytes;
   cfg.stream = s;
-  cudaLaunchAttribute attr[1];
-  attr[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
-  attr[0].val.programmaticStreamSerializationAllowed = 1;
-  cfg.attrs = ls.pdl ? attr : nullptr;
-  cfg.numAttrs = ls.pdl ? 1 : 0;
+  cudaLaunchAttribute attr[2];
+  unsigned n = 0;
+  if (ls.pdl) {
+    attr[n].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+    attr[n++].val.programmaticStreamSerializationAllowed = 1;
+  }
+  if (ls.cooperative) {
+    attr[n].id = cudaLaunchAttributeCooperative;
+    attr[n++].val.cooperative = 1;
+  }
+  cfg.attrs = n ? attr : nullptr;
+  cfg.numAttrs = n;
   return cudaLaunchKernelEx(&cfg, k, args...);
 }
 

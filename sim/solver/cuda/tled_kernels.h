@@ -63,6 +63,8 @@ struct LaunchShape {
   // the whole grid is one small wave; costs instructions on large meshes).
   bool prefetch = false;
   std::size_t smem_bytes = 0;  // dynamic shared memory per block
+  // Every block resident at once (a grid barrier inside: multi_step_kernel).
+  bool cooperative = false;
 };
 
 // Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while

@@ -270,20 +270,29 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   }
 }
 
+// The launch shape of the fused kernels (one-step and multi-step): a.nfblock node blocks
+// of `block` threads, shared memory for 3 x a.fsmem_entries values. cudaErrorInvalidValue
+// for arguments they cannot run with.
+template <class T>
+cudaError_t fused_shape(const StepArgs<T>& a, int block, LaunchShape& ls) {
+  if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
+  if (a.anp && !a.p_node) return cudaErrorInvalidValue;
+  ls.grid = a.nfblock;
+  ls.block = block;
+  ls.smem_bytes = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
+  return cudaSuccess;
+}
+
 }  // namespace
 
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
   if (a.nfblock <= 0) return cudaSuccess;
-  if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
   LaunchShape ls;
-  ls.grid = a.nfblock;
-  ls.block = block;
+  if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
   ls.pdl = pdl;
-  ls.smem_bytes = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
   if (a.anp) {
-    if (!a.p_node) return cudaErrorInvalidValue;
     cudaError_t e = cudaErrorInvalidValue;
     switch (a.lanes) {
       case 1: e = launch(s, ls, fused_pressure_kernel<T, 1>, a, ue_prev); break;
@@ -308,48 +317,35 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
 
 namespace {
 template <class T, int G, bool kAnp>
-cudaError_t launch_multi(cudaStream_t s, int block, const StepArgs<T>& a, const MultiStepBuffers<T>& buf, int nsteps,
-                         int nsm, bool check_only) {
+cudaError_t launch_multi(cudaStream_t s, LaunchShape ls, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
+                         int nsteps, int nsm, bool check_only) {
   auto k = multi_step_kernel<T, G, kAnp>;
-  const std::size_t smem = 3 * std::size_t(std::max(a.fsmem_entries, 1)) * sizeof(T);
-  if (smem > 48 * 1024) {
-    const cudaError_t e = cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem));
-    if (e != cudaSuccess) return e;
-  }
+  cudaError_t e = allow_dynamic_smem(k, ls.smem_bytes);  // before the occupancy query counts it
+  if (e != cudaSuccess) return e;
   // A cooperative launch needs every block resident at once.
   int per_sm = 0;
-  cudaError_t e = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, k, block, smem);
+  e = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, k, ls.block, ls.smem_bytes);
   if (e != cudaSuccess) return e;
-  if (per_sm * nsm < a.nfblock) return cudaErrorCooperativeLaunchTooLarge;
+  if (per_sm * nsm < ls.grid) return cudaErrorCooperativeLaunchTooLarge;
   if (check_only) return cudaSuccess;
-  cudaLaunchConfig_t cfg = {};
-  cfg.gridDim = dim3(unsigned(a.nfblock));
-  cfg.blockDim = dim3(unsigned(block));
-  cfg.dynamicSmemBytes = smem;
-  cfg.stream = s;
-  cudaLaunchAttribute attr[1];
-  attr[0].id = cudaLaunchAttributeCooperative;
-  attr[0].val.cooperative = 1;
-  cfg.attrs = attr;
-  cfg.numAttrs = 1;
-  return cudaLaunchKernelEx(&cfg, k, a, buf, nsteps);
+  ls.cooperative = true;
+  return launch(s, ls, k, a, buf, nsteps);
 }
-
 }  // namespace
 
 template <class T>
 cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
                               int nsteps, bool check_only) {
   if (a.nfblock <= 0 || nsteps <= 0) return cudaSuccess;
-  if (!a.fblock || block < 32 || block % 32 || block > kFusedMaxThreads) return cudaErrorInvalidValue;
-  if (a.anp && !a.p_node) return cudaErrorInvalidValue;
+  LaunchShape ls;
+  if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
   switch (a.lanes * 2 + (a.anp ? 1 : 0)) {
-    case 2: return launch_multi<T, 1, false>(s, block, a, buf, nsteps, nsm, check_only);
-    case 3: return launch_multi<T, 1, true>(s, block, a, buf, nsteps, nsm, check_only);
-    case 8: return launch_multi<T, 4, false>(s, block, a, buf, nsteps, nsm, check_only);
-    case 9: return launch_multi<T, 4, true>(s, block, a, buf, nsteps, nsm, check_only);
-    case 16: return launch_multi<T, 8, false>(s, block, a, buf, nsteps, nsm, check_only);
-    case 17: return launch_multi<T, 8, true>(s, block, a, buf, nsteps, nsm, check_only);
+    case 2: return launch_multi<T, 1, false>(s, ls, a, buf, nsteps, nsm, check_only);
+    case 3: return launch_multi<T, 1, true>(s, ls, a, buf, nsteps, nsm, check_only);
+    case 8: return launch_multi<T, 4, false>(s, ls, a, buf, nsteps, nsm, check_only);
+    case 9: return launch_multi<T, 4, true>(s, ls, a, buf, nsteps, nsm, check_only);
+    case 16: return launch_multi<T, 8, false>(s, ls, a, buf, nsteps, nsm, check_only);
+    case 17: return launch_multi<T, 8, true>(s, ls, a, buf, nsteps, nsm, check_only);
   }
   return cudaErrorInvalidValue;
 }
