@@ -112,9 +112,10 @@ SIM_HD inline NodeState<T> integrate_node(const T f[3], const T x0[3], const T u
 // struct-of-arrays (component k of node i at [k * nnode + i]), integrate_node, stores.
 // Reads (u_in, du_in) and writes (u_out, du_out): the same arrays in place, or the fused
 // GPU step's double buffers. fext may be null (no user forces). ub_out: null, or where
-// the next element stage's displacement u + (beta / dt) du goes (beta > 0).
+// the next element stage's displacement u + (beta / dt) du goes (beta > 0). Returns the
+// new state (the CUDA step checks it: step_health.h).
 template <class T>
-SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
+SIM_HD inline NodeState<T> update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
                                const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i,
                                T* ub_out = nullptr) {
   const int n = m.nnode;
@@ -135,6 +136,7 @@ SIM_HD inline void update_node(const TetMeshView<T>& m, const StepParams<T>& p, 
   if (ub_out)
     for (int k = 0; k < 3; ++k) ub_out[k * n + i] = rayleigh_displacement(s.u[k], s.du[k], p.beta_dt);
   contact[i] = s.contact;
+  return s;
 }
 
 }  // namespace softtled

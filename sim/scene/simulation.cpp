@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "sim/core/body_view.h"
+#include "sim/fem/step_health.h"
 #include "sim/mesh/mesh_cache.h"
 #include "sim/solver/solver_factory.h"
 #include "sim/solver/stable_step.h"
@@ -190,7 +191,10 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   const bool energy_changed = q.E != params_.E || q.nu != params_.nu || q.material_model != params_.material_model ||
                               q.element != params_.element || q.g[0] != params_.g[0] || q.g[1] != params_.g[1] ||
                               q.g[2] != params_.g[2];
-  if (energy_changed) watchdog_.rebase();
+  if (energy_changed) {
+    watchdog_.rebase();
+    disarm_speed_test();
+  }
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
@@ -344,6 +348,7 @@ void Simulation::apply_initial_state() {
   }
   const Diagnostics d = diagnostics_of(s);
   watchdog_.reset(d.ke + d.se + d.pe, watchdog_energy_scale(mesh_, solver_->lumped_mass(), params_, d.ke));
+  arm_speed_test(d);
 }
 
 void Simulation::reset() { apply_initial_state(); }
@@ -359,7 +364,10 @@ const HostState& Simulation::state() {
 void Simulation::set_external_forces(const std::vector<double>& f) {
   account_work();
   fext_ = f;
-  if (!fext_.empty()) work_u_ = state().u;
+  if (!fext_.empty()) {
+    work_u_ = state().u;
+    disarm_speed_test();
+  }
   solver_->set_external_forces(f);
 }
 
@@ -384,6 +392,7 @@ void Simulation::set_state(const HostState& s) {
   work_u_ = s.u;
   const Diagnostics d = diagnostics_of(s);
   watchdog_.reset(d.ke + d.se + d.pe - work_, std::max(watchdog_.scale(), d.ke + d.se));
+  arm_speed_test(d);
 }
 
 void Simulation::advance(long n, long check_every) {
@@ -398,13 +407,37 @@ void Simulation::advance(long n, long check_every) {
 
 void Simulation::check_health() {
   account_work();
-  check_state(state(), diagnostics());
+  const HostState& s = state();
+  const Diagnostics d = diagnostics();
+  check_state(s, d, solver_->take_health());
+}
+
+bool Simulation::outside_work() const {
+  bool planes = false;
+  for (const PlaneMotion& m : plane_motion_) planes = planes || m.moving();
+  return !fext_.empty() || planes || obstacles_moving();
 }
 
 bool Simulation::pipelines() const {
-  bool planes = false;
-  for (const PlaneMotion& m : plane_motion_) planes = planes || m.moving();
-  return solver_->async_snapshots() && !params_.dt_adaptive && fext_.empty() && !planes && !obstacles_moving();
+  return solver_->async_snapshots() && !params_.dt_adaptive && !outside_work();
+}
+
+void Simulation::arm_speed_test(const Diagnostics& d) {
+  // Gravity's work is bounded by the energy scale only where a floor (a plane facing
+  // against gravity) stops the fall.
+  const double* g = params_.g;
+  const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  bool floor = gn == 0;
+  for (const PlaneSpec& pl : params_.planes)
+    floor = floor || (pl.normal[0] * g[0] + pl.normal[1] * g[1] + pl.normal[2] * g[2]) < -(1 - 1e-9) * gn;
+  if (!floor || outside_work()) return disarm_speed_test();
+  node_energy_max_ = kNodeEnergyFactor * (watchdog_.scale() + d.ke + d.se);
+  solver_->set_node_energy_bound(node_energy_max_);
+}
+
+void Simulation::disarm_speed_test() {
+  node_energy_max_ = std::numeric_limits<double>::infinity();
+  solver_->set_node_energy_bound(node_energy_max_);
 }
 
 void Simulation::queue(long n) {
@@ -436,14 +469,15 @@ const Simulation::Checkpoint& Simulation::collect() {
     return c;
   }
   double se = 0;
+  StepHealth health;
   // The check at the snapshot's own step count and time; the live count runs ahead.
   const long live_steps = nsteps_, live_total = total_steps_;
   const double live_offset = t_offset_;
   try {
-    solver_->end_snapshot(q.slot, c.state, se);
+    solver_->end_snapshot(q.slot, c.state, se, health);
     nsteps_ = q.nsteps, total_steps_ = q.total_steps, t_offset_ = q.t_offset;
     c.diag = diagnostics_of(c.state, se);
-    check_state(c.state, c.diag);  // pipelines(): a fixed step, so a finding always throws
+    check_state(c.state, c.diag, health);  // pipelines(): a fixed step, so a finding always throws
   } catch (const SimulationDiverged&) {
     queued_.clear();  // rolled back to the last healthy check: what was queued after it is gone
     throw;
@@ -456,11 +490,13 @@ const Simulation::Checkpoint& Simulation::collect() {
   return c;
 }
 
-void Simulation::check_state(const HostState& s, const Diagnostics& d) {
+void Simulation::check_state(const HostState& s, const Diagnostics& d, const StepHealth& h) {
   if (planes_moved_) watchdog_.rebase();  // a moving plane did work nobody counted
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
-  const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, params_.material_model, unstable_dt);
+  const Watchdog::SpeedTest speed{&solver_->lumped_mass(), params_.dt, node_energy_max_};
+  const std::optional<WatchdogFinding> f =
+      watchdog_.check(mesh_, s, d, work_, params_.material_model, unstable_dt, speed, h);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
     drop_estimate();

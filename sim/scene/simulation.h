@@ -3,6 +3,7 @@
 // The one facade of the simulation: the app owns a Simulation, calls step()/advance(),
 // reads the state and diagnostics, edits params() live and asks for render vertices; it
 // never reaches the solver itself.
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -155,9 +156,17 @@ class Simulation {
 
   void apply_initial_state();
   void check_health();
-  // The watchdog on state s with diagnostics d at the live bookkeeping (nsteps_, time());
-  // check_health() and collect() both end here.
-  void check_state(const HostState& s, const Diagnostics& d);
+  // The watchdog on state s with diagnostics d and what the backend's kernels found (h)
+  // at the live bookkeeping (nsteps_, time()); check_health() and collect() both end here.
+  void check_state(const HostState& s, const Diagnostics& d, const StepHealth& h);
+  // The watchdog's speed test (step_health.h): armed at a reset (the start, set_state)
+  // with the bound kNodeEnergyFactor x (energy scale + ke + se) there; off (infinite) from
+  // there on wherever the scene gains energy the watchdog cannot bound per node: user
+  // forces, moving planes or obstacles, a live change of the energy function, or gravity
+  // without a floor to stop the fall (a body sliding down an endless slope).
+  void arm_speed_test(const Diagnostics& d);
+  void disarm_speed_test();
+  bool outside_work() const;  // user forces, moving planes or obstacles
   struct Queued {
     int slot;
     long n;        // its steps
@@ -217,6 +226,7 @@ class Simulation {
   double last_good_offset_ = 0;
   double last_good_work_ = 0;
   bool planes_moved_ = false;      // a kinematic plane moved since the last check
+  double node_energy_max_ = std::numeric_limits<double>::infinity();  // arm_speed_test
   // Work of the user's forces, for the watchdog's energy balance: fext_ as last set,
   // work_ [J] done up to the displacements work_u_.
   std::vector<double> fext_, work_u_;

@@ -1,5 +1,6 @@
 #include "sim/scene/watchdog.h"
 
+#include "sim/fem/step_health.h"
 #include "sim/fem/tet_kinematics.h"
 
 #include <algorithm>
@@ -17,41 +18,93 @@ int first_element_of(const TetMesh& m, int node) {
       if (m.tet[4 * e + a] == node) return e;
   return -1;
 }
+
+WatchdogFinding non_finite(const TetMesh& m, int node, bool unstable_dt) {
+  const int element = first_element_of(m, node);
+  return {"node " + std::to_string(node) + " (element " + std::to_string(element) + ") has a NaN/Inf displacement",
+          element, unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
+}
+
+// J of element e of state s, in double on the host, through the one F/J definition.
+double element_J(const TetMesh& m, const HostState& s, int e) {
+  const int n = m.nnode();
+  const int* t = &m.tet[4 * e];
+  double X[4][3], u[4][3];
+  for (int a = 0; a < 4; ++a)
+    for (int k = 0; k < 3; ++k) {
+      X[a][k] = m.X[3 * t[a] + k];
+      u[a][k] = s.u[k * n + t[a]];
+    }
+  return tet_volume_ratio(X, u);
+}
+
+WatchdogFinding inverted(int e, double J, bool unstable_dt) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
+  return {buf, e,
+          unstable_dt ? kDtCause
+                      : "the load crushes elements inside out; use material.model = \"stable_neo_hookean\", a stiffer "
+                        "material or a finer mesh"};
+}
+
+// ke: the node's kinetic energy in s, or < 0 where only the device saw it (at some step).
+WatchdogFinding too_fast(const TetMesh& m, int node, double ke, const Watchdog::SpeedTest& sp, bool unstable_dt) {
+  char buf[300];
+  const double bound = sp.node_energy_max;
+  if (ke >= 0)
+    std::snprintf(buf, sizeof buf,
+                  "node %d moves faster than the scene's energy allows (1/2 m |v|^2 = %.3g J, above %.3g J = %g x "
+                  "the energy scale)",
+                  node, ke, bound, kNodeEnergyFactor);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "node %d moved faster than the scene's energy allows (1/2 m |v|^2 above %.3g J = %g x the energy "
+                  "scale, at a step since the last check)",
+                  node, bound, kNodeEnergyFactor);
+  return {buf, first_element_of(m, node),
+          unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
+}
+
+// What the device found, as the host scans would have named it (their order: NaN/Inf,
+// inversion, speed).
+std::optional<WatchdogFinding> device_finding(const TetMesh& m, const HostState& s, const StepHealth& dev,
+                                              const Watchdog::SpeedTest& sp, bool unstable_dt) {
+  if (dev.bits & kHealthNonFinite) return non_finite(m, std::max(dev.node, 0), unstable_dt);
+  if ((dev.bits & kHealthInverted) && dev.element >= 0)
+    return inverted(dev.element, element_J(m, s, dev.element), unstable_dt);
+  if (dev.bits & kHealthSpeed) return too_fast(m, std::max(dev.node, 0), -1, sp, unstable_dt);
+  return std::nullopt;
+}
 }  // namespace
 
-std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
-                                               MaterialModel model, bool unstable_dt) {
+std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState& s, MaterialModel model,
+                                              bool unstable_dt, const SpeedTest& speed) const {
   const int n = m.nnode();
   for (std::size_t j = 0; j < s.u.size(); ++j)
-    if (!std::isfinite(s.u[j]) || !std::isfinite(s.du[j])) {
-      const int node = int(j % n), element = first_element_of(m, node);
-      return WatchdogFinding{"node " + std::to_string(node) + " (element " + std::to_string(element) +
-                                 ") has a NaN/Inf displacement",
-                             element,
-                             unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
-    }
+    if (!std::isfinite(s.u[j]) || !std::isfinite(s.du[j])) return non_finite(m, int(j % n), unstable_dt);
   // Inverted elements: J <= 0 is unphysical for the Taylor model (its guard keeps forces
   // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
-  if (model == kTaylorNeoHookean) {
-    for (int e = 0; e < m.ntet(); ++e) {
-      const int* t = &m.tet[4 * e];
-      // J of the element, in double on the host, through the one F/J definition.
-      double X[4][3], u[4][3];
-      for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) {
-          X[a][k] = m.X[3 * t[a] + k];
-          u[a][k] = s.u[k * n + t[a]];
-        }
-      const double J = tet_volume_ratio(X, u);
-      if (!(J > 0)) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
-        return WatchdogFinding{buf, e,
-                               unstable_dt ? kDtCause
-                                           : "the load crushes elements inside out; use material.model = "
-                                             "\"stable_neo_hookean\", a stiffer material or a finer mesh"};
-      }
+  if (model == kTaylorNeoHookean)
+    for (int e = 0; e < m.ntet(); ++e)
+      if (const double J = element_J(m, s, e); !(J > 0)) return inverted(e, J, unstable_dt);
+  // The speed test (step_health.h), as the device runs it but in double.
+  if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0)
+    for (int i = 0; i < n; ++i) {
+      double du2 = 0;
+      for (int k = 0; k < 3; ++k) du2 += s.du[std::size_t(k) * n + i] * s.du[std::size_t(k) * n + i];
+      const double ke = 0.5 * (*speed.mass)[i] * du2 / (speed.dt * speed.dt);
+      if (ke > speed.node_energy_max) return too_fast(m, i, ke, speed, unstable_dt);
     }
+  return std::nullopt;
+}
+
+std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
+                                               MaterialModel model, bool unstable_dt, const SpeedTest& speed,
+                                               const StepHealth& dev) {
+  if (dev.checked) {
+    if (std::optional<WatchdogFinding> f = device_finding(m, s, dev, speed, unstable_dt)) return f;
+  } else if (std::optional<WatchdogFinding> f = scan(m, s, model, unstable_dt, speed)) {
+    return f;
   }
   // Energy gained from nowhere (see the class comment).
   const double h = d.ke + d.se + d.pe - work;

@@ -1,7 +1,7 @@
 #pragma once
 // The watchdog Simulation::advance runs at every check: NaN/Inf, inverted elements (Taylor
-// model only: its guard keeps forces finite but not meaningful) and energy gained from
-// nowhere. A finding names the problem, the element and the likely cause; the Simulation
+// model only: its guard keeps forces finite but not meaningful), a node faster than the
+// scene's energy allows (step_health.h) and energy gained from nowhere. A finding names the problem, the element and the likely cause; the Simulation
 // rolls back to the last healthy check and throws SimulationDiverged with
 // watchdog_message().
 #include <optional>
@@ -41,11 +41,23 @@ class Watchdog {
 
   // Checks state s (with its diagnostics d, and W = work the external forces have done
   // so far); nothing when healthy. unstable_dt: the step is above dt_cr, which then is the
-  // likely cause.
+  // likely cause. speed: the node speed test (step_health.h). dev: what the backend's own
+  // kernels found (Solver::take_health); where they checked (the GPU, at every step and
+  // on s), their findings stand in for the host's scans of s for NaN/Inf, inverted
+  // elements and speed, and only the energy test runs here.
+  struct SpeedTest {
+    const std::vector<double>* mass = nullptr;  // nnode [kg]
+    double dt = 0;
+    double node_energy_max = 0;  // [J]; infinite: no test
+  };
   std::optional<WatchdogFinding> check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
-                                       MaterialModel model, bool unstable_dt);
+                                       MaterialModel model, bool unstable_dt, const SpeedTest& speed,
+                                       const StepHealth& dev);
 
  private:
+  // The host's scans of s (where the backend checked nothing itself).
+  std::optional<WatchdogFinding> scan(const TetMesh& m, const HostState& s, MaterialModel model, bool unstable_dt,
+                                      const SpeedTest& speed) const;
   double h_min_ = 0, scale_ = 0;
   bool have_min_ = false;
 };

@@ -126,6 +126,16 @@ struct HostState {
   std::vector<std::uint8_t> contact;   // nnode, ContactState
 };
 
+// What a backend's own kernels found wrong since it was last asked (the device
+// watchdog, step_health.h): the CUDA step kernels test every node they update, and each
+// check tests the state itself as the host watchdog would. checked = false: the backend
+// tests nothing itself (the CPU), so the host watchdog scans the state.
+struct StepHealth {
+  bool checked = false;
+  unsigned bits = 0;            // StepHealthBits
+  int node = -1, element = -1;  // the smallest named, in the mesh's numbering; -1: none
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -153,15 +163,25 @@ class Solver {
   virtual DeviceStateView device_state() const { return {}; }
 
   // ---- asynchronous snapshots (Simulation::queue / collect) ----
-  // begin_snapshot queues, after the steps queued so far, a copy of the state and its
-  // strain energy into slot (0 .. kSnapshotSlots - 1) and returns at once; end_snapshot
-  // waits for that copy and hands it over, so the host can check one output interval
-  // while the device steps the next. A backend that cannot (the host backends, where
-  // stepping and checking share the CPU anyway) has no async_snapshots and none of this.
+  // begin_snapshot queues, after the steps queued so far, a copy of the state, its
+  // strain energy and its device watchdog record (take_health) into slot
+  // (0 .. kSnapshotSlots - 1) and returns at once; end_snapshot waits for that copy and
+  // hands it over, so the host can check one output interval while the device steps the
+  // next. A backend that cannot (the host backends, where stepping and checking share the
+  // CPU anyway) has no async_snapshots and none of this.
   static constexpr int kSnapshotSlots = 2;
   virtual bool async_snapshots() const { return false; }
   virtual void begin_snapshot(int slot) { (void)slot; }
-  virtual void end_snapshot(int slot, HostState& s, double& strain_energy) { (void)slot, (void)s, (void)strain_energy; }
+  virtual void end_snapshot(int slot, HostState& s, double& strain_energy, StepHealth& health) {
+    (void)slot, (void)s, (void)strain_energy, (void)health;
+  }
+
+  // ---- the device watchdog (step_health.h) ----
+  // The speed test's bound: one node's kinetic energy 1/2 m |v|^2 above e [J] fails
+  // (infinite: no bound). take_health tests the live state and hands over, and clears,
+  // what was found since the last take_health, set_state or snapshot (which takes it too).
+  virtual void set_node_energy_bound(double e) { (void)e; }
+  virtual StepHealth take_health() { return {}; }
 
   // ---- variable step (central_difference.h, make_step_params) ----
   // After set_params with a new dt: du *= scale (= dt_new / dt_old, so du / dt keeps the

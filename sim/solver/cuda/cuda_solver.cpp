@@ -11,11 +11,13 @@
 #include <cstdlib>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <stdexcept>
 
 #include "sim/contact/body_contact_tables.h"
+#include "sim/fem/step_health.h"
 #include "sim/solver/cuda/contact_stage.h"
 #include "sim/solver/cuda/cuda_check.h"
 #include "sim/solver/cuda/device_buffer.h"
@@ -182,6 +184,8 @@ class CudaSolver final : public CudaSolverApi {
     energy_vol_.resize(std::size_t(std::max(ne_, 1)));
     partials_.resize(kSumBlocks);
     energy_sum_.resize(1);
+    health_.resize(1);
+    health_.fill_zero();
 
     contact_tables_ = build_body_contact_tables(mesh);
 
@@ -357,13 +361,27 @@ class CudaSolver final : public CudaSolverApi {
     contact_.download_overflow(sn.overflow.data(), stream_);
     enqueue_strain_energy(sn.se.data());
     SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.energy.data(), sn.se.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
+    enqueue_take_health(sn.health.data());
     SOFTTLED_CUDA_CHECK(cudaEventRecord(sn.done.get(), stream_));
   }
-  void end_snapshot(int slot, HostState& s, double& strain_energy) override {
+  void end_snapshot(int slot, HostState& s, double& strain_energy, StepHealth& health) override {
     Snapshot& sn = snaps_.at(std::size_t(slot));
     SOFTTLED_CUDA_CHECK(cudaEventSynchronize(sn.done.get()));
     strain_energy = sn.energy[0];
+    health = step_health(sn.health[0]);
     to_host_state(sn.u->data(), sn.du->data(), sn.contact->data(), sn.overflow[0], s);
+  }
+
+  // The device watchdog (step_health.h): the bound goes into the step kernels' arguments.
+  void set_node_energy_bound(double e) override {
+    if (e == node_energy_) return;
+    node_energy_ = e;
+    clear_graphs();  // baked into the captured kernel nodes
+  }
+  StepHealth take_health() override {
+    enqueue_take_health(health_host_.data());
+    SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    return step_health(health_host_[0]);
   }
 
   // Device arrays (solver order, T) to a HostState (mesh order, double); a contact-stage
@@ -405,6 +423,7 @@ class CudaSolver final : public CudaSolverApi {
     }
     refresh_ub();
     dt_mid_ = 0;
+    SOFTTLED_CUDA_CHECK(cudaMemsetAsync(health_.data(), 0, sizeof(DeviceHealth), stream_));  // a fresh state
     SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host vectors die here
   }
 
@@ -560,6 +579,29 @@ class CudaSolver final : public CudaSolverApi {
     SOFTTLED_CUDA_CHECK(launch_sum(stream_, energy_.data(), anp ? ne_ + n_ : ne_, partials_.data(), sum));
   }
 
+  // The speed test's bound for steps of length dt (StepArgs::du2_bound).
+  T du2_bound(T dt) const { return T(speed_du2_bound(node_energy_, double(dt))); }
+
+  // The device watchdog's record into *dst (pinned), in stream order: first the state
+  // check of the live state (launch_state_check), then the copy, then the record cleared
+  // for the next interval.
+  void enqueue_take_health(DeviceHealth* dst) {
+    const LaunchShape ls = shape_for(std::max(ne_, n_), nsm_, false);
+    SOFTTLED_CUDA_CHECK(launch_state_check<T>(stream_, ls, rest_.view, cfg_.mat, live_.u.data(), live_.du.data(),
+                                              du2_bound(cfg_.step.dt), health_.data()));
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(dst, health_.data(), sizeof(DeviceHealth), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemsetAsync(health_.data(), 0, sizeof(DeviceHealth), stream_));
+  }
+  // A record in the mesh's numbering.
+  StepHealth step_health(const DeviceHealth& r) const {
+    StepHealth h;
+    h.checked = true;
+    h.bits = r.bits;
+    if (r.node_c) h.node = perm_.node_old.at(std::size_t(~r.node_c));
+    if (r.element_c) h.element = perm_.tet_old.at(std::size_t(~r.element_c));
+    return h;
+  }
+
   // Mesh obstacles (obstacle_sdf.h): each grid's values in T on the device; the kernels
   // take the views by value with these pointers.
   void hold_grids(const PhysicsParams& p) {
@@ -707,6 +749,8 @@ class CudaSolver final : public CudaSolverApi {
     a.fblock = rest_.fblock.data();
     a.nfblock = rest_.nfblock;
     a.fsmem_entries = rest_.fsmem_entries;
+    a.health = const_cast<DeviceHealth*>(health_.data());
+    a.du2_bound = du2_bound(p.dt);
     return a;
   }
 
@@ -868,10 +912,16 @@ class CudaSolver final : public CudaSolverApi {
     DeviceBuffer<double> se;
     PinnedBuffer<double> energy{1};
     PinnedBuffer<unsigned> overflow{1};
+    PinnedBuffer<DeviceHealth> health{1};
     Event done;
   };
   std::array<Snapshot, Solver::kSnapshotSlots> snaps_;
   bool fext_active_ = false;
+  // The device watchdog's record (DeviceHealth), its pinned copy for take_health, and the
+  // speed test's energy bound (set_node_energy_bound).
+  DeviceBuffer<DeviceHealth> health_;
+  PinnedBuffer<DeviceHealth> health_host_{1};
+  double node_energy_ = std::numeric_limits<double>::infinity();
   StepConfig<T> cfg_;
   PhysicsParams params_;
   double dt_mid_ = 0;  // > 0: the next step's midpoint step (change_step)

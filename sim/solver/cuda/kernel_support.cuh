@@ -3,6 +3,7 @@
 // tled_output.cu) and their one launch helper. Included by .cu files only.
 #include <cuda_runtime.h>
 
+#include "sim/fem/step_health.h"
 #include "sim/solver/cuda/tled_kernels.h"
 
 namespace softtled::cuda {
@@ -37,6 +38,20 @@ __device__ __forceinline__ T lane_sum(T v) {
 #pragma unroll
   for (int off = G / 2; off > 0; off /= 2) v += __shfl_down_sync(0xffffffffu, v, off, G);
   return v;
+}
+
+// Raises the device watchdog's record (DeviceHealth); node / element < 0: none named.
+__device__ __forceinline__ void raise_health(DeviceHealth* h, unsigned bits, int node, int element) {
+  atomicOr(&h->bits, bits);
+  if (node >= 0) atomicMax(&h->node_c, ~unsigned(node));
+  if (element >= 0) atomicMax(&h->element_c, ~unsigned(element));
+}
+
+// The node stage's test of node i's new state s (step_health.h), where a.health is set.
+template <class T>
+__device__ __forceinline__ void check_node(const StepArgs<T>& a, const NodeState<T>& s, int i) {
+  if (!a.health) return;
+  if (const unsigned bits = node_health(s, a.m.inv_mass[i], a.du2_bound)) raise_health(a.health, bits, i, -1);
 }
 
 // Raises kernel k's dynamic shared memory limit when it needs more than the default 48 KiB.

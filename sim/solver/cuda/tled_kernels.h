@@ -9,7 +9,8 @@
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
 //                   update_node (central_difference.h; plane contact fused in)
 //   tled_contact.cu body-body and self-contact after the node stage (body_contact.h)
-//   tled_output.cu  render vertices (surface_render.h), strain-energy terms, deterministic sum
+//   tled_output.cu  render vertices (surface_render.h), strain-energy terms, deterministic sum,
+//                   the device watchdog's state check (step_health.h)
 // Every kernel calls the SIM_HD value functions the CPU backend (cpu_step.h) loops over.
 // Launchers return the launch's cudaError_t; the caller checks it.
 #include <cuda_runtime_api.h>
@@ -23,6 +24,19 @@
 #include "sim/fem/surface_render.h"
 
 namespace softtled::cuda {
+
+// The device watchdog's record (step_health.h): the node kernels of every step and the
+// state check (launch_state_check) raise it; the host reads and clears it once per check
+// (CudaSolver::take_health, and each snapshot). Raised with atomicOr / atomicMax only, so
+// its content does not depend on the order threads reach it: the bits found, and the
+// smallest node and element (in the solver's numbering) stored complemented, so that an
+// all-zero record means "nothing found".
+struct DeviceHealth {
+  unsigned bits;
+  unsigned node_c;     // ~node, 0: none
+  unsigned element_c;  // ~element, 0: none
+  unsigned pad;
+};
 
 // Everything one explicit step reads, by value (kernel parameters).
 //
@@ -51,6 +65,10 @@ struct StepArgs {
   const int* fblock = nullptr;
   int nfblock = 0;
   int fsmem_entries = 0;
+  // The device watchdog: each updated node is tested with node_health(du2_bound) and a
+  // failure raised here (null: not tested, as in the probe's scratch steps).
+  DeviceHealth* health = nullptr;
+  T du2_bound = T(0);
 };
 
 struct LaunchShape {
@@ -231,6 +249,15 @@ template <class T>
 cudaError_t launch_strain_energy_terms(cudaStream_t s, const LaunchShape& le, const LaunchShape& ln,
                                        const TetMeshView<T>& m, const NeoHookean<T>& mat, bool anp, const T* u, T* vol,
                                        double* out);
+
+// The device watchdog's per-check test of the state (u, du) into *h: node_health of
+// every node and, with the Taylor model, J <= 0 of every element (ls: one thread per
+// node and element, max(nnode, ntet) threads): what the host watchdog scans for, on the
+// device. The step kernels test only the nodes they update; this also sees what the
+// contact stage wrote after the last node stage, and the elements.
+template <class T>
+cudaError_t launch_state_check(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                               const T* u, const T* du, T du2_bound, DeviceHealth* h);
 
 // Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
 // fixed tree order into partials (kSumBlocks of them), then one block reduces those.

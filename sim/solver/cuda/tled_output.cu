@@ -1,7 +1,7 @@
 // Kernels outside the step: the render hand-off (surface_render.h), the strain energy's
-// terms (per element; for T4ANP also per node, anp.h), and the deterministic sum that
-// totals them (fixed blocks, fixed tree: the same
-// number every run).
+// terms (per element; for T4ANP also per node, anp.h), the deterministic sum that totals
+// them (fixed blocks, fixed tree: the same number every run), and the device watchdog's
+// test of a state (step_health.h).
 #include "sim/fem/anp.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
@@ -37,6 +37,29 @@ __global__ void node_energy_kernel(const TetMeshView<T> m, const NeoHookean<T> m
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= m.nnode) return;
   out[m.ntet + i] = double(anp_node_energy(m, mat, vol, i));
+}
+
+// The device watchdog's test of a state (launch_state_check): thread t tests node t and
+// element t (where they exist).
+template <class T>
+__global__ void state_check_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
+                                   const T* __restrict__ du, T du2_bound, DeviceHealth* h) {
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t < m.nnode) {
+    NodeState<T> s;
+    for (int k = 0; k < 3; ++k) {
+      s.u[k] = u[k * m.nnode + t];
+      s.du[k] = du[k * m.nnode + t];
+    }
+    if (const unsigned bits = node_health(s, m.inv_mass[t], du2_bound)) raise_health(h, bits, t, -1);
+  }
+  // Inversion is a failure of the Taylor model only: the stable model handles it.
+  if (t < m.ntet && mat.model == kTaylorNeoHookean) {
+    T g[12], ue[4][3];
+    load_dhdX(m, t, g);
+    load_corner_u(m, u, t, ue);
+    if (!(volume_ratio(deformation_gradient(g, ue)) > T(0))) raise_health(h, kHealthInverted, -1, t);
+  }
 }
 
 constexpr int kSumThreads = 256;
@@ -76,6 +99,12 @@ cudaError_t launch_strain_energy_terms(cudaStream_t s, const LaunchShape& le, co
   return launch(s, ln, node_energy_kernel<T>, m, mat, static_cast<const T*>(vol), out);
 }
 
+template <class T>
+cudaError_t launch_state_check(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
+                               const T* u, const T* du, T du2_bound, DeviceHealth* h) {
+  return launch(s, ls, state_check_kernel<T>, m, mat, u, du, du2_bound, h);
+}
+
 cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials, double* out) {
   const int chunk = (n + kSumBlocks - 1) / kSumBlocks;
   LaunchShape ls;
@@ -93,7 +122,9 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
                                                  RenderScalar, const NeoHookean<T>&, float*);               \
   template cudaError_t launch_strain_energy_terms<T>(cudaStream_t, const LaunchShape&, const LaunchShape&,  \
                                                      const TetMeshView<T>&, const NeoHookean<T>&, bool, const T*, \
-                                                     T*, double*);
+                                                     T*, double*);                                        \
+  template cudaError_t launch_state_check<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,       \
+                                             const NeoHookean<T>&, const T*, const T*, T, DeviceHealth*);
 SOFTTLED_INSTANTIATE(float)
 SOFTTLED_INSTANTIATE(double)
 #undef SOFTTLED_INSTANTIATE

@@ -45,15 +45,17 @@ __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T
 }
 
 template <class T, bool kPrefetch>
-__global__ void node_update_kernel(const TetMeshView<T> m, const BodyStateView<T> b, const StepParams<T> p) {
+__global__ void node_update_kernel(const StepArgs<T> a) {
   pdl_launch_dependents();
+  const TetMeshView<T>& m = a.m;
+  const BodyStateView<T>& b = a.b;
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (kPrefetch && i < m.nnode) prefetch_node_rest(m, i);
   pdl_wait();  // fcorner is written by the element stage
   if (i >= m.nnode) return;
   T f[3];
   gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
-  update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub);
+  check_node(a, update_node(m, a.p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub), i);
 }
 
 // ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
@@ -109,7 +111,8 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
   }
   T f[3];
   lane_gather_force<T, G>(a.m, a.b.fcorner, g, f);
-  if (g.lane == 0 && g.i < a.m.nnode) update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i, a.b.ub);
+  if (g.lane == 0 && g.i < a.m.nnode)
+    check_node(a, update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i, a.b.ub), g.i);
 }
 
 template <class T, int G, bool kPrefetch>
@@ -233,8 +236,8 @@ template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
   switch (a.lanes) {
     case 1:
-      if (ls.prefetch) return launch(s, ls, node_update_kernel<T, true>, a.m, a.b, a.p);
-      return launch(s, ls, node_update_kernel<T, false>, a.m, a.b, a.p);
+      if (ls.prefetch) return launch(s, ls, node_update_kernel<T, true>, a);
+      return launch(s, ls, node_update_kernel<T, false>, a);
     case 4:
       if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 4, true>, a);
       return launch(s, ls, node_lanes_kernel<T, 4, false>, a);

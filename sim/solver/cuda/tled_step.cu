@@ -190,7 +190,8 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
     for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
     // The node's own u and du were written by this same thread in the previous step of a
     // multi-step launch, so ordinary loads see them.
-    if (valid && lane == 0) update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next);
+    if (valid && lane == 0)
+      check_node(a, update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next), i);
   }
 }
 
