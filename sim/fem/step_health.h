@@ -12,8 +12,9 @@
 // own kinetic energy (watchdog.h), so a healthy run stays below 2 S; a blow-up grows
 // exponentially and crosses 4 S within a few steps, before the first NaN.
 // In du terms: 1/2 m |du / dt|^2 > E_max  <=>  |du|^2 > 2 E_max dt^2 / m.
+#include <limits>
+
 #include "sim/core/sim_hd.h"
-#include "sim/fem/central_difference.h"
 
 namespace softtled {
 
@@ -26,19 +27,32 @@ enum StepHealthBits : unsigned {
 constexpr double kNodeEnergyFactor = 4;
 
 // The node test's bound: |du|^2 above du2_bound * inv_mass fails (du2_bound =
-// 2 E_max dt^2). E_max infinite: no bound (inf x 0 on a fixed node is NaN, and NaN
-// compares false, as a fixed node's du = 0 would anyway).
-inline double speed_du2_bound(double node_energy_max, double dt) { return 2.0 * node_energy_max * dt * dt; }
-
-// NaN/Inf and speed of one node's new state. A sum is finite only if every term is, and
-// x - x is 0 for every finite x but NaN for NaN and Inf (no isfinite: the same
-// expression on both compilers, and six additions instead of six classifications).
+// 2 E_max dt^2, in T). E_max infinite (no bound): the largest finite T, so that a fixed
+// node (inv_mass 0, du 0) gives 0 <= 0 and not the NaN of inf x 0.
 template <class T>
-SIM_HD inline unsigned node_health(const NodeState<T>& s, T inv_mass, T du2_bound) {
-  const T sum = s.u[0] + s.u[1] + s.u[2] + s.du[0] + s.du[1] + s.du[2];
+inline T speed_du2_bound(double node_energy_max, double dt) {
+  const double b = 2.0 * node_energy_max * dt * dt;
+  return b < double(std::numeric_limits<T>::max()) ? T(b) : std::numeric_limits<T>::max();
+}
+
+// The step kernels' test of the node they just updated, one comparison on the critical
+// path's end: false for a NaN or Inf increment (a comparison with NaN is false, Inf^2 is
+// Inf) and for a node faster than the bound. A NaN reaches every increment it touches
+// within a step (through the forces), and u only through du, so this catches a blow-up
+// at its first step; the per-check state test (node_health) also sees u.
+template <class T>
+SIM_HD inline bool node_step_ok(const T du[3], T inv_mass, T du2_bound) {
+  return du[0] * du[0] + du[1] * du[1] + du[2] * du[2] <= du2_bound * inv_mass;
+}
+
+// NaN/Inf and speed of one node's state (u, du): the watchdog's test of a whole state
+// at a check. A sum is finite only if every term is, and x - x is 0 for every finite x
+// but NaN for NaN and Inf (the same expression on both compilers).
+template <class T>
+SIM_HD inline unsigned node_health(const T u[3], const T du[3], T inv_mass, T du2_bound) {
+  const T sum = u[0] + u[1] + u[2] + du[0] + du[1] + du[2];
   if (!(sum - sum == T(0))) return kHealthNonFinite;
-  const T du2 = s.du[0] * s.du[0] + s.du[1] * s.du[1] + s.du[2] * s.du[2];
-  return du2 > du2_bound * inv_mass ? kHealthSpeed : 0u;
+  return node_step_ok(du, inv_mass, du2_bound) ? 0u : kHealthSpeed;
 }
 
 }  // namespace softtled

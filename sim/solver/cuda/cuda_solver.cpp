@@ -580,7 +580,7 @@ class CudaSolver final : public CudaSolverApi {
   }
 
   // The speed test's bound for steps of length dt (StepArgs::du2_bound).
-  T du2_bound(T dt) const { return T(speed_du2_bound(node_energy_, double(dt))); }
+  T du2_bound(T dt) const { return speed_du2_bound<T>(node_energy_, double(dt)); }
 
   // The device watchdog's record into *dst (pinned), in stream order: first the state
   // check of the live state (launch_state_check), then the copy, then the record cleared

@@ -47,11 +47,16 @@ __device__ __forceinline__ void raise_health(DeviceHealth* h, unsigned bits, int
   if (element >= 0) atomicMax(&h->element_c, ~unsigned(element));
 }
 
-// The node stage's test of node i's new state s (step_health.h), where a.health is set.
+// The node stage's update of node i (update_node) and the test of its new state
+// (node_step_ok, step_health.h), raised where a.health is set. inv_mass is loaded before
+// update_node's stores so that the compiler reuses update_node's own load of it.
 template <class T>
-__device__ __forceinline__ void check_node(const StepArgs<T>& a, const NodeState<T>& s, int i) {
-  if (!a.health) return;
-  if (const unsigned bits = node_health(s, a.m.inv_mass[i], a.du2_bound)) raise_health(a.health, bits, i, -1);
+__device__ __forceinline__ void update_and_check_node(const StepArgs<T>& a, const T f[3], const T* u_in,
+                                                      const T* du_in, T* u_out, T* du_out, int i, T* ub_out) {
+  const T inv_mass = a.m.inv_mass[i];
+  const NodeState<T> s = update_node(a.m, a.p, f, u_in, du_in, a.b.fext, u_out, du_out, a.b.contact, i, ub_out);
+  if (a.health && !node_step_ok(s.du, inv_mass, a.du2_bound))
+    raise_health(a.health, node_health(s.u, s.du, inv_mass, a.du2_bound), i, -1);
 }
 
 // Raises kernel k's dynamic shared memory limit when it needs more than the default 48 KiB.

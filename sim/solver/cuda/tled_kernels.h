@@ -65,8 +65,8 @@ struct StepArgs {
   const int* fblock = nullptr;
   int nfblock = 0;
   int fsmem_entries = 0;
-  // The device watchdog: each updated node is tested with node_health(du2_bound) and a
-  // failure raised here (null: not tested, as in the probe's scratch steps).
+  // The device watchdog: each updated node is tested with node_step_ok(du2_bound) and a
+  // failure raised here (null: not tested).
   DeviceHealth* health = nullptr;
   T du2_bound = T(0);
 };

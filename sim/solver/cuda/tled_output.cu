@@ -46,12 +46,12 @@ __global__ void state_check_kernel(const TetMeshView<T> m, const NeoHookean<T> m
                                    const T* __restrict__ du, T du2_bound, DeviceHealth* h) {
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t < m.nnode) {
-    NodeState<T> s;
+    T un[3], dun[3];
     for (int k = 0; k < 3; ++k) {
-      s.u[k] = u[k * m.nnode + t];
-      s.du[k] = du[k * m.nnode + t];
+      un[k] = u[k * m.nnode + t];
+      dun[k] = du[k * m.nnode + t];
     }
-    if (const unsigned bits = node_health(s, m.inv_mass[t], du2_bound)) raise_health(h, bits, t, -1);
+    if (const unsigned bits = node_health(un, dun, m.inv_mass[t], du2_bound)) raise_health(h, bits, t, -1);
   }
   // Inversion is a failure of the Taylor model only: the stable model handles it.
   if (t < m.ntet && mat.model == kTaylorNeoHookean) {

@@ -55,7 +55,7 @@ __global__ void node_update_kernel(const StepArgs<T> a) {
   if (i >= m.nnode) return;
   T f[3];
   gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
-  check_node(a, update_node(m, a.p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub), i);
+  update_and_check_node(a, f, b.u, b.du, b.u, b.du, i, b.ub);
 }
 
 // ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
@@ -112,7 +112,7 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
   T f[3];
   lane_gather_force<T, G>(a.m, a.b.fcorner, g, f);
   if (g.lane == 0 && g.i < a.m.nnode)
-    check_node(a, update_node(a.m, a.p, f, a.b.u, a.b.du, a.b.fext, a.b.u, a.b.du, a.b.contact, g.i, a.b.ub), g.i);
+    update_and_check_node(a, f, a.b.u, a.b.du, a.b.u, a.b.du, g.i, a.b.ub);
 }
 
 template <class T, int G, bool kPrefetch>

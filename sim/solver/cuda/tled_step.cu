@@ -191,7 +191,7 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
     // The node's own u and du were written by this same thread in the previous step of a
     // multi-step launch, so ordinary loads see them.
     if (valid && lane == 0)
-      check_node(a, update_node(m, a.p, f, u_prev, du_prev, a.b.fext, u_next, du_next, a.b.contact, i, ub_next), i);
+      update_and_check_node(a, f, u_prev, du_prev, u_next, du_next, i, ub_next);
   }
 }
 
