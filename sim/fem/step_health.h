@@ -1,16 +1,18 @@
 #pragma once
-// The health tests of one node after a step and of one element's state: what the CUDA
-// step kernels check on every node they update (the device watchdog), and what the host
-// watchdog (watchdog.cpp) checks on a state at each check where no backend did.
+// The health tests of one node: what the CUDA step kernels check on every node they
+// update and the state kernel on every node at a check (the device watchdog), and what
+// the host watchdog (watchdog.cpp) checks where no backend did. (The third test, J <= 0
+// under the Taylor model, is volume_ratio of tet_kinematics.h.)
 //
 // The speed bound comes from energy conservation. With alpha, beta >= 0, passive contact
 // and no user force or moving wall, the total energy ke + se + pe can only fall, so no
 // single node's kinetic energy 1/2 m_i |v_i|^2 can exceed what the scene can release:
 // the watchdog's energy scale S (initial kinetic energy plus gravity over the largest
-// drop, watchdog_energy_scale). The test allows kNodeEnergyFactor x S: the half-step
-// velocity du / dt the integrator carries is off around an impact by up to the impact's
-// own kinetic energy (watchdog.h), so a healthy run stays below 2 S; a blow-up grows
-// exponentially and crosses 4 S within a few steps, before the first NaN.
+// drop, watchdog_energy_scale) plus the kinetic and strain energy held when the test was
+// armed (Simulation::arm_speed_test): E. The test allows kNodeEnergyFactor x E: the
+// half-step velocity du / dt the integrator carries is off around an impact by up to the
+// impact's own kinetic energy (watchdog.h), so a healthy run stays below 2 E; a blow-up
+// grows exponentially and crosses 4 E within a few steps, before the first NaN.
 // In du terms: 1/2 m |du / dt|^2 > E_max  <=>  |du|^2 > 2 E_max dt^2 / m.
 #include <limits>
 
