@@ -60,10 +60,4 @@ SIM_HD inline Mat3<T> deformation_gradient_from_rest(const T X[4][3], const T u[
   return deformation_gradient(dhdX, u);
 }
 
-// J of one element from its rest corners and corner displacements (the watchdog's test).
-template <class T>
-SIM_HD inline T tet_volume_ratio(const T X[4][3], const T u[4][3]) {
-  return volume_ratio(deformation_gradient_from_rest(X, u));
-}
-
 }  // namespace softtled

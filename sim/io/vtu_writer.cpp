@@ -10,28 +10,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "sim/fem/tet_kinematics.h"
+#include "sim/fem/mesh_kinematics.h"
 #include "sim/fem/von_mises.h"
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
-namespace {
-
-// F of element e from the mesh's rest positions and the displacements u (null: rest).
-Mat3<double> element_F(const TetMesh& m, const std::vector<double>* u, int e) {
-  const int n = m.nnode();
-  const int* t = &m.tet[4 * e];
-  double X[4][3], ue[4][3];
-  for (int a = 0; a < 4; ++a)
-    for (int k = 0; k < 3; ++k) {
-      X[a][k] = m.X[3 * t[a] + k];
-      ue[a][k] = u ? (*u)[k * n + t[a]] : 0.0;
-    }
-  return deformation_gradient_from_rest(X, ue);
-}
-
-}  // namespace
-
 void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, double dt, const NeoHookean<double>& mat) {
   std::ostringstream o;
   const int n = m.nnode(), ne = m.ntet();
@@ -63,7 +46,7 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
   o << "<CellData Scalars=\"von_mises\">\n<DataArray type=\"Float64\" Name=\"J\" format=\"ascii\">\n";
   std::vector<double> vm(ne);
   for (int e = 0; e < ne; ++e) {
-    const Mat3<double> F = element_F(m, s ? &s->u : nullptr, e);
+    const Mat3<double> F = mesh_element_F(m, s ? &s->u : nullptr, e);
     const double J = volume_ratio(F);
     o << J << '\n';
     // Cauchy von Mises (von_mises.h, also the render map's). A body with its own E

@@ -1,7 +1,7 @@
 #include "sim/scene/watchdog.h"
 
 #include "sim/fem/step_health.h"
-#include "sim/fem/tet_kinematics.h"
+#include "sim/fem/mesh_kinematics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,19 +23,6 @@ WatchdogFinding non_finite(const TetMesh& m, int node, bool unstable_dt) {
   const int element = first_element_of(m, node);
   return {"node " + std::to_string(node) + " (element " + std::to_string(element) + ") has a NaN/Inf displacement",
           element, unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
-}
-
-// J of element e of state s, in double on the host, through the one F/J definition.
-double element_J(const TetMesh& m, const HostState& s, int e) {
-  const int n = m.nnode();
-  const int* t = &m.tet[4 * e];
-  double X[4][3], u[4][3];
-  for (int a = 0; a < 4; ++a)
-    for (int k = 0; k < 3; ++k) {
-      X[a][k] = m.X[3 * t[a] + k];
-      u[a][k] = s.u[k * n + t[a]];
-    }
-  return tet_volume_ratio(X, u);
 }
 
 WatchdogFinding inverted(int e, double J, bool unstable_dt) {
@@ -71,7 +58,7 @@ std::optional<WatchdogFinding> device_finding(const TetMesh& m, const HostState&
                                               const Watchdog::SpeedTest& sp, bool unstable_dt) {
   if (dev.bits & kHealthNonFinite) return non_finite(m, std::max(dev.node, 0), unstable_dt);
   if ((dev.bits & kHealthInverted) && dev.element >= 0)
-    return inverted(dev.element, element_J(m, s, dev.element), unstable_dt);
+    return inverted(dev.element, mesh_element_J(m, s.u, dev.element), unstable_dt);
   if (dev.bits & kHealthSpeed) return too_fast(m, std::max(dev.node, 0), -1, sp, unstable_dt);
   return std::nullopt;
 }
@@ -86,15 +73,19 @@ std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState&
   // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
   if (model == kTaylorNeoHookean)
     for (int e = 0; e < m.ntet(); ++e)
-      if (const double J = element_J(m, s, e); !(J > 0)) return inverted(e, J, unstable_dt);
-  // The speed test (step_health.h), as the device runs it but in double.
-  if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0)
+      if (const double J = mesh_element_J(m, s.u, e); !(J > 0)) return inverted(e, J, unstable_dt);
+  // The speed test: the device's node_step_ok (step_health.h), in double.
+  if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0) {
+    const double bound = speed_du2_bound<double>(speed.node_energy_max, speed.dt);
     for (int i = 0; i < n; ++i) {
-      double du2 = 0;
-      for (int k = 0; k < 3; ++k) du2 += s.du[std::size_t(k) * n + i] * s.du[std::size_t(k) * n + i];
-      const double ke = 0.5 * (*speed.mass)[i] * du2 / (speed.dt * speed.dt);
-      if (ke > speed.node_energy_max) return too_fast(m, i, ke, speed, unstable_dt);
+      const double du[3] = {s.du[i], s.du[std::size_t(n) + i], s.du[2 * std::size_t(n) + i]};
+      const double mi = (*speed.mass)[i];
+      if (mi > 0 && !node_step_ok(du, 1 / mi, bound)) {
+        const double ke = 0.5 * mi * (du[0] * du[0] + du[1] * du[1] + du[2] * du[2]) / (speed.dt * speed.dt);
+        return too_fast(m, i, ke, speed, unstable_dt);
+      }
     }
+  }
   return std::nullopt;
 }
 

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "sim/fem/tet_kinematics.h"
+#include "sim/fem/mesh_kinematics.h"
 #include "sim/scene/simulation.h"
 
 namespace softtled::test {
@@ -30,23 +30,12 @@ inline void expect_sane(Simulation& sim, const std::string& what) {
   EXPECT_TRUE(std::isfinite(d.ke) && std::isfinite(d.se)) << what;
 }
 
-// Smallest volume ratio J over the elements now (tet_volume_ratio: the one definition).
+// Smallest volume ratio J over the elements now (mesh_element_J: the one definition).
 inline double min_J(Simulation& sim) {
   const HostState& st = sim.state();
   const TetMesh& m = sim.mesh();
-  const int n = m.nnode();
   double jmin = 1e300;
-  for (int e = 0; e < m.ntet(); ++e) {
-    double X[4][3], u[4][3];
-    for (int a = 0; a < 4; ++a) {
-      const int i = m.tet[4 * e + a];
-      for (int k = 0; k < 3; ++k) {
-        X[a][k] = m.X[3 * i + k];
-        u[a][k] = st.u[k * n + i];
-      }
-    }
-    jmin = std::min(jmin, tet_volume_ratio(X, u));
-  }
+  for (int e = 0; e < m.ntet(); ++e) jmin = std::min(jmin, mesh_element_J(m, st.u, e));
   return jmin;
 }
 
