@@ -148,7 +148,7 @@ Command add_mesh_command(CLI::App& app) {
       else print_rows(rows, s);
     }
     if (!o->write.empty()) write_tetgen_files(m, o->write);
-    if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));
+    if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, {neo_hookean_from_E_nu<double>(s.E, s.nu)});
     return 0;
   };
 }

@@ -113,8 +113,7 @@ Command add_run_command(CLI::App& app) {
     long out_index = 0;
     auto write_frame = [&](double t, const HostState& st) {
       if (!vtu || out_index++ % o->every) return;
-      vtu->add(t, sim.mesh(), st, sim.time_step().dt,
-               neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
+      vtu->add(t, sim.mesh(), st, sim.time_step().dt, sim.materials());
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
     auto written = [&]() {

@@ -27,8 +27,16 @@ void plot_component(const char* name, const std::vector<float>& v, ImU32 color) 
 
 std::vector<ViewerStats::Body> body_list(const Scene& scene) {
   std::vector<ViewerStats::Body> list;
-  for (int b = 0; b < scene.body_count(); ++b)
-    list.push_back({scene.body(b).key, scene.body(b).shape, scene.body_E(b) / scene.E, scene.body_rho(b) / scene.rho});
+  for (int b = 0; b < scene.body_count(); ++b) {
+    const BodyDesc& d = scene.body(b);
+    std::string law;
+    char nu[32];
+    std::snprintf(nu, sizeof nu, "nu %.3g ", d.own_nu);
+    if (d.own_nu > -1) law += nu;
+    if (d.own_model >= 0) law += std::string(material_model_name(MaterialModel(d.own_model))) + " ";
+    if (d.own_element >= 0) law += element_name(ElementType(d.own_element));
+    list.push_back({d.key, d.shape, scene.body_E(b) / scene.E, scene.body_rho(b) / scene.rho, law});
+  }
   return list;
 }
 
@@ -91,8 +99,8 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   if (st.bodies.size() >= 2 && ImGui::CollapsingHeader("Bodies", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::Text("%zu bodies", st.bodies.size());
     for (const ViewerStats::Body& b : st.bodies)
-      ImGui::TextDisabled("%-9s %-7s E %6.0f Pa  rho %5.0f kg/m3", b.name.c_str(), b.shape.c_str(), s.E * b.E_scale,
-                          s.rho * b.rho_scale);
+      ImGui::TextDisabled("%-9s %-7s E %6.0f Pa  rho %5.0f kg/m3 %s", b.name.c_str(), b.shape.c_str(),
+                          s.E * b.E_scale, s.rho * b.rho_scale, b.law.c_str());
   }
 
   if (ImGui::CollapsingHeader("Contact", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -76,6 +76,7 @@ struct ViewerStats {
   struct Body {
     std::string name, shape;
     double E_scale = 1, rho_scale = 1;
+    std::string law;  // its own nu, model and element ([body.material]); "" : the scene's
   };
   std::vector<Body> bodies;
   float slope_now = 0;              // slope angle in use (turns towards the panel's) [deg]

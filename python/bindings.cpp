@@ -414,8 +414,7 @@ PYBIND11_MODULE(_softtled, m) {
           "write_vtu", [](PySimulation& s, const std::string& path) {
             check_output_file(path, "write_vtu");
             Simulation& sim = s.sim();
-            write_vtu(path, sim.mesh(), &sim.state(), sim.time_step().dt,
-                      neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model));
+            write_vtu(path, sim.mesh(), &sim.state(), sim.time_step().dt, sim.materials());
           },
           py::arg("path"), "One ParaView .vtu of the state now (the point and cell data of `run --vtu`).")
       .def(

@@ -11,6 +11,9 @@ enum NodeFlag : std::uint8_t {
   kNodeFixed = 2,    // prescribed zero displacement
 };
 
+template <class T>
+struct ElementLaw;  // sim/fem/element_law.h
+
 enum ContactState : std::uint8_t { kFree = 0, kStick = 1, kSlide = 2 };
 
 // Rest state: computed once from the tetrahedral mesh, never changes.
@@ -26,6 +29,11 @@ struct TetMeshView {
   const int* gather_start = nullptr; // nnode + 1, CSR offsets into gather_slot
   const int* gather_slot = nullptr;  // 4 x ntet, corner slots a * ntet + e touching each node
   const std::uint8_t* flags = nullptr;  // nnode, NodeFlag bits
+  // Per-body laws (element_law.h), null where every body has the scene's: each element's
+  // and node's index into laws (its body), and the live table.
+  const std::uint8_t* tet_law = nullptr;   // ntet
+  const std::uint8_t* node_law = nullptr;  // nnode
+  const ElementLaw<T>* laws = nullptr;     // one per body
 };
 
 // Live state: changes every step.

@@ -18,6 +18,7 @@
 #include "sim/core/body_view.h"
 #include "sim/core/mat3.h"
 #include "sim/core/sim_hd.h"
+#include "sim/fem/element_law.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/fem/tet_forces.h"
 #include "sim/fem/tet_kinematics.h"
@@ -105,24 +106,26 @@ SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T
                                      int i) {
   T v, v0;
   gather_node_volume(m.gather_start, m.gather_slot, m.ntet, vol_now, m.vol, i, v, v0);
-  p_node[i] = anp_pressure(mat, v, v0);
+  p_node[i] = anp_pressure(node_material(m, mat, i), v, v0);
 }
 
 template <class T>
 SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
                                      T* fcorner, int e) {
+  if (!element_uses_anp(m, e)) return element_corner_forces(m, mat, u, fcorner, e);  // a T4 body's
   T g[12], ue[4][3], f[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
   T p = T(0);
   for (int a = 0; a < 4; ++a) p += p_node[m.tet[a * m.ntet + e]];
   p *= T(0.25);
-  corner_forces(anp_stress(mat, deformation_gradient(g, ue), p), m.vol[e], g, f);
+  corner_forces(anp_stress(element_material(m, mat, e), deformation_gradient(g, ue), p), m.vol[e], g, f);
   store_corner_forces(m, f, fcorner, e);
 }
 
 // Energy loop bodies: element e's deviatoric energy (its current volume into vol_now, for
-// the node part), then node i's volumetric energy from those volumes.
+// the node part), then node i's volumetric energy from those volumes. A T4 body's
+// elements (element_law.h) count their whole energy and its nodes none.
 template <class T>
 SIM_HD inline T anp_element_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* vol_now, int e) {
   T g[12], ue[4][3];
@@ -130,14 +133,17 @@ SIM_HD inline T anp_element_energy(const TetMeshView<T>& m, const NeoHookean<T>&
   load_corner_u(m, u, e, ue);
   const Mat3<T> F = deformation_gradient(g, ue);
   vol_now[e] = anp_element_volume(F, m.vol[e]);
-  return anp_element_energy(mat, F, m.vol[e]);
+  const NeoHookean<T>& me = element_material(m, mat, e);
+  if (!element_uses_anp(m, e)) return m.vol[e] * neo_hookean_energy_density(me, F);
+  return anp_element_energy(me, F, m.vol[e]);
 }
 
 template <class T>
 SIM_HD inline T anp_node_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* vol_now, int i) {
+  if (!node_uses_anp(m, i)) return T(0);
   T v, v0;
   gather_node_volume(m.gather_start, m.gather_slot, m.ntet, vol_now, m.vol, i, v, v0);
-  return anp_node_energy(mat, v, v0);
+  return anp_node_energy(node_material(m, mat, i), v, v0);
 }
 
 }  // namespace softtled

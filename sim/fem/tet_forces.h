@@ -9,6 +9,7 @@
 #include "sim/core/body_view.h"
 #include "sim/core/mat3.h"
 #include "sim/core/sim_hd.h"
+#include "sim/fem/element_law.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/fem/tet_kinematics.h"
 
@@ -39,6 +40,7 @@ SIM_HD inline T tet_strain_energy(const NeoHookean<T>& mat, const T dhdX[12], T 
 }
 
 // ---- one element of the struct-of-arrays views (the backends' element loops) ----
+// mat: the scene's law; an element of a body with its own takes that (element_law.h).
 
 template <class T>
 SIM_HD inline void load_dhdX(const TetMeshView<T>& m, int e, T dhdX[12]) {
@@ -70,7 +72,7 @@ SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHooke
   T g[12], ue[4][3], f[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
-  tet_corner_forces(mat, g, m.vol[e], ue, f);
+  tet_corner_forces(element_material(m, mat, e), g, m.vol[e], ue, f);
   store_corner_forces(m, f, fcorner, e);
 }
 
@@ -79,7 +81,7 @@ SIM_HD inline T element_strain_energy(const TetMeshView<T>& m, const NeoHookean<
   T g[12], ue[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
-  return tet_strain_energy(mat, g, m.vol[e], ue);
+  return tet_strain_energy(element_material(m, mat, e), g, m.vol[e], ue);
 }
 
 }  // namespace softtled

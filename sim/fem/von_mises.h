@@ -59,13 +59,13 @@ SIM_HD inline T element_E_scale(const T dhdX[12], T vol) {
 
 // ---- on the struct-of-arrays views (render vertices, both backends) ----
 
-// sigma_vM of element e at the displacements u, with the element's own E.
+// sigma_vM of element e at the displacements u, with the element's own E and law.
 template <class T>
 SIM_HD inline T element_von_mises(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, int e) {
   T g[12], ue[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
-  return von_mises_stress(mat, deformation_gradient(g, ue)) * element_E_scale(g, m.vol[e]);
+  return von_mises_stress(element_material(m, mat, e), deformation_gradient(g, ue)) * element_E_scale(g, m.vol[e]);
 }
 
 // Node i's value: the mean of sigma_vM over the elements around it, in gather order

@@ -12,6 +12,7 @@ namespace softtled {
 MeshReport mesh_report(const SurfaceMesh& surface, TetMesh m, double E, double nu, double rho, int model) {
   m.E_scale.clear();
   m.rho_scale.clear();
+  m.per_body_law = false;
   MeshReport r;
   r.input_points = surface.npoint();
   r.input_facets = surface.ntri();
@@ -32,7 +33,9 @@ std::vector<MeshReport> body_mesh_reports(const Scene& s, const std::vector<Surf
   MeshReport total;
   total.dt_le = total.dt_eigen = total.dt_cr = INFINITY;
   for (int b = 0; b < m.nbody(); ++b) {
-    const MeshReport r = mesh_report(surfaces[b], body_mesh(m, b), s.body_E(b), s.nu, s.body_rho(b), s.material_model);
+    const BodyDesc& d = s.body(b);
+    const MeshReport r = mesh_report(surfaces[b], body_mesh(m, b), s.body_E(b), d.own_nu > -1 ? d.own_nu : s.nu,
+                                     s.body_rho(b), d.own_model >= 0 ? d.own_model : s.material_model);
     total.input_points += r.input_points;
     total.input_facets += r.input_facets;
     total.input_segments += r.input_segments;

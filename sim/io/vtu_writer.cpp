@@ -15,7 +15,8 @@
 #include "sim/mesh/surface_mesh.h"
 
 namespace softtled {
-void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, double dt, const NeoHookean<double>& mat) {
+void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, double dt,
+               const std::vector<NeoHookean<double>>& mats) {
   std::ostringstream o;
   const int n = m.nnode(), ne = m.ntet();
   o.precision(9);
@@ -49,8 +50,9 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
     const Mat3<double> F = mesh_element_F(m, s ? &s->u : nullptr, e);
     const double J = volume_ratio(F);
     o << J << '\n';
-    // Cauchy von Mises (von_mises.h, also the render map's). A body with its own E
-    // ([body.material]): the stress scales with E at a fixed nu.
+    // Cauchy von Mises (von_mises.h, also the render map's) with the element's body's law.
+    // A body with its own E ([body.material]): the stress scales with E at a fixed nu.
+    const NeoHookean<double>& mat = mats.at(mats.size() == 1 ? 0 : std::size_t(m.tet_body.at(e)));
     vm[e] = von_mises_stress(mat, F) * (m.E_scale.empty() ? 1.0 : m.E_scale[e]);
   }
   o << "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
@@ -69,12 +71,13 @@ VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
   if (ec) throw InputError(dir_ + ": cannot create directory (" + ec.message() + ")");
 }
 
-void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, const NeoHookean<double>& mat) {
+void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
+                    const std::vector<NeoHookean<double>>& mats) {
   char name[64];
   Frame frame{t, {}};
   if (m.nbody() == 1) {
     std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-    write_vtu(dir_ + "/" + name, m, &s, dt, mat);
+    write_vtu(dir_ + "/" + name, m, &s, dt, mats);
     frame.files.push_back(name);
   } else {
     // One file per body; if one fails, the frame's files already written are removed, so
@@ -83,7 +86,7 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt, c
       for (int b = 0; b < m.nbody(); ++b) {
         std::snprintf(name, sizeof name, "frame_%05zu_b%d.vtu", frames_.size(), b);
         const HostState part = body_state(m, s, b);
-        write_vtu(dir_ + "/" + name, body_mesh(m, b), &part, dt, mat);
+        write_vtu(dir_ + "/" + name, body_mesh(m, b), &part, dt, {mats.at(mats.size() == 1 ? 0 : std::size_t(b))});
         frame.files.push_back(name);
       }
     } catch (...) {

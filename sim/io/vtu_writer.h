@@ -14,9 +14,10 @@
 namespace softtled {
 
 // state may be null: the rest mesh alone. dt converts the increment du to a velocity.
-// Written atomically (PATH.tmp, then renamed); write errors are ResourceErrors.
+// mats: the material of every body (m.tet_body), or one for all. Written atomically
+// (PATH.tmp, then renamed); write errors are ResourceErrors.
 void write_vtu(const std::string& path, const TetMesh& m, const HostState* state, double dt,
-               const NeoHookean<double>& mat);
+               const std::vector<NeoHookean<double>>& mats);
 
 // Collects frames and keeps DIR/series.pvd up to date after each one. A one-body mesh gives
 // DIR/frame_NNNNN.vtu per frame; a mesh of several bodies one file per body,
@@ -28,7 +29,8 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* state
 class VtuSeries {
  public:
   explicit VtuSeries(std::string dir);
-  void add(double t, const TetMesh& m, const HostState& s, double dt, const NeoHookean<double>& mat);
+  // mats: the material of every body (Simulation::materials), or one for all.
+  void add(double t, const TetMesh& m, const HostState& s, double dt, const std::vector<NeoHookean<double>>& mats);
   std::size_t size() const { return frames_.size(); }
   const std::string& dir() const { return dir_; }
 

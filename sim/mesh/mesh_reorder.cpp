@@ -108,6 +108,7 @@ TetMesh permute_mesh(const TetMesh& m, const MeshPermutation& p) {
   per_tet(m.tet_body, r.tet_body);
   per_tet(m.rho_scale, r.rho_scale);
   per_tet(m.E_scale, r.E_scale);
+  r.per_body_law = m.per_body_law;
   return r;
 }
 

@@ -22,6 +22,9 @@ struct TetMesh {
   // is then computed exactly as for one body.
   std::vector<double> rho_scale;      // ntet
   std::vector<double> E_scale;        // ntet
+  // Some body has its own nu, model or element: the rest state then carries each
+  // element's and node's body as an index into the live law table (element_law.h).
+  bool per_body_law = false;
   int nbody() const;                  // 1 when node_body is empty
   int nnode() const { return static_cast<int>(X.size() / 3); }
   int ntet() const { return static_cast<int>(tet.size() / 4); }

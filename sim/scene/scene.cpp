@@ -425,8 +425,7 @@ void read_obstacles(Reader& r, Scene& s) {
 
 
 // One body's keys (body.* in table t, under the name label), into b.
-void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b,
-               double* own_nu) {
+void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b) {
   toml::table root;
   root.insert("body", t);
   Reader r(root, source, label == "body" ? "" : label);
@@ -452,17 +451,19 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
     r.fail("body.file", "'" + b.file + "': a tet mesh file must end in .msh, .vtu, .node, .ele or .mesh");
   if (const toml::node* mat = r.get("body.material")) {
     auto mt = mat->as_table();
-    if (!mt) r.fail("body.material", "expected a table ([body.material]) with E, nu, rho");
+    if (!mt) r.fail("body.material", "expected a table ([body.material]) with E, nu, rho, model, element");
     for (const auto& [k, v] : *mt) {
       (void)v;
       const std::string name(k.str());
-      if (name != "E" && name != "nu" && name != "rho")
-        r.fail("body.material." + name, "unknown key (a body's material takes E, nu, rho; model and element are "
-                                        "the scene's [material])");
+      if (name != "E" && name != "nu" && name != "rho" && name != "model" && name != "element")
+        r.fail("body.material." + name, "unknown key (a body's material takes E, nu, rho, model, element)");
     }
     b.own_E = r.num("body.material.E", -1, 0, kMaxYoungsModulus, true);
     b.own_rho = r.num("body.material.rho", -1, 0, kMaxDensity, true);
-    *own_nu = r.num("body.material.nu", -2, -1, 0.5, false);
+    b.own_nu = r.num("body.material.nu", -2, -1, 0.5, false);
+    if (b.own_nu > -2 && !(b.own_nu > -1 && b.own_nu < 0.5)) r.fail("body.material.nu", "must lie in (-1, 0.5)");
+    if (r.get("body.material.model")) b.own_model = r.choice("body.material.model", kTaylorNeoHookean, kMaterialModels);
+    if (r.get("body.material.element")) b.own_element = r.choice("body.material.element", kT4, kElements);
   }
   for (const auto& [k, v] : t) {
     (void)v;
@@ -473,7 +474,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
 
 // [body] (one body) or [[body]] tables (at most kMaxBodies), each with body.* keys and
 // optionally [body.material]. Body 0 goes into the Scene's own BodyDesc.
-void read_bodies(Reader& r, const toml::table& root, Scene& s, std::vector<double>& own_nu) {
+void read_bodies(Reader& r, const toml::table& root, Scene& s) {
   const toml::node* node = r.get("body");
   std::vector<const toml::table*> tables;
   bool array = false;
@@ -496,14 +497,13 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s, std::vector<doubl
     r.fail("body", "expected a [body] table or [[body]] tables");
   }
   (void)root;
-  own_nu.assign(tables.size(), -2);
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string label = array ? "body[" + std::to_string(i) + "]" : "body";
     if (i == 0) {
-      read_body(*tables[i], s.source, label, s, &own_nu[i]);
+      read_body(*tables[i], s.source, label, s);
     } else {
       BodyDesc b;
-      read_body(*tables[i], s.source, label, b, &own_nu[i]);
+      read_body(*tables[i], s.source, label, b);
       s.more_bodies.push_back(b);
     }
   }
@@ -523,11 +523,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   Reader r(root, source);
   Scene s;
   s.source = source;
-  std::vector<double> own_nu;  // per body: [body.material] nu, -2 when not given
   const std::string units = r.str("units", "mm", {"m", "mm"});
   s.length_unit = units == "mm" ? 1e-3 : 1.0;
 
-  read_bodies(r, root, s, own_nu);
+  read_bodies(r, root, s);
   read_mesh_keys(r, s);
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
@@ -576,15 +575,15 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
   if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
   s.rho = r.num("material.rho", s.rho, 0, kMaxDensity, true);
+  // T4ANP is implemented for the Taylor form only (anp.h), body by body: a body's own
+  // element or model against its own or the scene's other one.
   for (int i = 0; i < s.body_count(); ++i) {
-    const std::string key = s.body(i).key;
-    if (own_nu[i] > -2 && own_nu[i] != s.nu)
-      throw InputError(s.source + ": " + key + ".material.nu: a body's own nu is not supported yet (its E and rho are); "
-                       "it must equal material.nu or be left out");
-    if (s.element == kT4ANP && ((s.body(i).own_E > 0 && s.body(i).own_E != s.E) ||
-                                (s.body(i).own_rho > 0 && s.body(i).own_rho != s.rho)))
-      throw InputError(s.source + ": " + key + ".material: per-body materials are implemented for material.element = "
-                       "\"T4\" only");
+    const BodyDesc& b = s.body(i);
+    const int element = b.own_element >= 0 ? b.own_element : s.element;
+    const int model = b.own_model >= 0 ? b.own_model : s.material_model;
+    if (element == kT4ANP && model != kTaylorNeoHookean)
+      r.fail(b.own_law() ? b.key + ".material" : "material.element",
+             "T4ANP is implemented for the neo_hookean model only");
   }
   s.alpha = r.num("damping.alpha", s.alpha, 0, kMaxAlpha);
   s.beta = r.num("damping.beta", s.beta, 0, kMaxBeta);
@@ -643,6 +642,12 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   }
   r.reject_unknown();
   return s;
+}
+
+bool Scene::per_body_law() const {
+  for (int i = 0; i < body_count(); ++i)
+    if (body(i).own_law()) return true;
+  return false;
 }
 
 const char* material_model_name(MaterialModel m) { return name_of(kMaterialModels, m); }

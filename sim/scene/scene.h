@@ -32,8 +32,13 @@ struct BodyDesc {
   std::array<double, 3> position = {0, 0, 0};    // [units]
   std::array<double, 3> rotation_deg = {0, 0, 0};  // about x, then y, then z
   std::array<double, 3> velocity = {0, 0, 0};    // [m/s]
-  // [body.material]: E and rho of this body (nu must equal material.nu); < 0: the scene's.
-  double own_E = -1, own_rho = -1;
+  // [body.material]: this body's own E, rho, nu, model and element; unset (E, rho < 0,
+  // nu < -1, model or element < 0): the scene's [material], live.
+  double own_E = -1, own_rho = -1, own_nu = -2;
+  int own_model = -1;    // MaterialModel
+  int own_element = -1;  // ElementType
+  // Whether it sets its own nu, model or element (a law of its own: element_law.h).
+  bool own_law() const { return own_nu > -2 || own_model >= 0 || own_element >= 0; }
 };
 
 // Body 0's keys are the Scene's own (a one-body scene reads and edits them as before);
@@ -49,6 +54,8 @@ struct Scene : BodyDesc {
   BodyDesc& body(int i) { return i == 0 ? static_cast<BodyDesc&>(*this) : more_bodies[i - 1]; }
   double body_E(int i) const { return body(i).own_E > 0 ? body(i).own_E : E; }
   double body_rho(int i) const { return body(i).own_rho > 0 ? body(i).own_rho : rho; }
+  // Whether some body sets its own nu, model or element.
+  bool per_body_law() const;
   // Whether body-body contact runs: contact.bodies (default: true) and >= 2 bodies.
   bool body_contact() const { return contact_bodies && body_count() >= 2; }
 

@@ -12,6 +12,7 @@
 #include "sim/mesh/mesh_cache.h"
 #include "sim/solver/solver_factory.h"
 #include "sim/solver/stable_step.h"
+#include "sim/solver/step_params.h"
 
 namespace softtled {
 
@@ -53,14 +54,13 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
     mesh_ = mesh_body(0);
   } else {
     std::vector<TetMesh> parts;
-    std::vector<double> rho_scale, E_scale;
     for (int b = 0; b < scene_.body_count(); ++b) {
       parts.push_back(mesh_body(b));
-      rho_scale.push_back(scene_.body_rho(b) / scene_.rho);
-      E_scale.push_back(scene_.body_E(b) / scene_.E);
-      c_factor_ = std::max(c_factor_, std::sqrt(E_scale.back() / rho_scale.back()));
+      rho_scale_.push_back(scene_.body_rho(b) / scene_.rho);
+      E_scale_.push_back(scene_.body_E(b) / scene_.E);
     }
-    mesh_ = concat_bodies(parts, rho_scale, E_scale);
+    mesh_ = concat_bodies(parts, rho_scale_, E_scale_);
+    mesh_.per_body_law = scene_.per_body_law();
     check_bodies_apart(scene_, mesh_);
   }
   flags_ = scene_node_flags(scene_, mesh_, &n_fixed_);
@@ -72,6 +72,11 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   params_.element = scene_.element;
   params_.material_model = scene_.material_model;
   params_.nu = scene_.nu;
+  if (mesh_.per_body_law)
+    for (int b = 0; b < scene_.body_count(); ++b) {
+      const BodyDesc& d = scene_.body(b);
+      params_.body_laws.push_back({d.own_nu, d.own_model, d.own_element});
+    }
   params_.alpha = scene_.alpha;
   params_.beta = scene_.beta;
   for (int k = 0; k < 3; ++k) params_.g[k] = scene_.g[k];
@@ -113,6 +118,16 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   apply_initial_state();
 }
 
+std::vector<NeoHookean<double>> Simulation::materials() const {
+  if (params_.body_laws.empty()) return {neo_hookean_from_E_nu<double>(params_.E, params_.nu, params_.material_model)};
+  std::vector<NeoHookean<double>> v;
+  for (std::size_t b = 0; b < params_.body_laws.size(); ++b) {
+    const BodyLaw l = resolved_law(params_, int(b));
+    v.push_back(neo_hookean_from_E_nu<double>(params_.E, l.nu, l.model));
+  }
+  return v;
+}
+
 std::string Simulation::set_params(const PhysicsParams& p) {
   drop_estimate();  // of the old parameters
   PhysicsParams q = p;
@@ -123,17 +138,28 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (!(q.E > 0) || !(q.nu > -1 && q.nu < 0.5) || !std::isfinite(q.E) || !std::isfinite(q.alpha) ||
       !(q.beta >= 0 && std::isfinite(q.beta)))
     throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, finite alpha, finite beta >= 0");
-  // With per-body materials the fastest body's wave speed (c_factor_: max sqrt(E_b rho /
-  // (E rho_b))) with the smallest element anywhere: conservative. 2/omega_max below sees
-  // every body's own material (the rest state's scales).
-  ts_.c = dilatational_wave_speed(q.E, q.nu, scene_.rho);
-  if (c_factor_ != 1.0) ts_.c *= c_factor_;
+  // Each body's law (its own nu, model, element or the scene's live ones).
+  std::vector<BodyLaw> laws;
+  for (std::size_t b = 0; b < q.body_laws.size(); ++b) {
+    laws.push_back(resolved_law(q, int(b)));
+    if (laws.back().element == kT4ANP && laws.back().model != kTaylorNeoHookean)
+      throw InputError(scene_.body(int(b)).key + ": T4ANP is implemented for the neo_hookean model only");
+  }
+  // With per-body materials the fastest body's wave speed with the smallest element
+  // anywhere: conservative. 2/omega_max below sees every body's own material (the rest
+  // state's scales and the laws).
+  ts_.c = 0;
+  for (int b = 0; b < std::max<int>(1, int(E_scale_.size())); ++b)
+    ts_.c = std::max(ts_.c, dilatational_wave_speed(q.E * (E_scale_.empty() ? 1.0 : E_scale_[b]),
+                                                    laws.empty() ? q.nu : laws[b].nu,
+                                                    scene_.rho * (rho_scale_.empty() ? 1.0 : rho_scale_[b])));
   if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
   ts_.dt_le = ts_.min_Le / ts_.c;
-  if (q.nu != eigen_nu_ || q.material_model != eigen_model_) {
-    eigen_scale_ = rest_eigen_scale(mesh_, q.nu, q.material_model);
+  if (q.nu != eigen_nu_ || q.material_model != eigen_model_ || laws != eigen_laws_) {
+    eigen_scale_ = rest_eigen_scale(mesh_, q.nu, q.material_model, laws);
     eigen_nu_ = q.nu;
     eigen_model_ = q.material_model;
+    eigen_laws_ = laws;
   }
   ts_.dt_eigen = 2.0 / std::sqrt(eigen_scale_ * q.E / scene_.rho);
   ts_.dt_cr = rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
@@ -495,8 +521,12 @@ void Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
   const Watchdog::SpeedTest speed{&solver_->lumped_mass(), params_.dt, node_energy_max_};
-  const std::optional<WatchdogFinding> f =
-      watchdog_.check(mesh_, s, d, work_, params_.material_model, unstable_dt, speed, h);
+  std::vector<int> models{params_.material_model};
+  if (!params_.body_laws.empty()) {
+    models.clear();
+    for (std::size_t b = 0; b < params_.body_laws.size(); ++b) models.push_back(resolved_law(params_, int(b)).model);
+  }
+  const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
     drop_estimate();

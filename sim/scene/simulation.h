@@ -64,6 +64,9 @@ class Simulation {
   const Scene& scene() const { return scene_; }
   const TetMesh& mesh() const { return mesh_; }
   const PhysicsParams& params() const { return params_; }
+  // Each body's Neo-Hookean material now (E of the scene; a body's own E scales the rest
+  // state), with its own nu and model where it has them; one entry without per-body laws.
+  std::vector<NeoHookean<double>> materials() const;
   const TimeStepInfo& time_step() const { return ts_; }
   const std::vector<int>& tracked_nodes() const { return tracked_; }
   int fixed_node_count() const { return n_fixed_; }
@@ -233,9 +236,11 @@ class Simulation {
   BodyContactTables contact_tables_;  // for min_gap over body pairs (built when first needed)
   std::vector<double> work_x_;        // positions, 3 per node
   double work_ = 0;
-  double c_factor_ = 1;  // per-body materials: the fastest body's wave speed / the scene's
-  double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu
+  // Several bodies: each one's E and rho relative to the scene's [material] (wave speeds).
+  std::vector<double> E_scale_, rho_scale_;
+  double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu, model, laws
   int eigen_model_ = -1;
+  std::vector<BodyLaw> eigen_laws_;
   long total_steps_ = 0, last_good_total_ = 0;
   double dt_lo_ = 0, dt_hi_ = 0;
   // Adaptive step: steps since the last estimate, the ladder's reference step (2/omega_max

@@ -64,15 +64,16 @@ std::optional<WatchdogFinding> device_finding(const TetMesh& m, const HostState&
 }
 }  // namespace
 
-std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState& s, MaterialModel model,
+std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState& s, const std::vector<int>& models,
                                               bool unstable_dt, const SpeedTest& speed) const {
   const int n = m.nnode();
   for (std::size_t j = 0; j < s.u.size(); ++j)
     if (!std::isfinite(s.u[j]) || !std::isfinite(s.du[j])) return non_finite(m, int(j % n), unstable_dt);
   // Inverted elements: J <= 0 is unphysical for the Taylor model (its guard keeps forces
   // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
-  if (model == kTaylorNeoHookean)
-    for (int e = 0; e < m.ntet(); ++e)
+  // models: one per body, or one for all.
+  for (int e = 0; e < m.ntet(); ++e)
+    if (models[models.size() == 1 ? 0 : std::size_t(m.tet_body[e])] == kTaylorNeoHookean)
       if (const double J = mesh_element_J(m, s.u, e); !(J > 0)) return inverted(e, J, unstable_dt);
   // The speed test: the device's node_step_ok (step_health.h), in double.
   if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0) {
@@ -90,11 +91,11 @@ std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState&
 }
 
 std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
-                                               MaterialModel model, bool unstable_dt, const SpeedTest& speed,
-                                               const StepHealth& dev) {
+                                               const std::vector<int>& models, bool unstable_dt,
+                                               const SpeedTest& speed, const StepHealth& dev) {
   if (dev.checked) {
     if (std::optional<WatchdogFinding> f = device_finding(m, s, dev, speed, unstable_dt)) return f;
-  } else if (std::optional<WatchdogFinding> f = scan(m, s, model, unstable_dt, speed)) {
+  } else if (std::optional<WatchdogFinding> f = scan(m, s, models, unstable_dt, speed)) {
     return f;
   }
   // Energy gained from nowhere (see the class comment).

@@ -50,14 +50,16 @@ class Watchdog {
     double dt = 0;
     double node_energy_max = 0;  // [J]; infinite: no test
   };
+  // models: each body's MaterialModel (the inversion test is the Taylor model's), or one
+  // for every body.
   std::optional<WatchdogFinding> check(const TetMesh& m, const HostState& s, const Diagnostics& d, double work,
-                                       MaterialModel model, bool unstable_dt, const SpeedTest& speed,
+                                       const std::vector<int>& models, bool unstable_dt, const SpeedTest& speed,
                                        const StepHealth& dev);
 
  private:
   // The host's scans of s (where the backend checked nothing itself).
-  std::optional<WatchdogFinding> scan(const TetMesh& m, const HostState& s, MaterialModel model, bool unstable_dt,
-                                      const SpeedTest& speed) const;
+  std::optional<WatchdogFinding> scan(const TetMesh& m, const HostState& s, const std::vector<int>& models,
+                                      bool unstable_dt, const SpeedTest& speed) const;
   double h_min_ = 0, scale_ = 0;
   bool have_min_ = false;
 };

@@ -53,19 +53,22 @@ class CpuSolver final : public Solver {
     p_node_.assign(n, T(0));
     contact_.assign(n, 0);
     mesh_ = rest_.view();
+    bodies_count_ = mesh.nbody();
     blocks_ = build_cpu_blocks(mesh_);
     fblk_.assign(blocks_.force_size(), T(0));
     vol_blk_.assign(blocks_.padded(), T(0));  // fblk_'s last value stays 0 (cpu_blocks.h)
     F_blk_.assign(blocks_.padded() * kBlockFFields, T(0));
     const char* env = std::getenv("SOFTTLED_CPU_SIMD");
-    simd_ = !(env && std::string(env) == "0");
+    set_cpu_simd(!(env && std::string(env) == "0"));
   }
 
   std::string backend() const override {
     return "cpu (" + std::to_string(threads_) + " thread" + (threads_ > 1 ? "s, " : ", ") +
            (simd_ ? cpu_simd_target() : "scalar") + ")";
   }
-  void set_cpu_simd(bool on) override { simd_ = on; }
+  // Per-body laws (element_law.h) run the scalar loops: the SIMD element stage holds one
+  // material for a whole block of elements.
+  void set_cpu_simd(bool on) override { simd_ = on && !mesh_.tet_law; }
   void set_cpu_threads(int threads) override {
     if (threads > 0) {
       threads_ = threads;
@@ -79,6 +82,9 @@ class CpuSolver final : public Solver {
     const T old_beta_dt = cfg_.step.beta_dt;
     params_ = p;
     cfg_ = step_config_from<T>(p);
+    if (cfg_.laws.size() != (mesh_.tet_law ? std::size_t(bodies_count_) : 0))
+      throw std::invalid_argument("set_params: body_laws must hold one law per body where the mesh has per-body laws, else none");
+    mesh_.laws = cfg_.laws.empty() ? nullptr : cfg_.laws.data();
     hold_grids(p);
     point_at_grids(cfg_.step);
     if (cfg_.step.beta_dt != old_beta_dt || (cfg_.step.beta_dt > 0) != !ub_.empty()) refresh_ub();
@@ -312,6 +318,7 @@ class CpuSolver final : public Solver {
   SurfaceTopology surf_;
   CpuBodyContact<T> bodies_;  // body-body and self-contact
   TetMeshView<T> mesh_;
+  int bodies_count_ = 1;
   std::vector<T> u_, du_, fcorner_, fext_;
   std::vector<T> ub_;  // 3 x nnode, u + (beta / dt) du while beta > 0, else empty
   // power_iteration: the warm vector v (max-norm 1), f(u), M^-1 K v, u + a v (3 x nnode)

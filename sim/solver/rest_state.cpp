@@ -40,6 +40,10 @@ RestArrays<T> build_rest_state(const TetMesh& m, double rho, const std::vector<s
     }
   }
   r.flags = flags;
+  if (m.per_body_law) {
+    r.tet_law.assign(m.tet_body.begin(), m.tet_body.end());
+    r.node_law.assign(m.node_body.begin(), m.node_body.end());
+  }
   r.inv_mass.resize(n);
   for (int i = 0; i < n; ++i) {
     if (!(r.mass[i] > 0)) throw InputError("node " + std::to_string(i) + " belongs to no element");

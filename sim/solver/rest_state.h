@@ -26,6 +26,8 @@ struct RestArrays {
   std::vector<int> gather_start;  // nnode + 1
   std::vector<int> gather_slot;   // 4 x ntet
   std::vector<std::uint8_t> flags;
+  // Each element's and node's body where TetMesh::per_body_law (element_law.h), else empty.
+  std::vector<std::uint8_t> tet_law, node_law;
 
   TetMeshView<T> view() const {
     TetMeshView<T> v;
@@ -39,6 +41,10 @@ struct RestArrays {
     v.gather_start = gather_start.data();
     v.gather_slot = gather_slot.data();
     v.flags = flags.data();
+    if (!tet_law.empty()) {
+      v.tet_law = tet_law.data();
+      v.node_law = node_law.data();
+    }
     return v;
   }
 };

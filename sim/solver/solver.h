@@ -13,6 +13,7 @@
 #include "sim/contact/mesh_sdf.h"
 #include "sim/contact/node_contact.h"
 #include "sim/contact/plane_contact.h"
+#include "sim/fem/element_law.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/fem/surface_render.h"
 #include "sim/mesh/tet_mesh.h"
@@ -75,14 +76,25 @@ inline double signed_distance(const ObstacleSpec& o, const double x[3]) {
 }
 
 enum class Precision { kFloat, kDouble };
-// kT4: linear tet; kT4ANP: average nodal pressure tet (anp.h).
-enum ElementType : int { kT4 = 0, kT4ANP = 1 };
+
+// A body's own law ([body.material] nu, model, element; element_law.h); a field out of its
+// range (nu <= -1, model or element < 0) takes the scene's live value.
+struct BodyLaw {
+  double nu = -2;
+  int model = -1;    // MaterialModel
+  int element = -1;  // ElementType
+  bool operator==(const BodyLaw& o) const { return nu == o.nu && model == o.model && element == o.element; }
+  bool operator!=(const BodyLaw& o) const { return !(*this == o); }
+};
 
 // Everything that may change while the simulation runs (the viewer edits these live).
 struct PhysicsParams {
   double E = 3000, nu = 0.49;  // Neo-Hookean material [Pa, -]
   MaterialModel material_model = kTaylorNeoHookean;
   ElementType element = kT4;
+  // One per body where some body has a law of its own (the mesh's per_body_law), else
+  // empty: the scene's E, nu, model and element above hold for every body.
+  std::vector<BodyLaw> body_laws;
   double alpha = 10;           // mass-proportional damping [1/s]
   double beta = 0;             // stiffness-proportional damping [s] (0: off)
   double dt = 1e-5;            // time step [s] (ignored when dt_auto)

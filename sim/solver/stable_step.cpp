@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sim/fem/element_law.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/host_forces.h"
@@ -10,10 +11,12 @@
 
 namespace softtled {
 
-double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations) {
+double rest_eigen_scale(const TetMesh& m, double nu, int model, const std::vector<BodyLaw>& laws, int iterations) {
   // With E = rho = 1 the eigenvalue itself is the scale.
   const RestArrays<double> r = build_rest_state<double>(m, 1.0, std::vector<std::uint8_t>(m.nnode(), 0));
   const auto mat = neo_hookean_from_E_nu<double>(1.0, nu, model);
+  std::vector<ElementLaw<double>> table;  // the T4 stiffness of each body's own nu and model
+  for (const BodyLaw& l : laws) table.push_back({neo_hookean_from_E_nu<double>(1.0, l.nu, l.model), kT4});
   const int n = m.nnode();
   const double h = 1e-7 * measure_quality(m).min_Le;  // linearisation amplitude [m]
   std::vector<double> x(3 * n), u(3 * n), fp(3 * n), fm(3 * n);
@@ -25,7 +28,7 @@ double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations) 
   }
   auto forces = [&](double sign, std::vector<double>& f) {
     for (int i = 0; i < 3 * n; ++i) u[i] = sign * h * x[i];
-    host_internal_forces(r, mat, kT4, u, f);
+    host_internal_forces(r, mat, kT4, u, f, table);
   };
   double lambda = 0;
   for (int it = 0; it < iterations; ++it) {

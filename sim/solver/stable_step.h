@@ -6,12 +6,17 @@
 //    by power iteration (the actual linear stability limit of the discretisation).
 // Both scale as 1 / sqrt(E / rho) for a fixed nu and material model, so omega_max is
 // computed once per (nu, model) and rescaled when E or rho change.
+#include <vector>
+
 #include "sim/mesh/tet_mesh.h"
+#include "sim/solver/solver.h"
 
 namespace softtled {
 
-// omega_max^2 / (E / rho) for this mesh, nu and material model [1/m^2].
-double rest_eigen_scale(const TetMesh& m, double nu, int model, int iterations = 60);
+// omega_max^2 / (E / rho) for this mesh, nu and material model [1/m^2]. laws: each body's
+// resolved law (nu and model read) where the mesh has per-body laws, else empty.
+double rest_eigen_scale(const TetMesh& m, double nu, int model, const std::vector<BodyLaw>& laws = {},
+                        int iterations = 60);
 
 // The stable step with stiffness-proportional (Rayleigh) damping C = beta K taken at the
 // lagged velocity (central_difference.h): the mode omega obeys the recurrence

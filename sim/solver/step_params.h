@@ -2,8 +2,11 @@
 // Host side: the live parameters (solver.h) turned into what the step kernels read, the
 // same for every backend.
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "sim/fem/central_difference.h"
+#include "sim/fem/element_law.h"
 #include "sim/fem/neo_hookean.h"
 #include "sim/solver/solver.h"
 
@@ -32,13 +35,23 @@ inline NeoHookean<T> material_from(const PhysicsParams& p) {
   return neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
 }
 
+// Body b's law: its own nu, model and element where it has them, else the scene's live ones.
+inline BodyLaw resolved_law(const PhysicsParams& p, int b) {
+  const BodyLaw& o = p.body_laws[std::size_t(b)];
+  return {o.nu > -1 ? o.nu : p.nu, o.model >= 0 ? o.model : int(p.material_model),
+          o.element >= 0 ? o.element : int(p.element)};
+}
+
 // What a backend's step reads from the live parameters: Solver::set_params of every
 // backend is `config_ = step_config_from<T>(p)` (plus its own cache invalidation).
 template <class T>
 struct StepConfig {
   StepParams<T> step{};
   NeoHookean<T> mat = neo_hookean_from_E_nu<T>(3000, 0.49);
+  // The stages the step runs: T4ANP where any body's element is T4ANP (a T4 body's
+  // elements then keep their own volumetric response, element_law.h).
   int element = kT4;  // ElementType
+  std::vector<ElementLaw<T>> laws;  // one per body (PhysicsParams::body_laws), or empty
 };
 
 template <class T>
@@ -47,6 +60,17 @@ inline StepConfig<T> step_config_from(const PhysicsParams& p) {
   c.step = step_params_from<T>(p);
   c.mat = material_from<T>(p);
   c.element = p.element;
+  for (std::size_t b = 0; b < p.body_laws.size(); ++b) {
+    const BodyLaw l = resolved_law(p, int(b));
+    if (l.element == kT4ANP && l.model != kTaylorNeoHookean)
+      throw std::invalid_argument("T4ANP is implemented for the neo_hookean model only (body " + std::to_string(b) + ")");
+    c.laws.push_back({neo_hookean_from_E_nu<T>(p.E, l.nu, l.model), l.element});
+  }
+  if (!c.laws.empty()) {
+    c.element = kT4;
+    for (const ElementLaw<T>& l : c.laws)
+      if (l.element == kT4ANP) c.element = kT4ANP;
+  }
   return c;
 }
 

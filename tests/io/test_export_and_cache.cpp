@@ -65,8 +65,8 @@ TEST(Export, VtuFieldsMatchStateAndAnalyticStress) {
   const std::string dir = ::testing::TempDir() + "vtu_series";
   std::filesystem::remove_all(dir);
   VtuSeries series(dir);
-  series.add(0.0, m, st, sim.time_step().dt, mat);
-  series.add(0.5, m, st, sim.time_step().dt, mat);
+  series.add(0.0, m, st, sim.time_step().dt, {mat});
+  series.add(0.5, m, st, sim.time_step().dt, {mat});
   const std::string xml = read_text(dir + "/frame_00001.vtu");
   const auto vm = data_array(xml, "von_mises"), Jc = data_array(xml, "J"), disp = data_array(xml, "displacement"),
              vel = data_array(xml, "velocity");

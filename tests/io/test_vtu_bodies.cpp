@@ -38,9 +38,6 @@ std::string frame_file(const std::string& dir, int frame, int body) {
   return dir + name;
 }
 
-NeoHookean<double> material_of(const Simulation& sim) {
-  return neo_hookean_from_E_nu<double>(sim.params().E, sim.params().nu, sim.params().material_model);
-}
 
 }  // namespace
 
@@ -51,11 +48,11 @@ TEST(VtuBodies, OneFilePerBodyHoldsThatBodysNodesAtTheirPositions) {
   const std::string dir = ::testing::TempDir() + "vtu_bodies";
   std::filesystem::remove_all(dir);
   VtuSeries series(dir);
-  series.add(sim.time(), m, sim.state(), sim.time_step().dt, material_of(sim));
+  series.add(sim.time(), m, sim.state(), sim.time_step().dt, sim.materials());
   sim.advance(300, 100);  // falling and moving: every node away from its rest position
   const HostState& st = sim.state();
   const double t1 = sim.time();
-  series.add(t1, m, st, sim.time_step().dt, material_of(sim));
+  series.add(t1, m, st, sim.time_step().dt, sim.materials());
   EXPECT_EQ(series.size(), 2u);
   EXPECT_FALSE(std::filesystem::exists(dir + "/frame_00001.vtu")) << "several bodies: no whole-mesh file";
 
@@ -121,7 +118,7 @@ TEST(VtuBodies, StiffBodysVonMisesScalesWithItsOwnE) {
   const std::string dir = ::testing::TempDir() + "vtu_bodies_stress";
   std::filesystem::remove_all(dir);
   VtuSeries series(dir);
-  series.add(0.0, m, st, sim.time_step().dt, material_of(sim));
+  series.add(0.0, m, st, sim.time_step().dt, sim.materials());
   const auto vm0 = data_array(read_text(frame_file(dir, 0, 0)), "von_mises");
   const auto vm1 = data_array(read_text(frame_file(dir, 0, 1)), "von_mises");
   ASSERT_FALSE(vm0.empty());
@@ -151,7 +148,7 @@ TEST(VtuBodies, RenderVonMisesIsTheNodalMeanOfTheVtuCells) {
     }
     sim.set_state(st);
     const std::string path = ::testing::TempDir() + "vtu_bodies_nodal_mean.vtu";
-    write_vtu(path, m, &st, sim.time_step().dt, material_of(sim));  // the whole mesh: cells in mesh order
+    write_vtu(path, m, &st, sim.time_step().dt, sim.materials());  // the whole mesh: cells in mesh order
     const std::vector<double> vm = data_array(read_text(path), "von_mises");
     ASSERT_EQ(int(vm.size()), m.ntet());
     std::vector<double> sum(std::size_t(n), 0.0);
@@ -187,10 +184,10 @@ TEST(VtuBodies, AFrameThatFailsPartWayIsNeverListed) {
   const std::string dir = ::testing::TempDir() + "vtu_bodies_fail";
   std::filesystem::remove_all(dir);
   VtuSeries series(dir);
-  series.add(0.0, sim.mesh(), sim.state(), sim.time_step().dt, material_of(sim));
+  series.add(0.0, sim.mesh(), sim.state(), sim.time_step().dt, sim.materials());
   // Body 1's file of frame 1 cannot be written: its temporary's name is taken by a directory.
   std::filesystem::create_directories(frame_file(dir, 1, 1) + ".tmp");
-  EXPECT_THROW(series.add(0.001, sim.mesh(), sim.state(), sim.time_step().dt, material_of(sim)), ResourceError);
+  EXPECT_THROW(series.add(0.001, sim.mesh(), sim.state(), sim.time_step().dt, sim.materials()), ResourceError);
   EXPECT_EQ(series.size(), 1u);
   EXPECT_FALSE(std::filesystem::exists(frame_file(dir, 1, 0))) << "the failed frame's written part is removed";
   const std::string pvd = read_text(dir + "/series.pvd");
@@ -213,7 +210,7 @@ TEST(VtuBodies, AWholeMeshOfSeveralBodiesSaysWhoseEachElementIs) {
   // mesh --vtu writes the bodies in one file, with a 'body' cell array equal to tet_body.
   Simulation sim(two_boxes(), "cpu");
   const std::string path = ::testing::TempDir() + "vtu_bodies_whole.vtu";
-  write_vtu(path, sim.mesh(), nullptr, 1.0, material_of(sim));
+  write_vtu(path, sim.mesh(), nullptr, 1.0, sim.materials());
   const auto body = data_array(read_text(path), "body");
   ASSERT_EQ(int(body.size()), sim.mesh().ntet());
   for (int e = 0; e < sim.mesh().ntet(); ++e) EXPECT_EQ(int(body[e]), sim.mesh().tet_body[e]);

@@ -196,7 +196,7 @@ TEST(TetIo, TetgenMeditAndVtuGiveTheSameMesh) {
     expect_same(a, load_tet_mesh(base + "_" + mode + ".vtu"));
   }
   // What softtled mesh --vtu writes (ASCII, 9 significant digits).
-  write_vtu(base + ".vtu", a, nullptr, 1.0, neo_hookean_from_E_nu<double>(3000, 0.49));
+  write_vtu(base + ".vtu", a, nullptr, 1.0, {neo_hookean_from_E_nu<double>(3000, 0.49)});
   expect_same(a, load_tet_mesh(base + ".vtu"), 1e-8 * 5);
   // Gmsh's own MEDIT export of the same .geo (14 significant digits).
   expect_same(a, load_tet_mesh(data_dir() + "puck_gmsh.mesh"), 1e-12 * 5);
@@ -208,7 +208,7 @@ TEST(TetIo, VtuRoundTripOfTheTorusKeepsTableI) {
   const SurfaceMesh surface = scene_surface(s);
   const TetMesh a = tetrahedralize_surface(surface, scene_tetgen_options(s));
   const std::string path = tmp_dir() + "/torus_coarse.vtu";
-  write_vtu(path, a, nullptr, 1.0, neo_hookean_from_E_nu<double>(s.E, s.nu));
+  write_vtu(path, a, nullptr, 1.0, {neo_hookean_from_E_nu<double>(s.E, s.nu)});
   TetImportReport r;
   const TetMesh b = load_tet_mesh(path, {}, &r);
   EXPECT_EQ(r.flipped, 0);

@@ -169,19 +169,24 @@ TEST(Bodies, BadInputNamesTheKey) {
   // Unknown keys, in a body and in its material.
   const std::string e3 = error_of(two + "[[body]]\nshape = \"box\"\ncolour = \"red\"\n");
   EXPECT_NE(e3.find("body[2].colour: unknown key"), std::string::npos) << e3;
-  const std::string e4 = error_of("[[body]]\nshape = \"box\"\n[body.material]\nmodel = \"neo_hookean\"\n");
-  EXPECT_NE(e4.find("body[0].material.model: unknown key"), std::string::npos) << e4;
+  const std::string e4 = error_of("[[body]]\nshape = \"box\"\n[body.material]\ncolour = \"red\"\n");
+  EXPECT_NE(e4.find("body[0].material.colour: unknown key"), std::string::npos) << e4;
   const std::string e4b = error_of("[body]\nshape = \"box\"\nsegmnts = [3, 3]\n");
   EXPECT_NE(e4b.find("bad.toml: body.segmnts: unknown key"), std::string::npos) << e4b;
   // contact.self takes a boolean.
   const std::string e5 = error_of(two + "[contact]\nself = 1\n");
   EXPECT_NE(e5.find("contact.self"), std::string::npos) << e5;
   EXPECT_EQ(error_of(two + "[contact]\nself = true\n"), "");
-  // A body's own nu, and per-body materials with T4ANP, are refused.
-  const std::string e6 = error_of(two, {"body.1.material.nu=0.3"});
+  // A body's own law out of range or not implemented (T4ANP of the stable model), and an
+  // unknown model or element, name the body's key.
+  const std::string e6 = error_of(two, {"body.1.material.nu=0.5"});
   EXPECT_NE(e6.find("body[1].material.nu"), std::string::npos) << e6;
-  const std::string e7 = error_of(two, {"body.1.material.E=5000", "material.element=T4ANP"});
-  EXPECT_NE(e7.find("body[1].material"), std::string::npos) << e7;
+  const std::string e7 = error_of(two, {"body.1.material.element=\"T4ANP\"", "material.model=\"stable_neo_hookean\""});
+  EXPECT_NE(e7.find("body[1].material: T4ANP is implemented for the neo_hookean model only"), std::string::npos) << e7;
+  const std::string e8 = error_of(two, {"body.0.material.model=\"mooney\""});
+  EXPECT_NE(e8.find("body[0].material.model"), std::string::npos) << e8;
+  const std::string e9 = error_of(two, {"body.1.material.element=\"T10\""});
+  EXPECT_NE(e9.find("body[1].material.element"), std::string::npos) << e9;
 }
 
 // Per-body material: the mass follows each body's rho, and a stiffer body is stiffer.

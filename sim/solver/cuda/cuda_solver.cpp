@@ -68,6 +68,11 @@ struct DeviceRest {
   DeviceBuffer<T> X0, dhdX, vol, inv_mass;
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
+  // Per-body laws (element_law.h): each element's and node's body, and the live table
+  // (set_dt uploads it); empty where every body has the scene's law.
+  DeviceBuffer<std::uint8_t> tet_law, node_law;
+  DeviceBuffer<ElementLaw<T>> laws;
+  std::vector<ElementLaw<T>> laws_host;  // what laws holds
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
@@ -146,6 +151,14 @@ class CudaSolver final : public CudaSolverApi {
     v.gather_start = rest_.gather_start.data();
     v.gather_slot = rest_.gather_slot.data();
     v.flags = rest_.flags.data();
+    if (!r.tet_law.empty()) {
+      rest_.tet_law.upload(r.tet_law);
+      rest_.node_law.upload(r.node_law);
+      rest_.laws.resize(std::size_t(mesh.nbody()));
+      v.tet_law = rest_.tet_law.data();
+      v.node_law = rest_.node_law.data();
+      v.laws = rest_.laws.data();
+    }
     build_fused_blocks(r.gather_start);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
@@ -216,6 +229,7 @@ class CudaSolver final : public CudaSolverApi {
     const T old_beta_dt = cfg_.step.beta_dt;
     params_ = p;
     cfg_ = step_config_from<T>(p);
+    upload_laws();
     hold_grids(p);
     point_at_grids(cfg_.step);
     if (cfg_.step.beta_dt != old_beta_dt) refresh_ub();
@@ -227,6 +241,21 @@ class CudaSolver final : public CudaSolverApi {
       }
       contact_.set_pairs(params_.body_contact && contact_tables_.nbody >= 2, params_.self_contact, stream_);
     }
+  }
+
+  // The live law table (element_law.h) where the mesh has per-body laws: stream-ordered
+  // before the steps that read it, and only when it changed.
+  void upload_laws() {
+    if (cfg_.laws.size() != rest_.laws.size())
+      throw std::invalid_argument("set_params: body_laws must hold one law per body where the mesh has per-body laws, else none");
+    if (cfg_.laws.empty()) return;
+    bool same = rest_.laws_host.size() == cfg_.laws.size();
+    for (std::size_t b = 0; same && b < cfg_.laws.size(); ++b)
+      same = std::memcmp(&rest_.laws_host[b], &cfg_.laws[b], sizeof(ElementLaw<T>)) == 0;
+    if (same) return;
+    rest_.laws_host = cfg_.laws;
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(rest_.laws.data(), rest_.laws_host.data(), sizeof(ElementLaw<T>) * cfg_.laws.size(),
+                                        cudaMemcpyHostToDevice, stream_));
   }
 
   void set_exec_mode(ExecMode m) override {

@@ -54,7 +54,7 @@ __global__ void state_check_kernel(const TetMeshView<T> m, const NeoHookean<T> m
     if (const unsigned bits = node_health(un, dun, m.inv_mass[t], du2_bound)) raise_health(h, bits, t, -1);
   }
   // Inversion is a failure of the Taylor model only: the stable model handles it.
-  if (t < m.ntet && mat.model == kTaylorNeoHookean) {
+  if (t < m.ntet && element_material(m, mat, t).model == kTaylorNeoHookean) {
     T g[12], ue[4][3];
     load_dhdX(m, t, g);
     load_corner_u(m, u, t, ue);

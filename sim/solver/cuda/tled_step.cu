@@ -44,6 +44,7 @@ struct CornerRest {
   T ga[3];      // dh_a/dX of this corner (loaded again: indexing g by a runtime corner
                 // would move g from registers to local memory)
   T vol;
+  int law;      // the element's body where the mesh has per-body laws (m.tet_law), else 0
 };
 
 template <class T>
@@ -56,6 +57,7 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
 #pragma unroll
   for (int k = 0; k < 3; ++k) r.ga[k] = m.dhdX[(a * 3 + k) * m.ntet + e];
   r.vol = m.vol[e];
+  r.law = m.tet_law ? m.tet_law[e] : 0;
 }
 
 // Loads of live data (u, the pressures). The one-step kernels read what an earlier kernel
@@ -69,27 +71,42 @@ __device__ __forceinline__ T live_load(const T* p) {
   return *p;
 }
 
-// The force of one corner, bit for bit what element_corner_forces (tet_forces.h) writes
-// for it: the same deformation_gradient, neo_hookean_pk1 and corner_force value functions
-// on the same numbers (--fmad=false: no contraction, so the same operations round the
-// same way).
-// T4ANP (kAnp): the stress of anp_corner_forces, with the element's pressure the mean of
+// The force of one corner from its element's displacements ue, bit for bit what
+// element_corner_forces (tet_forces.h) writes for it: the same deformation_gradient,
+// neo_hookean_pk1 and corner_force value functions on the same numbers (--fmad=false: no
+// contraction, so the same operations round the same way).
+// T4ANP (anp): the stress of anp_corner_forces, with the element's pressure the mean of
 // its nodes' (p_node, written by fused_pressure_kernel), summed in the same order.
-template <class T, bool kAnp, bool kCoherent>
-__device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, int nnode, const T* u, const T* p_node,
-                                                   const CornerRest<T>& r, T f[3]) {
-  T ue[4][3];
-#pragma unroll
-  for (int b = 0; b < 4; ++b)
-#pragma unroll
-    for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * nnode + r.node[b]);
-  if (kAnp) {
+template <class T, bool kCoherent>
+__device__ __forceinline__ void corner_force_of(const NeoHookean<T>& mat, bool anp, const T* p_node,
+                                                const CornerRest<T>& r, const T ue[4][3], T f[3]) {
+  if (anp) {
     T p = T(0);
     for (int b = 0; b < 4; ++b) p += live_load<kCoherent>(p_node + r.node[b]);
     p *= T(0.25);
     corner_force(anp_stress(mat, deformation_gradient(r.g, ue), p), r.vol, r.ga, f);
   } else {
     corner_force(neo_hookean_pk1(mat, deformation_gradient(r.g, ue)), r.vol, r.ga, f);
+  }
+}
+
+// The corner's force with its element's law: the scene's (mat, kAnp known at compile
+// time), or with per-body laws its body's (element_law.h; m.laws is the same for the
+// whole launch, so the branch is uniform), as anp_corner_forces and
+// element_corner_forces choose it.
+template <class T, bool kAnp, bool kCoherent>
+__device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, const TetMeshView<T>& m, const T* u,
+                                                   const T* p_node, const CornerRest<T>& r, T f[3]) {
+  T ue[4][3];
+#pragma unroll
+  for (int b = 0; b < 4; ++b)
+#pragma unroll
+    for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * m.nnode + r.node[b]);
+  if (m.laws) {
+    const ElementLaw<T>& l = m.laws[r.law];
+    corner_force_of<T, kCoherent>(l.mat, kAnp && l.element == kT4ANP, p_node, r, ue, f);
+  } else {
+    corner_force_of<T, kCoherent>(mat, kAnp, p_node, r, ue, f);
   }
 }
 
@@ -150,7 +167,7 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
     }
     sv = lane_sum<G>(sv);
     sv0 = lane_sum<G>(sv0);
-    if (valid && lane == 0) a.p_node[i] = anp_pressure(a.mat, sv, sv0);
+    if (valid && lane == 0) a.p_node[i] = anp_pressure(node_material(m, a.mat, i), sv, sv0);
   }
 }
 
@@ -170,7 +187,7 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
     if (j != fb.jb + tid) load_corner_rest(m, j, r);
     T f[3];
-    fused_corner_force<T, kAnp, kCoherent>(a.mat, m.nnode, ue_prev, a.p_node, r, f);
+    fused_corner_force<T, kAnp, kCoherent>(a.mat, m, ue_prev, a.p_node, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - fb.jb)] = f[k];
   }
   __syncthreads();
