@@ -106,7 +106,7 @@ SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T
                                      int i) {
   T v, v0;
   gather_node_volume(m.gather_start, m.gather_slot, m.ntet, vol_now, m.vol, i, v, v0);
-  p_node[i] = anp_pressure(node_material(m, mat, i), v, v0);
+  p_node[i] = m.node_law ? anp_pressure(m.laws[m.node_law[i]].mat, v, v0) : anp_pressure(mat, v, v0);
 }
 
 template <class T>
@@ -119,7 +119,8 @@ SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
   T p = T(0);
   for (int a = 0; a < 4; ++a) p += p_node[m.tet[a * m.ntet + e]];
   p *= T(0.25);
-  corner_forces(anp_stress(element_material(m, mat, e), deformation_gradient(g, ue), p), m.vol[e], g, f);
+  const Mat3<T> F = deformation_gradient(g, ue);
+  corner_forces(m.tet_law ? anp_stress(m.laws[m.tet_law[e]].mat, F, p) : anp_stress(mat, F, p), m.vol[e], g, f);
   store_corner_forces(m, f, fcorner, e);
 }
 

@@ -72,7 +72,10 @@ SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHooke
   T g[12], ue[4][3], f[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
-  tet_corner_forces(element_material(m, mat, e), g, m.vol[e], ue, f);
+  if (m.tet_law)  // a per-body law (element_law.h: why the branch is here)
+    tet_corner_forces(m.laws[m.tet_law[e]].mat, g, m.vol[e], ue, f);
+  else
+    tet_corner_forces(mat, g, m.vol[e], ue, f);
   store_corner_forces(m, f, fcorner, e);
 }
 

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -127,4 +129,31 @@ TEST(BodyLaws, LiveSceneNuLeavesABodysOwnNu) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("body[1]"), std::string::npos) << e.what();
   }
+}
+
+// Per-body laws on the GPU: the fused step's kernels with the law table (the scene above
+// runs them) and the two-kernel step's give the same bits, and so does multi, which
+// falls back to the fused step there; the CPU agrees to double rounding.
+TEST(BodyLaws, EveryCudaModeGivesTheSameBits) {
+  const std::string why = backend_unavailable("cuda");
+  if (!why.empty()) GTEST_SKIP() << why;
+  std::string all;
+  for (const BodyCase& b : kBodies) all += body_table(b, true);
+  const Scene s = parse_scene(all + rest_of_scene(kSceneLaw, "\"auto\""), "mixed.toml");
+  std::vector<std::vector<double>> runs;
+  long n = 0;
+  for (const char* mode : {"fused", "graph-pdl", "multi", "fused"}) {
+    setenv("SOFTTLED_CUDA_MODE", mode, 1);
+    Simulation gpu(s, "cuda");
+    unsetenv("SOFTTLED_CUDA_MODE");
+    n = std::lround(0.006 / gpu.params().dt);
+    gpu.step(n);
+    runs.push_back(gpu.state().u);
+  }
+  EXPECT_EQ(runs[0], runs[1]) << "fused and graph-pdl differ";
+  EXPECT_EQ(runs[0], runs[2]) << "fused and multi differ";
+  EXPECT_EQ(runs[0], runs[3]) << "two fused runs differ";
+  Simulation cpu(s, "cpu");
+  cpu.step(n);
+  EXPECT_LT(max_abs_diff(runs[0], 0, cpu.state().u, 0, runs[0].size()), 1e-12);
 }

@@ -685,7 +685,7 @@ class CudaSolver final : public CudaSolverApi {
   // steps), nor when the blocks cannot all be resident (the cooperative launch's rule;
   // checked once per kernel variant).
   bool use_multi(const StepArgs<T>& a) const {
-    if (mode_ != ExecMode::kMulti || contact_on()) return false;
+    if (mode_ != ExecMode::kMulti || contact_on() || a.m.laws) return false;  // per-body laws: fused
     const int key = a.lanes * 2 + (a.anp ? 1 : 0);
     auto it = multi_fits_.find(key);
     if (it == multi_fits_.end()) {

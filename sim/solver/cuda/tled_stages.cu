@@ -162,7 +162,8 @@ __device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const L
   }
   sv = lane_sum<G>(sv);
   sv0 = lane_sum<G>(sv0);
-  if (g.lane == 0 && g.i < a.m.nnode) a.p_node[g.i] = anp_pressure(node_material(a.m, a.mat, g.i), sv, sv0);
+  if (g.lane == 0 && g.i < a.m.nnode)  // (element_law.h: why the branch is here)
+    a.p_node[g.i] = a.m.node_law ? anp_pressure(a.m.laws[a.m.node_law[g.i]].mat, sv, sv0) : anp_pressure(a.mat, sv, sv0);
 }
 
 template <class T, int G, bool kPrefetch>

@@ -44,10 +44,10 @@ struct CornerRest {
   T ga[3];      // dh_a/dX of this corner (loaded again: indexing g by a runtime corner
                 // would move g from registers to local memory)
   T vol;
-  int law;      // the element's body where the mesh has per-body laws (m.tet_law), else 0
+  int law;      // kLaws: the element's body (m.tet_law), the index of its law
 };
 
-template <class T>
+template <class T, bool kLaws>
 __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j, CornerRest<T>& r) {
   const int s = m.gather_slot[j];
   const int a = s / m.ntet, e = s - a * m.ntet;
@@ -57,7 +57,7 @@ __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j,
 #pragma unroll
   for (int k = 0; k < 3; ++k) r.ga[k] = m.dhdX[(a * 3 + k) * m.ntet + e];
   r.vol = m.vol[e];
-  r.law = m.tet_law ? m.tet_law[e] : 0;
+  r.law = kLaws ? m.tet_law[e] : 0;
 }
 
 // Loads of live data (u, the pressures). The one-step kernels read what an earlier kernel
@@ -90,11 +90,10 @@ __device__ __forceinline__ void corner_force_of(const NeoHookean<T>& mat, bool a
   }
 }
 
-// The corner's force with its element's law: the scene's (mat, kAnp known at compile
-// time), or with per-body laws its body's (element_law.h; m.laws is the same for the
-// whole launch, so the branch is uniform), as anp_corner_forces and
-// element_corner_forces choose it.
-template <class T, bool kAnp, bool kCoherent>
+// The corner's force with its element's law: the scene's (mat), or with per-body laws
+// (kLaws: kernels of their own, so a scene without them runs the code it ran before) its
+// body's (element_law.h), as anp_corner_forces and element_corner_forces choose it.
+template <class T, bool kAnp, bool kCoherent, bool kLaws>
 __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, const TetMeshView<T>& m, const T* u,
                                                    const T* p_node, const CornerRest<T>& r, T f[3]) {
   T ue[4][3];
@@ -102,7 +101,7 @@ __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, con
   for (int b = 0; b < 4; ++b)
 #pragma unroll
     for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * m.nnode + r.node[b]);
-  if (m.laws) {
+  if constexpr (kLaws) {
     const ElementLaw<T>& l = m.laws[r.law];
     corner_force_of<T, kCoherent>(l.mat, kAnp && l.element == kT4ANP, p_node, r, ue, f);
   } else {
@@ -131,7 +130,7 @@ __device__ __forceinline__ FusedBlock fused_block_range(const StepArgs<T>& a) {
 // anp_pressure_lanes does: the same sums in the same order, so the pressures are those of
 // the two-kernel step bit for bit. r: the rest data of the block's first pass (entry
 // jb + tid), from load_block_rest.
-template <class T, int G, bool kCoherent>
+template <class T, int G, bool kCoherent, bool kLaws>
 __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
                                                      T* smem, const T* ue_prev) {
   const int S = a.fsmem_entries;
@@ -140,7 +139,7 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
-    if (j != fb.jb + tid) load_corner_rest(m, j, r);
+    if (j != fb.jb + tid) load_corner_rest<T, kLaws>(m, j, r);
     T ue[4][3];
 #pragma unroll
     for (int b = 0; b < 4; ++b)
@@ -167,7 +166,12 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
     }
     sv = lane_sum<G>(sv);
     sv0 = lane_sum<G>(sv0);
-    if (valid && lane == 0) a.p_node[i] = anp_pressure(node_material(m, a.mat, i), sv, sv0);
+    if (valid && lane == 0) {
+      if constexpr (kLaws)
+        a.p_node[i] = anp_pressure(node_material(m, a.mat, i), sv, sv0);
+      else
+        a.p_node[i] = anp_pressure(a.mat, sv, sv0);
+    }
   }
 }
 
@@ -177,7 +181,7 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
 // corners l, l + G, ... in order, then lane_sum: the same sums in the same order as the
 // two-kernel step's node kernel. The loop bound is uniform over the block, so whole warps
 // shuffle together. r as in fused_pressure_phase.
-template <class T, int G, bool kAnp, bool kCoherent>
+template <class T, int G, bool kAnp, bool kCoherent, bool kLaws>
 __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
                                                   T* fs, const T* u_prev, const T* du_prev, T* u_next, T* du_next,
                                                   const T* ue_prev, T* ub_next) {
@@ -185,9 +189,9 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
-    if (j != fb.jb + tid) load_corner_rest(m, j, r);
+    if (j != fb.jb + tid) load_corner_rest<T, kLaws>(m, j, r);
     T f[3];
-    fused_corner_force<T, kAnp, kCoherent>(a.mat, m, ue_prev, a.p_node, r, f);
+    fused_corner_force<T, kAnp, kCoherent, kLaws>(a.mat, m, ue_prev, a.p_node, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - fb.jb)] = f[k];
   }
   __syncthreads();
@@ -214,11 +218,11 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
 
 // The first pass's rest data, and with G > 1 the node stage's rest data pulled into L1;
 // both before the PDL wait.
-template <class T, int G>
+template <class T, int G, bool kLaws>
 __device__ __forceinline__ void load_block_rest(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T>& r) {
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x);
-  if (fb.jb + tid < fb.je) load_corner_rest(m, fb.jb + tid, r);
+  if (fb.jb + tid < fb.je) load_corner_rest<T, kLaws>(m, fb.jb + tid, r);
   if (G > 1 && tid < (fb.n1 - fb.n0) * G && tid % G == 0) {
     const int i = fb.n0 + tid / G;
     prefetch_l1(m.flags + i);
@@ -229,20 +233,20 @@ __device__ __forceinline__ void load_block_rest(const StepArgs<T>& a, const Fuse
 }
 
 // T4ANP, first kernel of a one-step launch.
-template <class T, int G>
+template <class T, int G, bool kLaws>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_pressure_kernel(const StepArgs<T> a, const T* __restrict__ ue_prev) {
   extern __shared__ __align__(16) unsigned char fused_smem[];
   pdl_launch_dependents();
   const FusedBlock fb = fused_block_range(a);
   CornerRest<T> r;
-  load_block_rest<T, 1>(a, fb, r);
+  load_block_rest<T, 1, kLaws>(a, fb, r);
   pdl_wait();  // ue_prev is written by the previous step
-  fused_pressure_phase<T, G, false>(a, fb, r, reinterpret_cast<T*>(fused_smem), ue_prev);
+  fused_pressure_phase<T, G, false, kLaws>(a, fb, r, reinterpret_cast<T*>(fused_smem), ue_prev);
 }
 
 // One step per launch (graphs of K launches with PDL).
-template <class T, int G, bool kAnp>
+template <class T, int G, bool kAnp, bool kLaws>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
                       T* __restrict__ u_next, T* __restrict__ du_next, const T* __restrict__ ue_prev,
@@ -251,10 +255,10 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   pdl_launch_dependents();
   const FusedBlock fb = fused_block_range(a);
   CornerRest<T> r;
-  load_block_rest<T, G>(a, fb, r);
+  load_block_rest<T, G, kLaws>(a, fb, r);
   pdl_wait();  // u_prev is written by the previous step (T4ANP: p_node by the pressure kernel)
-  fused_force_phase<T, G, kAnp, false>(a, fb, r, reinterpret_cast<T*>(fused_smem), u_prev, du_prev, u_next, du_next,
-                                       ue_prev, ub_next);
+  fused_force_phase<T, G, kAnp, false, kLaws>(a, fb, r, reinterpret_cast<T*>(fused_smem), u_prev, du_prev, u_next,
+                                              du_next, ue_prev, ub_next);
 }
 
 // nsteps steps in one cooperative launch (every block resident): the same phases, with a
@@ -264,7 +268,8 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
 // (cooperative_groups grid sync: a fence, then an arrival count in global memory) orders
 // every read of a buffer before the next step's writes to it.
 // Measured slower than the fused step's graphs on the H100 (bench/NOTES.md, "Multi-step
-// launches"): the barrier costs more than the launch gap that PDL already hides.
+// launches"): the barrier costs more than the launch gap that PDL already hides. One law
+// for every element (per-body laws run the one-step kernels: CudaSolver::use_multi).
 template <class T, int G, bool kAnp>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     multi_step_kernel(const StepArgs<T> a, MultiStepBuffers<T> buf, int nsteps) {
@@ -273,16 +278,16 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const FusedBlock fb = fused_block_range(a);
   CornerRest<T> r;
-  load_block_rest<T, G>(a, fb, r);
+  load_block_rest<T, G, false>(a, fb, r);
   const bool beta = buf.ub[0] != nullptr;
   for (int s = 0; s < nsteps; ++s) {
     const int p = s & 1;
     const T* ue = beta ? buf.ub[p] : buf.u[p];
     if (kAnp) {
-      fused_pressure_phase<T, G, true>(a, fb, r, smem, ue);
+      fused_pressure_phase<T, G, true, false>(a, fb, r, smem, ue);
       grid.sync();
     }
-    fused_force_phase<T, G, kAnp, true>(a, fb, r, smem, buf.u[p], buf.du[p], buf.u[1 - p], buf.du[1 - p], ue,
+    fused_force_phase<T, G, kAnp, true, false>(a, fb, r, smem, buf.u[p], buf.du[p], buf.u[1 - p], buf.du[1 - p], ue,
                                         beta ? buf.ub[1 - p] : nullptr);
     if (s + 1 < nsteps) grid.sync();
   }
@@ -303,6 +308,30 @@ cudaError_t fused_shape(const StepArgs<T>& a, int block, LaunchShape& ls) {
 
 }  // namespace
 
+namespace {
+// The one-step kernels of a fused step at a.lanes lanes per node (T4ANP: the pressure
+// kernel first).
+template <class T, bool kAnp, bool kLaws>
+cudaError_t launch_fused_kernels(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a, const T* u_prev,
+                                 const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
+  if (kAnp) {
+    cudaError_t e = cudaErrorInvalidValue;
+    switch (a.lanes) {
+      case 1: e = launch(s, ls, fused_pressure_kernel<T, 1, kLaws>, a, ue_prev); break;
+      case 4: e = launch(s, ls, fused_pressure_kernel<T, 4, kLaws>, a, ue_prev); break;
+      case 8: e = launch(s, ls, fused_pressure_kernel<T, 8, kLaws>, a, ue_prev); break;
+    }
+    if (e != cudaSuccess) return e;
+  }
+  switch (a.lanes) {
+    case 1: return launch(s, ls, fused_step_kernel<T, 1, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 4: return launch(s, ls, fused_step_kernel<T, 4, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    case 8: return launch(s, ls, fused_step_kernel<T, 8, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+  }
+  return cudaErrorInvalidValue;
+}
+}  // namespace
+
 template <class T>
 cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
@@ -310,27 +339,11 @@ cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArg
   LaunchShape ls;
   if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
   ls.pdl = pdl;
-  if (a.anp) {
-    cudaError_t e = cudaErrorInvalidValue;
-    switch (a.lanes) {
-      case 1: e = launch(s, ls, fused_pressure_kernel<T, 1>, a, ue_prev); break;
-      case 4: e = launch(s, ls, fused_pressure_kernel<T, 4>, a, ue_prev); break;
-      case 8: e = launch(s, ls, fused_pressure_kernel<T, 8>, a, ue_prev); break;
-    }
-    if (e != cudaSuccess) return e;
-    switch (a.lanes) {
-      case 1: return launch(s, ls, fused_step_kernel<T, 1, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-      case 4: return launch(s, ls, fused_step_kernel<T, 4, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-      case 8: return launch(s, ls, fused_step_kernel<T, 8, true>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    }
-    return cudaErrorInvalidValue;
-  }
-  switch (a.lanes) {
-    case 1: return launch(s, ls, fused_step_kernel<T, 1, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 4: return launch(s, ls, fused_step_kernel<T, 4, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 8: return launch(s, ls, fused_step_kernel<T, 8, false>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-  }
-  return cudaErrorInvalidValue;
+  if (a.m.laws)
+    return a.anp ? launch_fused_kernels<T, true, true>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
+                 : launch_fused_kernels<T, false, true>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+  return a.anp ? launch_fused_kernels<T, true, false>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
+               : launch_fused_kernels<T, false, false>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
 }
 
 namespace {
@@ -355,6 +368,7 @@ template <class T>
 cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
                               int nsteps, bool check_only) {
   if (a.nfblock <= 0 || nsteps <= 0) return cudaSuccess;
+  if (a.m.laws) return cudaErrorInvalidValue;  // multi_step_kernel has one law
   LaunchShape ls;
   if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
   switch (a.lanes * 2 + (a.anp ? 1 : 0)) {
