@@ -121,10 +121,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
 std::vector<NeoHookean<double>> Simulation::materials() const {
   if (params_.body_laws.empty()) return {neo_hookean_from_E_nu<double>(params_.E, params_.nu, params_.material_model)};
   std::vector<NeoHookean<double>> v;
-  for (std::size_t b = 0; b < params_.body_laws.size(); ++b) {
-    const BodyLaw l = resolved_law(params_, int(b));
-    v.push_back(neo_hookean_from_E_nu<double>(params_.E, l.nu, l.model));
-  }
+  for (const BodyLaw& l : resolved_laws(params_)) v.push_back(neo_hookean_from_E_nu<double>(params_.E, l.nu, l.model));
   return v;
 }
 
@@ -139,12 +136,12 @@ std::string Simulation::set_params(const PhysicsParams& p) {
       !(q.beta >= 0 && std::isfinite(q.beta)))
     throw InputError("material/damping out of range: need E > 0, -1 < nu < 0.5, finite alpha, finite beta >= 0");
   // Each body's law (its own nu, model, element or the scene's live ones).
-  std::vector<BodyLaw> laws;
-  for (std::size_t b = 0; b < q.body_laws.size(); ++b) {
-    laws.push_back(resolved_law(q, int(b)));
-    if (laws.back().element == kT4ANP && laws.back().model != kTaylorNeoHookean)
+  if (q.body_laws.size() != (mesh_.per_body_law ? std::size_t(mesh_.nbody()) : 0))
+    throw InputError("body_laws: one per body where some body has its own nu, model or element, else none");
+  const std::vector<BodyLaw> laws = resolved_laws(q);
+  for (std::size_t b = 0; b < laws.size(); ++b)
+    if (laws[b].element == kT4ANP && laws[b].model != kTaylorNeoHookean)
       throw InputError(scene_.body(int(b)).key + ": T4ANP is implemented for the neo_hookean model only");
-  }
   // With per-body materials the fastest body's wave speed with the smallest element
   // anywhere: conservative. 2/omega_max below sees every body's own material (the rest
   // state's scales and the laws).
@@ -521,11 +518,9 @@ void Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
   const Watchdog::SpeedTest speed{&solver_->lumped_mass(), params_.dt, node_energy_max_};
-  std::vector<int> models{params_.material_model};
-  if (!params_.body_laws.empty()) {
-    models.clear();
-    for (std::size_t b = 0; b < params_.body_laws.size(); ++b) models.push_back(resolved_law(params_, int(b)).model);
-  }
+  std::vector<int> models{params_.material_model};  // one per body with per-body laws
+  if (!params_.body_laws.empty()) models.clear();
+  for (const BodyLaw& l : resolved_laws(params_)) models.push_back(l.model);
   const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.

@@ -2,7 +2,6 @@
 // Host side: the live parameters (solver.h) turned into what the step kernels read, the
 // same for every backend.
 #include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "sim/fem/central_difference.h"
@@ -35,11 +34,14 @@ inline NeoHookean<T> material_from(const PhysicsParams& p) {
   return neo_hookean_from_E_nu<T>(p.E, p.nu, p.material_model);
 }
 
-// Body b's law: its own nu, model and element where it has them, else the scene's live ones.
-inline BodyLaw resolved_law(const PhysicsParams& p, int b) {
-  const BodyLaw& o = p.body_laws[std::size_t(b)];
-  return {o.nu > -1 ? o.nu : p.nu, o.model >= 0 ? o.model : int(p.material_model),
-          o.element >= 0 ? o.element : int(p.element)};
+// Each body's law: its own nu, model and element where it has them, else the scene's
+// live ones (empty without per-body laws).
+inline std::vector<BodyLaw> resolved_laws(const PhysicsParams& p) {
+  std::vector<BodyLaw> v;
+  for (const BodyLaw& o : p.body_laws)
+    v.push_back({o.nu > -1 ? o.nu : p.nu, o.model >= 0 ? o.model : int(p.material_model),
+                 o.element >= 0 ? o.element : int(p.element)});
+  return v;
 }
 
 // What a backend's step reads from the live parameters: Solver::set_params of every
@@ -60,10 +62,9 @@ inline StepConfig<T> step_config_from(const PhysicsParams& p) {
   c.step = step_params_from<T>(p);
   c.mat = material_from<T>(p);
   c.element = p.element;
-  for (std::size_t b = 0; b < p.body_laws.size(); ++b) {
-    const BodyLaw l = resolved_law(p, int(b));
+  for (const BodyLaw& l : resolved_laws(p)) {
     if (l.element == kT4ANP && l.model != kTaylorNeoHookean)
-      throw std::invalid_argument("T4ANP is implemented for the neo_hookean model only (body " + std::to_string(b) + ")");
+      throw std::invalid_argument("T4ANP is implemented for the neo_hookean model only");
     c.laws.push_back({neo_hookean_from_E_nu<T>(p.E, l.nu, l.model), l.element});
   }
   if (!c.laws.empty()) {
