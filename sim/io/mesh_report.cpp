@@ -33,9 +33,8 @@ std::vector<MeshReport> body_mesh_reports(const Scene& s, const std::vector<Surf
   MeshReport total;
   total.dt_le = total.dt_eigen = total.dt_cr = INFINITY;
   for (int b = 0; b < m.nbody(); ++b) {
-    const BodyDesc& d = s.body(b);
-    const MeshReport r = mesh_report(surfaces[b], body_mesh(m, b), s.body_E(b), d.own_nu > -1 ? d.own_nu : s.nu,
-                                     s.body_rho(b), d.own_model >= 0 ? d.own_model : s.material_model);
+    const MeshReport r =
+        mesh_report(surfaces[b], body_mesh(m, b), s.body_E(b), s.body_nu(b), s.body_rho(b), s.body_model(b));
     total.input_points += r.input_points;
     total.input_facets += r.input_facets;
     total.input_segments += r.input_segments;

@@ -579,9 +579,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   // element or model against its own or the scene's other one.
   for (int i = 0; i < s.body_count(); ++i) {
     const BodyDesc& b = s.body(i);
-    const int element = b.own_element >= 0 ? b.own_element : s.element;
-    const int model = b.own_model >= 0 ? b.own_model : s.material_model;
-    if (element == kT4ANP && model != kTaylorNeoHookean)
+    if (s.body_element(i) == kT4ANP && s.body_model(i) != kTaylorNeoHookean)
       r.fail(b.own_law() ? b.key + ".material" : "material.element",
              "T4ANP is implemented for the neo_hookean model only");
   }

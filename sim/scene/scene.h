@@ -54,6 +54,9 @@ struct Scene : BodyDesc {
   BodyDesc& body(int i) { return i == 0 ? static_cast<BodyDesc&>(*this) : more_bodies[i - 1]; }
   double body_E(int i) const { return body(i).own_E > 0 ? body(i).own_E : E; }
   double body_rho(int i) const { return body(i).own_rho > 0 ? body(i).own_rho : rho; }
+  double body_nu(int i) const { return body(i).own_nu > -1 ? body(i).own_nu : nu; }
+  int body_model(int i) const { return body(i).own_model >= 0 ? body(i).own_model : int(material_model); }
+  int body_element(int i) const { return body(i).own_element >= 0 ? body(i).own_element : int(element); }
   // Whether some body sets its own nu, model or element.
   bool per_body_law() const;
   // Whether body-body contact runs: contact.bodies (default: true) and >= 2 bodies.

@@ -518,9 +518,9 @@ void Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
   const Watchdog::SpeedTest speed{&solver_->lumped_mass(), params_.dt, node_energy_max_};
-  std::vector<int> models{params_.material_model};  // one per body with per-body laws
-  if (!params_.body_laws.empty()) models.clear();
+  std::vector<int> models;  // one per body with per-body laws, else one for all
   for (const BodyLaw& l : resolved_laws(params_)) models.push_back(l.model);
+  if (models.empty()) models.push_back(params_.material_model);
   const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane.
