@@ -45,6 +45,8 @@ __device__ __forceinline__ void swept_box(const TetMeshView<T>& m, const T* u, c
 template <class T>
 __global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                      const T* __restrict__ du) {
+  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_wait();
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= c.nsurf) return;
   T lo[3], hi[3];
@@ -59,6 +61,8 @@ __global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactVi
 template <class T>
 __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
+  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_wait();
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= c.ntri || !*c.rebuild) return;
   T b[6];
@@ -110,6 +114,8 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
 template <class T>
 __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
+  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_wait();
   const int s = int((blockIdx.x * blockDim.x + threadIdx.x) / 32);
   const int lane = int(threadIdx.x % 32);
   if (s >= c.nsurf || !*c.rebuild) return;  // whole warps: s and the flag are warp-uniform
@@ -169,6 +175,8 @@ template <class T>
 __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                      const T* __restrict__ du, int mode, T mu, int* __restrict__ count,
                                      bool first) {
+  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_wait();
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   // After a rebuild the first sweep clears the grid for the next one (the candidate
   // kernel has finished reading it).
@@ -216,6 +224,8 @@ __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactVi
                                      T* __restrict__ du, T* __restrict__ ub, T beta_dt,
                                      std::uint8_t* __restrict__ contact, const int* __restrict__ count,
                                      int* __restrict__ count_next, bool first) {
+  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_wait();
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   if (first && s == 0) *c.rebuild = 0;  // the first pairs kernel has read it
   if (s >= c.nsurf) return;
@@ -260,11 +270,11 @@ template <class T>
 cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m, const BodyContactView<T>& c, T* u,
                                 T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu) {
   if (c.nsurf == 0 || (!c.bodies && !c.self)) return cudaSuccess;
-  const LaunchShape lt = shape_for(c.ntri, nsm, false), ls = shape_for(c.nsurf, nsm, false);
+  const LaunchShape lt = shape_for(c.ntri, nsm, true), ls = shape_for(c.nsurf, nsm, true);
   cudaError_t e = launch(s, ls, contact_check_kernel<T>, m, c, (const T*)u, (const T*)du);
   if (e != cudaSuccess) return e;
   if ((e = launch(s, lt, contact_grid_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
-  const LaunchShape lw = shape_for(32 * c.nsurf, nsm, false);  // a warp per surface node
+  const LaunchShape lw = shape_for(32 * c.nsurf, nsm, true);  // a warp per surface node
   if ((e = launch(s, lw, contact_cand_kernel<T>, m, c, (const T*)u, (const T*)du)) != cudaSuccess) return e;
   // Two count arrays: each sweep's apply kernel clears the one the next sweep fills
   // (both start cleared, and an even number of sweeps leaves them so).
