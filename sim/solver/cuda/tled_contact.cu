@@ -14,15 +14,21 @@
 //                          of the buckets its box covers whose boxes meet it, sorted by
 //                          triangle, deduplicated
 // then kBodyContactSweeps times:
-//   contact_pairs_kernel   per surface node: node_triangle_contact on each candidate; an
-//                          accepted pair is kept in the node's own slot (node, candidate)
-//                          and its slot appended to its four nodes' incoming lists
-//   contact_apply_kernel   per surface node: its incoming slots sorted (slot order is the
-//                          key order (node, triangle) the CPU sums in), share-scaled and
-//                          summed, added to u, du (and ub)
+//   contact_pairs_kernel   a warp per surface node, a lane per candidate:
+//                          node_triangle_contact; an accepted pair is kept in the node's
+//                          own slot (node, candidate) and its slot appended to its four
+//                          nodes' incoming lists
+//   contact_apply_kernel   a warp per surface node: its incoming slots ranked into slot
+//                          order (the key order (node, triangle) the CPU sums in), each
+//                          lane one share-scaled term, summed in that order, added to u,
+//                          du (and ub)
+// Every kernel launches with PDL: it waits for the one before it (pdl_wait), and its own
+// launch overlaps that kernel's tail.
 // Counts are atomic increments (the same total in any order); no float is ever summed by
 // an atomic, so runs repeat bit for bit. (No host round
 // trip decides when a rebuild is due: the flag stays on the device).
+#include <climits>
+
 #include "sim/contact/body_contact.h"
 #include "sim/fem/central_difference.h"
 #include "sim/solver/cuda/kernel_support.cuh"
@@ -171,97 +177,120 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
   if (lane == 0) c.ncand[s] = nc;
 }
 
+// A warp per surface node, a lane per candidate: the candidate pairs are independent, so
+// a node with many candidates no longer walks them one after another.
 template <class T>
 __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                      const T* __restrict__ du, int mode, T mu, int* __restrict__ count,
                                      bool first) {
   pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
   pdl_wait();
-  const int s = blockIdx.x * blockDim.x + threadIdx.x;
+  const int gt = blockIdx.x * blockDim.x + threadIdx.x;
   // After a rebuild the first sweep clears the grid for the next one (the candidate
   // kernel has finished reading it).
   if (first && *c.rebuild)
-    for (unsigned h = unsigned(s); h <= c.mask; h += gridDim.x * blockDim.x) c.bucket_count[h] = 0;
-  if (s >= c.nsurf) return;
-  const int n = m.nnode;
-  const int i = c.surf[s];
-  const int nc = c.ncand[s];
-  for (int q = 0; q < nc; ++q) {
-    const int slot = s * kContactCandCap + q;
-    const int t = c.cand[slot];
-    const int j[4] = {i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
-    T x[4][3], d[4][3];
-    for (int a = 0; a < 4; ++a)
+    for (unsigned h = unsigned(gt); h <= c.mask; h += gridDim.x * blockDim.x) c.bucket_count[h] = 0;
+  const int n = m.nnode, warps = int(gridDim.x * blockDim.x / 32);
+  for (int s = gt / 32; s < c.nsurf; s += warps) {
+    const int i = c.surf[s];
+    const int nc = c.ncand[s];
+    for (int q = gt % 32; q < nc; q += 32) {
+      const int slot = s * kContactCandCap + q;
+      const int t = c.cand[slot];
+      const int j[4] = {i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
+      T x[4][3], d[4][3];
+      for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) {
+          d[a][k] = du[k * n + j[a]];
+          x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
+        }
+      const NodeTriangleCorrection<T> r =
+          node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
+                                m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
+      c.pair_state[slot] = r.state;
+      if (r.state == kFree) continue;
+      T* corr = c.pair_corr + std::size_t(slot) * 12;
       for (int k = 0; k < 3; ++k) {
-        d[a][k] = du[k * n + j[a]];
-        x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
+        corr[k] = r.dp[k];
+        corr[3 + k] = r.da[k];
+        corr[6 + k] = r.db[k];
+        corr[9 + k] = r.dc[k];
       }
-    const NodeTriangleCorrection<T> r =
-        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
-                              m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
-    c.pair_state[slot] = r.state;
-    if (r.state == kFree) continue;
-    T* corr = c.pair_corr + std::size_t(slot) * 12;
-    for (int k = 0; k < 3; ++k) {
-      corr[k] = r.dp[k];
-      corr[3 + k] = r.da[k];
-      corr[6 + k] = r.db[k];
-      corr[9 + k] = r.dc[k];
-    }
-    for (int a = 0; a < 4; ++a) {
-      atomicAdd(count + j[a], 1);
-      const int e = atomicAdd(c.in_count + j[a], 1);
-      if (e < kContactInCap)
-        c.in_list[std::size_t(j[a]) * kContactInCap + e] = slot * 4 + a;
-      else
-        atomicOr(c.overflow, kContactOverflowIncoming);
+      for (int a = 0; a < 4; ++a) {
+        atomicAdd(count + j[a], 1);
+        const int e = atomicAdd(c.in_count + j[a], 1);
+        if (e < kContactInCap)
+          c.in_list[std::size_t(j[a]) * kContactInCap + e] = slot * 4 + a;
+        else
+          atomicOr(c.overflow, kContactOverflowIncoming);
+      }
     }
   }
 }
 
+// A warp per surface node: its incoming entries (at most
+// 64, distinct) ranked across the lanes into slot order, the key order (node, triangle);
+// lane r computes the r-th term (share x correction), and the terms are added in that
+// order through shuffles, so the sum is the CPU's, term by term.
+constexpr int kApplyMaxWarps = 8;  // blocks of at most 256 threads (shape_for)
 template <class T>
 __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactView<T> c, T* __restrict__ u,
                                      T* __restrict__ du, T* __restrict__ ub, T beta_dt,
                                      std::uint8_t* __restrict__ contact, const int* __restrict__ count,
                                      int* __restrict__ count_next, bool first) {
+  static_assert(kContactInCap == 64, "two entries per lane");
+  __shared__ int sorted[kApplyMaxWarps][kContactInCap];
   pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
   pdl_wait();
-  const int s = blockIdx.x * blockDim.x + threadIdx.x;
-  if (first && s == 0) *c.rebuild = 0;  // the first pairs kernel has read it
-  if (s >= c.nsurf) return;
-  const int n = m.nnode;
-  const int i = c.surf[s];
-  count_next[i] = 0;  // the next sweep's counts (its pairs kernel runs after this one)
-  const int ne = min(c.in_count[i], kContactInCap);
-  if (ne == 0) return;
-  c.in_count[i] = 0;
-  int e[kContactInCap];
-  for (int q = 0; q < ne; ++q) {  // sorted by slot: the key order (node, triangle)
-    const int v = c.in_list[std::size_t(i) * kContactInCap + q];
-    int pos = q;
-    while (pos > 0 && e[pos - 1] > v) {
-      e[pos] = e[pos - 1];
-      --pos;
+  const int gt = blockIdx.x * blockDim.x + threadIdx.x;
+  if (first && gt == 0) *c.rebuild = 0;  // the first pairs kernel has read it
+  const int lane = threadIdx.x % 32, w = threadIdx.x / 32, n = m.nnode, warps = int(gridDim.x * blockDim.x / 32);
+  for (int s = gt / 32; s < c.nsurf; s += warps) {  // s, and so ne below, is warp-uniform
+    const int i = c.surf[s];
+    const int ne = min(c.in_count[i], kContactInCap);
+    __syncwarp();  // every lane has read in_count
+    if (lane == 0) {
+      count_next[i] = 0;  // the next sweep's counts (its pairs kernel runs after this one)
+      if (ne) c.in_count[i] = 0;
     }
-    e[pos] = v;
+    if (ne == 0) continue;
+    int v[2];
+    for (int h = 0; h < 2; ++h)
+      v[h] = lane + 32 * h < ne ? c.in_list[std::size_t(i) * kContactInCap + lane + 32 * h] : INT_MAX;
+    int rank[2] = {0, 0};
+    for (int b = 0; b < 32; ++b) {
+      const int x0 = __shfl_sync(0xffffffffu, v[0], b), x1 = __shfl_sync(0xffffffffu, v[1], b);
+      for (int h = 0; h < 2; ++h) rank[h] += int(x0 < v[h]) + int(x1 < v[h]);
+    }
+    for (int h = 0; h < 2; ++h)
+      if (lane + 32 * h < ne) sorted[w][rank[h]] = v[h];
+    __syncwarp();
+    T term[2][3];
+    int state = 0;
+    for (int h = 0; h < 2; ++h) {
+      for (int k = 0; k < 3; ++k) term[h][k] = T(0);
+      if (lane + 32 * h >= ne) continue;
+      const int e = sorted[w][lane + 32 * h], slot = e >> 2, a = e & 3;
+      const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
+      const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
+      const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
+      for (int k = 0; k < 3; ++k) term[h][k] = share * corr[k];
+      if (a == 0) state = max(state, int(c.pair_state[slot]));
+    }
+    T acc[3] = {T(0), T(0), T(0)};
+    for (int r = 0; r < ne; ++r)  // in key order, on every lane alike
+      for (int k = 0; k < 3; ++k) acc[k] += __shfl_sync(0xffffffffu, r < 32 ? term[0][k] : term[1][k], r & 31);
+    for (int off = 16; off > 0; off /= 2) state = max(state, __shfl_xor_sync(0xffffffffu, state, off));
+    __syncwarp();  // sorted[w] is free for the next node
+    if (lane != 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int q = k * n + i;
+      du[q] += acc[k];
+      u[q] += acc[k];
+      if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
+    }
+    contact[i] = std::uint8_t(max(state, int(contact[i])));
   }
-  T acc[3] = {T(0), T(0), T(0)};
-  std::uint8_t state = contact[i];
-  for (int q = 0; q < ne; ++q) {
-    const int slot = e[q] >> 2, a = e[q] & 3;
-    const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
-    const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
-    const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
-    for (int k = 0; k < 3; ++k) acc[k] += share * corr[k];
-    if (a == 0 && c.pair_state[slot] > state) state = c.pair_state[slot];
-  }
-  for (int k = 0; k < 3; ++k) {
-    const int q = k * n + i;
-    du[q] += acc[k];
-    u[q] += acc[k];
-    if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
-  }
-  contact[i] = state;
 }
 
 }  // namespace
@@ -282,9 +311,9 @@ cudaError_t launch_body_contact(cudaStream_t s, int nsm, const TetMeshView<T>& m
   for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
     int* count = sweep % 2 ? c.count1 : c.count0;
     int* next = sweep % 2 ? c.count0 : c.count1;
-    if ((e = launch(s, ls, contact_pairs_kernel<T>, m, c, (const T*)u, (const T*)du, mode, mu, count, sweep == 0)) != cudaSuccess)
+    if ((e = launch(s, lw, contact_pairs_kernel<T>, m, c, (const T*)u, (const T*)du, mode, mu, count, sweep == 0)) != cudaSuccess)
       return e;
-    if ((e = launch(s, ls, contact_apply_kernel<T>, m, c, u, du, ub, beta_dt, contact, (const int*)count, next,
+    if ((e = launch(s, lw, contact_apply_kernel<T>, m, c, u, du, ub, beta_dt, contact, (const int*)count, next,
                     sweep == 0)) !=
         cudaSuccess)
       return e;
