@@ -51,7 +51,7 @@ __device__ __forceinline__ void swept_box(const TetMeshView<T>& m, const T* u, c
 template <class T>
 __global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                      const T* __restrict__ du) {
-  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_launch_dependents();
   pdl_wait();
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= c.nsurf) return;
@@ -67,7 +67,7 @@ __global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactVi
 template <class T>
 __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
-  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_launch_dependents();
   pdl_wait();
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   if (t >= c.ntri || !*c.rebuild) return;
@@ -120,7 +120,7 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
 template <class T>
 __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                     const T* __restrict__ du) {
-  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_launch_dependents();
   pdl_wait();
   const int s = int((blockIdx.x * blockDim.x + threadIdx.x) / 32);
   const int lane = int(threadIdx.x % 32);
@@ -183,7 +183,7 @@ template <class T>
 __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactView<T> c, const T* __restrict__ u,
                                      const T* __restrict__ du, int mode, T mu, int* __restrict__ count,
                                      bool first) {
-  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_launch_dependents();
   pdl_wait();
   const int gt = blockIdx.x * blockDim.x + threadIdx.x;
   // After a rebuild the first sweep clears the grid for the next one (the candidate
@@ -228,9 +228,8 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
   }
 }
 
-// A warp per surface node: its incoming entries (at most
-// 64, distinct) ranked across the lanes into slot order, the key order (node, triangle);
-// lane r computes the r-th term (share x correction), and the terms are added in that
+// A warp per surface node: its incoming entries (at most 64, distinct) ranked across the
+// lanes into slot order, the key order (node, triangle); lane r computes the r-th term (share x correction), and the terms are added in that
 // order through shuffles, so the sum is the CPU's, term by term.
 constexpr int kApplyMaxWarps = 8;  // blocks of at most 256 threads (shape_for)
 template <class T>
@@ -240,7 +239,7 @@ __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactVi
                                      int* __restrict__ count_next, bool first) {
   static_assert(kContactInCap == 64, "two entries per lane");
   __shared__ int sorted[kApplyMaxWarps][kContactInCap];
-  pdl_launch_dependents();  // the next kernel waits for this one to finish (pdl_wait)
+  pdl_launch_dependents();
   pdl_wait();
   const int gt = blockIdx.x * blockDim.x + threadIdx.x;
   if (first && gt == 0) *c.rebuild = 0;  // the first pairs kernel has read it
