@@ -25,8 +25,8 @@
 // Every kernel launches with PDL: it waits for the one before it (pdl_wait), and its own
 // launch overlaps that kernel's tail.
 // Counts are atomic increments (the same total in any order); no float is ever summed by
-// an atomic, so runs repeat bit for bit. (No host round
-// trip decides when a rebuild is due: the flag stays on the device).
+// an atomic, so runs repeat bit for bit. No host round trip decides when a rebuild is
+// due: the flag stays on the device.
 #include <climits>
 
 #include "sim/contact/body_contact.h"
@@ -229,8 +229,9 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
 }
 
 // A warp per surface node: its incoming entries (at most 64, distinct) ranked across the
-// lanes into slot order, the key order (node, triangle); lane r computes the r-th term (share x correction), and the terms are added in that
-// order through shuffles, so the sum is the CPU's, term by term.
+// lanes into slot order, the key order (node, triangle); lane r computes the r-th term
+// (share x correction), and the terms are added in that order through shuffles, so the
+// sum is the CPU's, term by term.
 constexpr int kApplyMaxWarps = 8;  // blocks of at most 256 threads (shape_for)
 template <class T>
 __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactView<T> c, T* __restrict__ u,
