@@ -42,7 +42,7 @@ struct BodyStateView {
   T* u = nullptr;        // 3 x nnode, displacement from the rest position
   T* du = nullptr;       // 3 x nnode, increment u(t) - u(t - dt): the integrator's state
   T* fcorner = nullptr;  // 3 x 4 x ntet, internal force at each element corner,
-                         // component k of slot s = a * ntet + e at [k * 4 * ntet + s]
+                         // component k of slot s = a * ntet + e at [3 * s + k]
   std::uint8_t* contact = nullptr;  // nnode, ContactState of the last step
   const T* fext = nullptr;  // 3 x nnode or null: user forces [N] (the viewer's drag spring)
   // 3 x nnode or null (beta = 0): u + (beta / dt) du, the displacement the element stage

@@ -110,10 +110,10 @@ SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T
 }
 
 template <class T>
-SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
-                                     T* fcorner, int e) {
-  if (!element_uses_anp(m, e)) return element_corner_forces(m, mat, u, fcorner, e);  // a T4 body's
-  T g[12], ue[4][3], f[4][3];
+SIM_HD inline void anp_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
+                                           const T* p_node, int e, T f[4][3]) {
+  if (!element_uses_anp(m, e)) return element_corner_force_values(m, mat, u, e, f);  // a T4 body's
+  T g[12], ue[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
   T p = T(0);
@@ -121,6 +121,12 @@ SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
   p *= T(0.25);
   const Mat3<T> F = deformation_gradient(g, ue);
   corner_forces(m.tet_law ? anp_stress(m.laws[m.tet_law[e]].mat, F, p) : anp_stress(mat, F, p), m.vol[e], g, f);
+}
+template <class T>
+SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
+                                     T* fcorner, int e) {
+  T f[4][3];
+  anp_corner_force_values(m, mat, u, p_node, e, f);
   store_corner_forces(m, f, fcorner, e);
 }
 

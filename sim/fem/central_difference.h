@@ -61,16 +61,16 @@ SIM_HD inline T rayleigh_displacement(T u, T du, T beta_dt) {
 }
 
 // Node i's internal force: the sum of its corner forces in gather-table order.
-// fcorner: 3 x stride (component k of slot s at [k * stride + s]; stride = 4 * ntet).
+// fcorner: component k of slot s at [3 * s + k] (tet_forces.h).
 template <class T>
-SIM_HD inline void gather_node_force(const int* gather_start, const int* gather_slot, const T* fcorner, int stride,
-                                     int i, T f[3]) {
+SIM_HD inline void gather_node_force(const int* gather_start, const int* gather_slot, const T* fcorner, int i,
+                                     T f[3]) {
   f[0] = f[1] = f[2] = T(0);
   for (int j = gather_start[i]; j < gather_start[i + 1]; ++j) {
-    const int s = gather_slot[j];
-    f[0] += fcorner[s];
-    f[1] += fcorner[stride + s];
-    f[2] += fcorner[2 * stride + s];
+    const T* c = fcorner + 3 * gather_slot[j];
+    f[0] += c[0];
+    f[1] += c[1];
+    f[2] += c[2];
   }
 }
 

@@ -57,25 +57,33 @@ SIM_HD inline void load_corner_u(const TetMeshView<T>& m, const T* u, int e, T u
   }
 }
 
-// The four corners of element e into fcorner (3 x 4 x ntet, slot a * ntet + e).
+// The four corners of element e into fcorner (slot a * ntet + e, its three components
+// together at [3 * slot + k]: the node stage reads a corner as one 12-byte run, not
+// three scattered words; body_view.h).
 template <class T>
 SIM_HD inline void store_corner_forces(const TetMeshView<T>& m, const T f[4][3], T* fcorner, int e) {
-  const int stride = 4 * m.ntet;
   for (int a = 0; a < 4; ++a)
-    for (int i = 0; i < 3; ++i) fcorner[i * stride + a * m.ntet + e] = f[a][i];
+    for (int i = 0; i < 3; ++i) fcorner[3 * (a * m.ntet + e) + i] = f[a][i];
 }
 
-// The T4 element loop's body: element e's corner forces into fcorner.
+// The T4 element loop's body: element e's corner forces into f (element_corner_forces
+// stores them; the GPU's element kernel stores them a warp at a time).
 template <class T>
-SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* fcorner,
-                                         int e) {
-  T g[12], ue[4][3], f[4][3];
+SIM_HD inline void element_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, int e,
+                                               T f[4][3]) {
+  T g[12], ue[4][3];
   load_dhdX(m, e, g);
   load_corner_u(m, u, e, ue);
   if (m.tet_law)  // a per-body law (element_law.h: why the branch is here)
     tet_corner_forces(m.laws[m.tet_law[e]].mat, g, m.vol[e], ue, f);
   else
     tet_corner_forces(mat, g, m.vol[e], ue, f);
+}
+template <class T>
+SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* fcorner,
+                                         int e) {
+  T f[4][3];
+  element_corner_force_values(m, mat, u, e, f);
   store_corner_forces(m, f, fcorner, e);
 }
 

@@ -265,7 +265,7 @@ class CpuSolver final : public Solver {
     const StepConfig<T> c = cfg_;
     const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
     T* fc = simd_ ? fblk_.data() : fcorner_.data();
-    const int n = m.nnode, stride = 4 * m.ntet;
+    const int n = m.nnode;
     const bool simd = simd_;
     const CpuBlocks<T>& blk = blocks_;
     const SimdAnpScratch<T> sa = simd_scratch();
@@ -281,7 +281,7 @@ class CpuSolver final : public Solver {
         if (simd)
           cpu_simd_gather(m, blk, fc, i, fi);
         else
-          gather_node_force(m.gather_start, m.gather_slot, fc, stride, i, fi);
+          gather_node_force(m.gather_start, m.gather_slot, fc, i, fi);
         for (int k = 0; k < 3; ++k) f[k * n + i] = fi[k];
       }
     }

@@ -51,11 +51,11 @@ inline const T* element_displacement(const BodyStateView<T>& b) {
 // Node stage: gather, central difference and contact, in place on b (and b.ub when set).
 template <class T>
 inline void cpu_node_stage(const TetMeshView<T>& m, const BodyStateView<T>& b, const StepParams<T>& p) {
-  const int n = m.nnode, stride = 4 * m.ntet;
+  const int n = m.nnode;
 #pragma omp for schedule(static)
   for (int i = 0; i < n; ++i) {
     T f[3];
-    gather_node_force(m.gather_start, m.gather_slot, b.fcorner, stride, i, f);
+    gather_node_force(m.gather_start, m.gather_slot, b.fcorner, i, f);
     update_node(m, p, f, b.u, b.du, b.fext, b.u, b.du, b.contact, i, b.ub);
   }
 }

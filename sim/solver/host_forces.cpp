@@ -20,7 +20,7 @@ void host_internal_forces(const RestArrays<double>& r, const NeoHookean<double>&
   f.resize(3 * n);
   for (int i = 0; i < n; ++i) {
     double fi[3];
-    gather_node_force(v.gather_start, v.gather_slot, fc.data(), 4 * ne, i, fi);
+    gather_node_force(v.gather_start, v.gather_slot, fc.data(), i, fi);
     for (int k = 0; k < 3; ++k) f[k * n + i] = fi[k];
   }
 }

@@ -38,7 +38,7 @@ std::vector<double> nodal_forces(const TetMesh& m, const NeoHookean<T>& mat, Map
   std::vector<double> f(3 * n, 0.0);
   for (int e = 0; e < m.ntet(); ++e)
     for (int a = 0; a < 4; ++a)
-      for (int k = 0; k < 3; ++k) f[k * n + m.tet[4 * e + a]] += fc[k * 4 * m.ntet() + a * m.ntet() + e];
+      for (int k = 0; k < 3; ++k) f[k * n + m.tet[4 * e + a]] += fc[3 * (a * m.ntet() + e) + k];
   return f;
 }
 

@@ -86,7 +86,7 @@ Worst compare_element_stage(const NeoHookean<T>& mat, int element, const std::ve
     double fmax = 0, dmax = 0;
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c) {
-        const double fs = fc[c * 4 * ne + a * ne + e];
+        const double fs = fc[3 * (a * ne + e) + c];
         const double fv = fb[blocked(e, a, c)];
         fmax = std::max(fmax, std::fabs(fs));
         dmax = std::max(dmax, std::fabs(fv - fs));
@@ -193,7 +193,7 @@ void node_stage_agrees(int mode, bool planes = true, bool obstacles = false) {
   for (int e = 0; e < m.ntet; ++e)
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c)
-        fb[blocked(e, a, c)] = fc[c * 4 * m.ntet + a * m.ntet + e];
+        fb[blocked(e, a, c)] = fc[3 * (a * m.ntet + e) + c];
   auto run = [&](bool simd, std::vector<T>& uo, std::vector<T>& duo, std::vector<T>& ubo, std::vector<std::uint8_t>& co) {
     uo = u;
     duo = du;

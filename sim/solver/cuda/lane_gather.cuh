@@ -37,20 +37,17 @@ __device__ __forceinline__ LaneSlots<G> lane_slots(const TetMeshView<T>& m, int 
   return g;
 }
 
-// f = the node's summed corner forces (fc: 3 x 4 ntet), in lane 0; the other lanes hold
+// f = the node's summed corner forces (fc: [3 * slot + k], tet_forces.h), in lane 0; the other lanes hold
 // partial sums. Every lane of the warp must call this (the shuffles use the full mask).
 template <class T, int G>
 __device__ __forceinline__ void lane_gather_force(const TetMeshView<T>& m, const T* __restrict__ fc, const LaneSlots<G>& g,
                                                   T f[3]) {
   constexpr int B = LaneSlots<G>::kBatch;
-  const int stride = 4 * m.ntet;
   T v[B][3];
 #pragma unroll
   for (int q = 0; q < B; ++q) {
     const int s = g.s[q];
-    v[q][0] = s >= 0 ? fc[s] : T(0);
-    v[q][1] = s >= 0 ? fc[stride + s] : T(0);
-    v[q][2] = s >= 0 ? fc[2 * stride + s] : T(0);
+    for (int k = 0; k < 3; ++k) v[q][k] = s >= 0 ? fc[3 * s + k] : T(0);
   }
   f[0] = f[1] = f[2] = T(0);
 #pragma unroll
@@ -59,7 +56,7 @@ __device__ __forceinline__ void lane_gather_force(const TetMeshView<T>& m, const
       for (int k = 0; k < 3; ++k) f[k] += v[q][k];
   for (int j = g.j0 + g.lane + B * G; j < g.j1; j += G) {  // nodes with more than 64 corners
     const int s = m.gather_slot[j];
-    for (int k = 0; k < 3; ++k) f[k] += fc[k * stride + s];
+    for (int k = 0; k < 3; ++k) f[k] += fc[3 * s + k];
   }
   for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
 }

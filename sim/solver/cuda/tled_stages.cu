@@ -33,6 +33,28 @@ __device__ __forceinline__ void prefetch_node_rest(const TetMeshView<T>& m, int 
   for (int k = 0; k < 3; ++k) prefetch_l1(m.X0 + k * m.nnode + i);
 }
 
+// The warp's 32 consecutive elements' corner forces into fcorner (tet_forces.h layout:
+// corner a of elements e0..e0+31 is one run of 96 words). Stored lane by lane, each
+// store instruction would touch 12 sectors with a third of each; moved through shuffles so
+// that lane l writes word l of each 32-word piece, each instruction is 4 whole sectors, as
+// the component-major layout's were. Every lane of the warp must call this (blockDim is a
+// multiple of 32); lanes past the mesh pass zeros and write nothing.
+template <class T>
+__device__ __forceinline__ void warp_store_corner_forces(const TetMeshView<T>& m, const T f[4][3], T* fcorner, int e) {
+  const int lane = threadIdx.x % 32, e0 = e - lane;
+#pragma unroll
+  for (int a = 0; a < 4; ++a) {
+    T* run = fcorner + 3 * (std::size_t(a) * m.ntet + e0);
+#pragma unroll
+    for (int r = 0; r < 3; ++r) {
+      const int w = 32 * r + lane, src = w / 3, k = w - 3 * src;
+      const T x = __shfl_sync(0xffffffffu, f[a][0], src), y = __shfl_sync(0xffffffffu, f[a][1], src),
+              z = __shfl_sync(0xffffffffu, f[a][2], src);
+      if (e0 + src < m.ntet) run[w] = k == 0 ? x : k == 1 ? y : z;
+    }
+  }
+}
+
 template <class T, bool kPrefetch>
 __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
                                       T* __restrict__ fcorner) {
@@ -40,8 +62,10 @@ __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
   pdl_wait();  // u is written by the previous step's node stage
-  if (e >= m.ntet) return;
-  element_corner_forces(m, mat, u, fcorner, e);
+  if (e - int(threadIdx.x % 32) >= m.ntet) return;  // whole warps past the mesh
+  T f[4][3] = {};
+  if (e < m.ntet) element_corner_force_values(m, mat, u, e, f);
+  warp_store_corner_forces(m, f, fcorner, e);
 }
 
 template <class T, bool kPrefetch>
@@ -54,7 +78,7 @@ __global__ void node_update_kernel(const StepArgs<T> a) {
   pdl_wait();  // fcorner is written by the element stage
   if (i >= m.nnode) return;
   T f[3];
-  gather_node_force(m.gather_start, m.gather_slot, b.fcorner, 4 * m.ntet, i, f);
+  gather_node_force(m.gather_start, m.gather_slot, b.fcorner, i, f);
   update_and_check_node(a, f, b.u, b.du, b.u, b.du, i, b.ub);
 }
 
@@ -92,8 +116,10 @@ __global__ void anp_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> ma
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
   pdl_wait();  // p_node is written by anp_pressure_kernel
-  if (e >= m.ntet) return;
-  anp_corner_forces(m, mat, u, p_node, fcorner, e);
+  if (e - int(threadIdx.x % 32) >= m.ntet) return;  // whole warps past the mesh
+  T f[4][3] = {};
+  if (e < m.ntet) anp_corner_force_values(m, mat, u, p_node, e, f);
+  warp_store_corner_forces(m, f, fcorner, e);
 }
 
 // ---- node stage with G lanes per node (see StepArgs in tled_kernels.h; lane_gather.cuh) ----
