@@ -84,10 +84,12 @@ struct Result {
 // Bytes one step must move through DRAM in this two-stage algorithm (each array read or
 // written once): element stage reads tet, dhdX, vol and u, writes the corner forces; node
 // stage reads the gather table and the corner forces, flags, 1/m, u, du (X0 for contact
-// nodes), writes u, du and the contact state.
-double step_bytes(long ntet, long nnode, long ncontact, int real) {
+// nodes), writes u, du and the contact state. derived: the element stage derives dhdX
+// from the rest positions in double instead (derive_dhdX).
+double step_bytes(long ntet, long nnode, long ncontact, int real, bool derived) {
   const double T = real;
-  const double elem = ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T;
+  const double elem = derived ? ntet * (4 * 4 + T + 12 * T) + nnode * (3 * T + 3 * 8.0)
+                              : ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T;
   const double node = (nnode + 1) * 4.0 + ntet * 4 * 4.0 + ntet * 12 * T + nnode * (1 + T + 4 * 3 * T + 1) + ncontact * 3 * T;
   return elem + node;
 }
@@ -188,7 +190,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.device = "CPU";
   long ncontact = 0;
   for (auto f : sim.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
-  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, sc.precision == Precision::kFloat ? 4 : 8);
+  const int real = sc.precision == Precision::kFloat ? 4 : 8;
+  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, false);
 
 #if defined(SOFTTLED_HAVE_CUDA)
   auto* gpu = dynamic_cast<cuda::CudaSolverApi*>(&solver);
@@ -206,6 +209,11 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
     if (o.mode != "auto") gpu->set_exec_mode(cuda::parse_exec_mode(o.mode));
     r.device = gpu->device_name();
     r.mode = std::string(cuda::exec_mode_name(gpu->exec_mode())) + ", " + std::to_string(gpu->node_lanes()) + " lanes/node";
+    const cuda::ExecMode em = gpu->exec_mode();
+    if (gpu->derives_gradients() && sc.element == kT4 && (em == cuda::ExecMode::kGraphPdl || em == cuda::ExecMode::kGraph)) {
+      r.mode += ", dh/dX derived";
+      r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, true);
+    }
     sync = [gpu] { gpu->synchronize(); };
     timed = [gpu](long n) { return gpu->time_steps_us(n); };
   }

@@ -112,9 +112,9 @@ SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T
 template <class T>
 SIM_HD inline void anp_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
                                            const T* p_node, int e, T f[4][3]) {
-  if (!element_uses_anp(m, e)) return element_corner_force_values(m, mat, u, e, f);  // a T4 body's
   T g[12], ue[4][3];
   load_dhdX(m, e, g);
+  if (!element_uses_anp(m, e)) return element_corner_force_values(m, mat, g, u, e, f);  // a T4 body's
   load_corner_u(m, u, e, ue);
   T p = T(0);
   for (int a = 0; a < 4; ++a) p += p_node[m.tet[a * m.ntet + e]];

@@ -47,6 +47,23 @@ SIM_HD inline void load_dhdX(const TetMeshView<T>& m, int e, T dhdX[12]) {
   for (int c = 0; c < 12; ++c) dhdX[c] = m.dhdX[c * m.ntet + e];
 }
 
+// The same 12 numbers derived instead of read: shape_gradients in double on the rest
+// positions X0d (3 x nnode, double), rounded to T, as build_rest_state computes the
+// stored table (rest_state.cpp), so bit for bit the same. The GPU's element stage on
+// large meshes, which is bound by memory bandwidth, trades the table's 48 bytes per
+// element (float) for this arithmetic and the corners' rest positions (24 bytes per node,
+// shared by about 5 elements).
+template <class T>
+SIM_HD inline void derive_dhdX(const TetMeshView<T>& m, const double* X0d, int e, T dhdX[12]) {
+  double X[4][3], g[12];
+  for (int a = 0; a < 4; ++a) {
+    const int node = m.tet[a * m.ntet + e];
+    for (int k = 0; k < 3; ++k) X[a][k] = X0d[k * m.nnode + node];
+  }
+  shape_gradients(X, g);
+  for (int c = 0; c < 12; ++c) dhdX[c] = T(g[c]);
+}
+
 // u of the element's four corners (u: 3 x nnode SoA).
 template <class T>
 SIM_HD inline void load_corner_u(const TetMeshView<T>& m, const T* u, int e, T ue[4][3]) {
@@ -66,13 +83,13 @@ SIM_HD inline void store_corner_forces(const TetMeshView<T>& m, const T f[4][3],
     for (int i = 0; i < 3; ++i) fcorner[3 * (a * m.ntet + e) + i] = f[a][i];
 }
 
-// The T4 element loop's body: element e's corner forces into f (element_corner_forces
-// stores them; the GPU's element kernel stores them a warp at a time).
+// The T4 element loop's body: element e's corner forces into f, from its shape gradients
+// g (load_dhdX or derive_dhdX). element_corner_forces stores them; the GPU's element
+// kernel stores them a warp at a time.
 template <class T>
-SIM_HD inline void element_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, int e,
-                                               T f[4][3]) {
-  T g[12], ue[4][3];
-  load_dhdX(m, e, g);
+SIM_HD inline void element_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T g[12],
+                                               const T* u, int e, T f[4][3]) {
+  T ue[4][3];
   load_corner_u(m, u, e, ue);
   if (m.tet_law)  // a per-body law (element_law.h: why the branch is here)
     tet_corner_forces(m.laws[m.tet_law[e]].mat, g, m.vol[e], ue, f);
@@ -82,8 +99,9 @@ SIM_HD inline void element_corner_force_values(const TetMeshView<T>& m, const Ne
 template <class T>
 SIM_HD inline void element_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* fcorner,
                                          int e) {
-  T f[4][3];
-  element_corner_force_values(m, mat, u, e, f);
+  T g[12], f[4][3];
+  load_dhdX(m, e, g);
+  element_corner_force_values(m, mat, g, u, e, f);
   store_corner_forces(m, f, fcorner, e);
 }
 

@@ -27,6 +27,8 @@ RestArrays<T> build_rest_state(const TetMesh& m, double rho, const std::vector<s
     double X[4][3], g[12];
     for (int a = 0; a < 4; ++a)
       for (int k = 0; k < 3; ++k) X[a][k] = m.X[3 * t[a] + k];
+    // In double on the mesh's positions, then rounded: derive_dhdX (tet_forces.h) repeats
+    // exactly this on the GPU, where reading the table costs more than computing it.
     const double det = shape_gradients(X, g);
     if (!(det > 0)) throw InputError("element " + std::to_string(e) + " has non-positive rest volume");
     for (int c = 0; c < 12; ++c) r.dhdX[c * ne + e] = T(g[c]);

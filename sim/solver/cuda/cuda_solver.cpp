@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 #include "sim/contact/body_contact_tables.h"
 #include "sim/fem/step_health.h"
@@ -57,6 +58,7 @@ Options options_from_env() {
   if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
   if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
   if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
+  if (const char* d = std::getenv("SOFTTLED_CUDA_DERIVE_GRADIENTS")) o.derive_gradients = std::atoi(d);
   return o;
 }
 
@@ -66,6 +68,8 @@ namespace {
 template <class T>
 struct DeviceRest {
   DeviceBuffer<T> X0, dhdX, vol, inv_mass;
+  DeviceBuffer<double> X0d;  // rest positions in double where the element stage derives dh/dX from them (float runs)
+  const double* X0d_ptr = nullptr;  // those, or X0 itself in double runs; null: the table is read
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   // Per-body laws (element_law.h): each element's and node's body, and the live table
@@ -134,6 +138,21 @@ class CudaSolver final : public CudaSolverApi {
 
     rest_.X0.upload(r.X0);
     rest_.dhdX.upload(r.dhdX);
+    // Derived where the table would come from DRAM: it and the corner forces (12 numbers
+    // per element each) take more than half the L2. Below that the table is an L2 hit and
+    // the nine double divisions per element cost more than they save (bench/NOTES.md).
+    const bool table_leaves_l2 = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
+    if (opt.derive_gradients < 0 ? table_leaves_l2 : opt.derive_gradients != 0) {
+      if constexpr (std::is_same_v<T, double>) {
+        rest_.X0d_ptr = rest_.X0.data();  // r.X0 is pm.X itself
+      } else {
+        std::vector<double> X0d(3 * std::size_t(n_));
+        for (int i = 0; i < n_; ++i)
+          for (int k = 0; k < 3; ++k) X0d[std::size_t(k) * n_ + i] = pm.X[3 * std::size_t(i) + k];
+        rest_.X0d.upload(X0d);
+        rest_.X0d_ptr = rest_.X0d.data();
+      }
+    }
     rest_.vol.upload(r.vol);
     rest_.inv_mass.upload(r.inv_mass);
     rest_.tet.upload(r.tet);
@@ -275,6 +294,7 @@ class CudaSolver final : public CudaSolverApi {
     lanes_ = lanes;
   }
   int node_lanes() const override { return lanes_; }
+  bool derives_gradients() const override { return rest_.X0d_ptr != nullptr; }
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
@@ -775,6 +795,7 @@ class CudaSolver final : public CudaSolverApi {
     a.anp = cfg_.element == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
+    a.X0d = rest_.X0d_ptr;
     a.fblock = rest_.fblock.data();
     a.nfblock = rest_.nfblock;
     a.fsmem_entries = rest_.fsmem_entries;

@@ -45,8 +45,12 @@ struct Options {
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
   int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
                              // (256 measured fastest: bench/NOTES.md)
+  // The two-kernel T4 element stage derives dh/dX from the rest positions (1) or reads the
+  // stored table (0); -1: derive where the table does not stay in L2 (bench/NOTES.md).
+  int derive_gradients = -1;
 };
-// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK applied.
+// Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK /
+// _DERIVE_GRADIENTS applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches
@@ -66,6 +70,8 @@ class CudaSolverApi : public Solver {
   virtual ExecMode exec_mode() const = 0;  // the mode in use (kAuto resolved)
   virtual void set_node_lanes(int lanes) = 0;  // 1, 4, 8; 0 = by mesh size
   virtual int node_lanes() const = 0;          // in use
+  // Whether the two-kernel T4 element stage derives dh/dX (Options::derive_gradients).
+  virtual bool derives_gradients() const = 0;
   // Device-timed (events) n steps from the current state; returns microseconds.
   virtual double time_steps_us(long n) = 0;
   // Per-stage times; restores the live state afterwards.

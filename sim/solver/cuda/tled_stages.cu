@@ -55,16 +55,25 @@ __device__ __forceinline__ void warp_store_corner_forces(const TetMeshView<T>& m
   }
 }
 
+// X0d: null, or the rest positions in double, from which the shape gradients are derived
+// (derive_dhdX) instead of read.
 template <class T, bool kPrefetch>
 __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
-                                      T* __restrict__ fcorner) {
+                                      const double* __restrict__ X0d, T* __restrict__ fcorner) {
   pdl_launch_dependents();
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  T g[12];
+  if (e < m.ntet) {  // rest data only: before the wait
+    if (X0d)
+      derive_dhdX(m, X0d, e, g);
+    else
+      load_dhdX(m, e, g);
+  }
   pdl_wait();  // u is written by the previous step's node stage
   if (e - int(threadIdx.x % 32) >= m.ntet) return;  // whole warps past the mesh
   T f[4][3] = {};
-  if (e < m.ntet) element_corner_force_values(m, mat, u, e, f);
+  if (e < m.ntet) element_corner_force_values(m, mat, g, u, e, f);
   warp_store_corner_forces(m, f, fcorner, e);
 }
 
@@ -226,8 +235,8 @@ cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, 
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
   const T* u = element_displacement(a.b);
-  if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.b.fcorner);
-  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.b.fcorner);
+  if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.X0d, a.b.fcorner);
+  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.X0d, a.b.fcorner);
 }
 
 template <class T>

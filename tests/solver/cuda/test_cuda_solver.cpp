@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -164,6 +165,20 @@ TEST(CudaSolver, RepeatedRunsAndAllExecutionModesAreBitwiseIdentical) {
       EXPECT_TRUE(api.exec_mode() == cuda::ExecMode::kFused || api.exec_mode() == cuda::ExecMode::kGraphPdl)
           << "auto picks one of the product's two steps, not " << cuda::exec_mode_name(api.exec_mode());
   });
+}
+
+// On meshes above one small wave the two-kernel element stage derives dh/dX from the rest
+// positions instead of reading the table (derive_dhdX). Forced on for the torus, every
+// mode (graph-pdl and graph derive, fused reads the table) must stay bit for bit the same.
+TEST(CudaSolver, DerivedShapeGradientsKeepEveryModeBitwiseIdentical) {
+  SKIP_WITHOUT_GPU();
+  struct Env {
+    Env() { setenv("SOFTTLED_CUDA_DERIVE_GRADIENTS", "1", 1); }
+    ~Env() { unsetenv("SOFTTLED_CUDA_DERIVE_GRADIENTS"); }
+  } env;
+  for (const char* precision : {"float", "double"})
+    expect_modes_bitwise_identical(torus(precision), 4000, std::string(precision) + ", derived dh/dX: ",
+                                   [](cuda::ExecMode, cuda::CudaSolverApi&) {});
 }
 
 TEST(CudaSolver, RenderBufferEnergyAndMassesMatchCpu) {
