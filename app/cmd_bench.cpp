@@ -88,7 +88,7 @@ struct Result {
 // from the rest positions in double instead (derive_dhdX).
 double step_bytes(long ntet, long nnode, long ncontact, int real, bool derived) {
   const double T = real;
-  const double elem = derived ? ntet * (4 * 4 + T + 12 * T) + nnode * (3 * T + 3 * 8.0)
+  const double elem = derived ? ntet * (4 * 4 + T + 12 * T) + nnode * (3 * T + 4 * 8.0)
                               : ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T;
   const double node = (nnode + 1) * 4.0 + ntet * 4 * 4.0 + ntet * 12 * T + nnode * (1 + T + 4 * 3 * T + 1) + ncontact * 3 * T;
   return elem + node;

@@ -48,7 +48,9 @@ SIM_HD inline void load_dhdX(const TetMeshView<T>& m, int e, T dhdX[12]) {
 }
 
 // The same 12 numbers derived instead of read: shape_gradients in double on the rest
-// positions X0d (3 x nnode, double), rounded to T, as build_rest_state computes the
+// positions X0d (double, node i's x, y, z at [4 i], [4 i + 1], [4 i + 2]: one 32-byte
+// sector per node, so a corner is one memory request, not three), rounded to T, as
+// build_rest_state computes the
 // stored table (rest_state.cpp), so bit for bit the same. The GPU's element stage on
 // large meshes, which is bound by memory bandwidth, trades the table's 48 bytes per
 // element (float) for this arithmetic and the corners' rest positions (24 bytes per node,
@@ -58,7 +60,13 @@ SIM_HD inline void derive_dhdX(const TetMeshView<T>& m, const double* X0d, int e
   double X[4][3], g[12];
   for (int a = 0; a < 4; ++a) {
     const int node = m.tet[a * m.ntet + e];
-    for (int k = 0; k < 3; ++k) X[a][k] = X0d[k * m.nnode + node];
+    const double* p = X0d + 4 * std::size_t(node);
+#if defined(__CUDA_ARCH__)
+    const double2 xy = __ldg(reinterpret_cast<const double2*>(p));
+    X[a][0] = xy.x, X[a][1] = xy.y, X[a][2] = __ldg(p + 2);
+#else
+    for (int k = 0; k < 3; ++k) X[a][k] = p[k];
+#endif
   }
   shape_gradients(X, g);
   for (int c = 0; c < 12; ++c) dhdX[c] = T(g[c]);

@@ -211,9 +211,9 @@ void expect_derived_gradients_are_the_table(TetMesh m) {
   const RestArrays<T> r = build_rest_state<T>(m, 1000.0, std::vector<std::uint8_t>(m.nnode(), 0));
   const TetMeshView<T> v = r.view();
   const int n = m.nnode();
-  std::vector<double> X0d(3 * std::size_t(n));
+  std::vector<double> X0d(4 * std::size_t(n), 0.0);  // derive_dhdX's layout
   for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) X0d[std::size_t(k) * n + i] = m.X[3 * std::size_t(i) + k];
+    for (int k = 0; k < 3; ++k) X0d[4 * std::size_t(i) + k] = m.X[3 * std::size_t(i) + k];
   int differ = 0;
   for (int e = 0; e < v.ntet; ++e) {
     T stored[12], derived[12];

@@ -15,7 +15,6 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
-#include <type_traits>
 
 #include "sim/contact/body_contact_tables.h"
 #include "sim/fem/step_health.h"
@@ -68,8 +67,9 @@ namespace {
 template <class T>
 struct DeviceRest {
   DeviceBuffer<T> X0, dhdX, vol, inv_mass;
-  DeviceBuffer<double> X0d;  // rest positions in double where the element stage derives dh/dX from them (float runs)
-  const double* X0d_ptr = nullptr;  // those, or X0 itself in double runs; null: the table is read
+  // Rest positions in double, 4 per node (derive_dhdX), where the element stage derives
+  // dh/dX from them; empty: it reads the table.
+  DeviceBuffer<double> X0d;
   DeviceBuffer<int> tet, gather_start, gather_slot;
   DeviceBuffer<std::uint8_t> flags;
   // Per-body laws (element_law.h): each element's and node's body, and the live table
@@ -143,15 +143,10 @@ class CudaSolver final : public CudaSolverApi {
     // the nine double divisions per element cost more than they save (bench/NOTES.md).
     const bool table_leaves_l2 = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
     if (opt.derive_gradients < 0 ? table_leaves_l2 : opt.derive_gradients != 0) {
-      if constexpr (std::is_same_v<T, double>) {
-        rest_.X0d_ptr = rest_.X0.data();  // r.X0 is pm.X itself
-      } else {
-        std::vector<double> X0d(3 * std::size_t(n_));
-        for (int i = 0; i < n_; ++i)
-          for (int k = 0; k < 3; ++k) X0d[std::size_t(k) * n_ + i] = pm.X[3 * std::size_t(i) + k];
-        rest_.X0d.upload(X0d);
-        rest_.X0d_ptr = rest_.X0d.data();
-      }
+      std::vector<double> X0d(4 * std::size_t(n_), 0.0);
+      for (int i = 0; i < n_; ++i)
+        for (int k = 0; k < 3; ++k) X0d[4 * std::size_t(i) + k] = pm.X[3 * std::size_t(i) + k];
+      rest_.X0d.upload(X0d);
     }
     rest_.vol.upload(r.vol);
     rest_.inv_mass.upload(r.inv_mass);
@@ -294,7 +289,7 @@ class CudaSolver final : public CudaSolverApi {
     lanes_ = lanes;
   }
   int node_lanes() const override { return lanes_; }
-  bool derives_gradients() const override { return rest_.X0d_ptr != nullptr; }
+  bool derives_gradients() const override { return rest_.X0d.size() > 0; }
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
@@ -795,7 +790,7 @@ class CudaSolver final : public CudaSolverApi {
     a.anp = cfg_.element == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
-    a.X0d = rest_.X0d_ptr;
+    a.X0d = rest_.X0d.size() > 0 ? rest_.X0d.data() : nullptr;
     a.fblock = rest_.fblock.data();
     a.nfblock = rest_.nfblock;
     a.fsmem_entries = rest_.fsmem_entries;

@@ -59,7 +59,7 @@ struct StepArgs {
   bool anp = false;
   T* vol_now = nullptr;   // ntet, V0_e J_e of the current step (anp_element_volume)
   T* p_node = nullptr;    // nnode, nodal pressure kappa (J_i - 1) (anp_node_pressure)
-  // T4 two-kernel element stage: null, or the rest positions in double (3 x nnode), from
+  // T4 two-kernel element stage: null, or the rest positions in double (4 x nnode), from
   // which it derives each element's shape gradients instead of reading them (derive_dhdX).
   const double* X0d = nullptr;
   // Fused step (launch_fused_step): node blocks. Block b owns nodes
