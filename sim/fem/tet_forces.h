@@ -48,12 +48,11 @@ SIM_HD inline void load_dhdX(const TetMeshView<T>& m, int e, T dhdX[12]) {
 }
 
 // The same 12 numbers derived instead of read: shape_gradients in double on the rest
-// positions X0d (double, node i's x, y, z at [4 i], [4 i + 1], [4 i + 2]: one 32-byte
-// sector per node, so a corner is one memory request, not three), rounded to T, as
-// build_rest_state computes the
-// stored table (rest_state.cpp), so bit for bit the same. The GPU's element stage on
-// large meshes, which is bound by memory bandwidth, trades the table's 48 bytes per
-// element (float) for this arithmetic and the corners' rest positions (24 bytes per node,
+// positions, rounded to T, as build_rest_state computes the stored table
+// (rest_state.cpp), so bit for bit the same. X0d: node i's x, y, z at [4 i .. 4 i + 2]
+// (one 32-byte sector per node: a corner is one memory request, not three). The GPU's
+// element stage on large meshes, bound by memory bandwidth, trades the table's 48 bytes
+// per element (float) for this arithmetic and the corners' positions (32 bytes per node,
 // shared by about 5 elements).
 template <class T>
 SIM_HD inline void derive_dhdX(const TetMeshView<T>& m, const double* X0d, int e, T dhdX[12]) {

@@ -37,8 +37,9 @@ __device__ __forceinline__ LaneSlots<G> lane_slots(const TetMeshView<T>& m, int 
   return g;
 }
 
-// f = the node's summed corner forces (fc: [3 * slot + k], tet_forces.h), in lane 0; the other lanes hold
-// partial sums. Every lane of the warp must call this (the shuffles use the full mask).
+// f = the node's summed corner forces (fc: [3 * slot + k], tet_forces.h), in lane 0; the
+// other lanes hold partial sums. Every lane of the warp must call this (the shuffles use
+// the full mask).
 template <class T, int G>
 __device__ __forceinline__ void lane_gather_force(const TetMeshView<T>& m, const T* __restrict__ fc, const LaneSlots<G>& g,
                                                   T f[3]) {

@@ -1,11 +1,13 @@
 // The two-kernel step (ExecMode graph-pdl and graph): what runs on meshes above 256 tets
 // per SM, and for T4ANP. Per step an element kernel (one thread per element:
-// element_corner_forces, tet_forces.h; for T4ANP three kernels, anp.h: element volumes,
-// nodal pressures through the gather table, corner forces) writes every element's corner
-// forces, then a node kernel gathers them per node in table order (one thread per node,
-// or G lanes per node summed by lane_sum) and calls update_node. Each thread writes only
-// its own element or node: no atomics, runs repeat bit for bit. Every kernel body is a
-// call of the SIM_HD functions the CPU backend (cpu_step.h) loops over.
+// element_corner_force_values, tet_forces.h, with dh/dX read or, where the table would not
+// stay in L2, derived from the rest positions; for T4ANP three kernels, anp.h: element
+// volumes, nodal pressures through the gather table, corner forces) writes every element's
+// corner forces, a warp's at a time (warp_store_corner_forces), then a node kernel
+// gathers them per node in table order (one thread per node, or G lanes per node summed by
+// lane_sum) and calls update_node. Each thread writes only its own element or node: no
+// atomics, runs repeat bit for bit. Every kernel body is a call of the SIM_HD functions
+// the CPU backend (cpu_step.h) loops over.
 #include "sim/fem/anp.h"
 #include "sim/fem/central_difference.h"
 #include "sim/fem/tet_forces.h"
