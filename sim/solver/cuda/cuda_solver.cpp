@@ -289,7 +289,7 @@ class CudaSolver final : public CudaSolverApi {
     lanes_ = lanes;
   }
   int node_lanes() const override { return lanes_; }
-  bool derives_gradients() const override { return rest_.X0d.size() > 0; }
+  bool derives_gradients() const override { return !rest_.X0d.empty(); }
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
@@ -790,7 +790,7 @@ class CudaSolver final : public CudaSolverApi {
     a.anp = cfg_.element == kT4ANP;
     a.vol_now = const_cast<T*>(live_.vol_now.data());
     a.p_node = const_cast<T*>(live_.p_node.data());
-    a.X0d = rest_.X0d.size() > 0 ? rest_.X0d.data() : nullptr;
+    a.X0d = rest_.X0d.data();  // null where the table is read
     a.fblock = rest_.fblock.data();
     a.nfblock = rest_.nfblock;
     a.fsmem_entries = rest_.fsmem_entries;

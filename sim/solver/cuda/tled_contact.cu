@@ -190,40 +190,38 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
   // kernel has finished reading it).
   if (first && *c.rebuild)
     for (unsigned h = unsigned(gt); h <= c.mask; h += gridDim.x * blockDim.x) c.bucket_count[h] = 0;
-  const int n = m.nnode, warps = int(gridDim.x * blockDim.x / 32);
-  for (int s = gt / 32; s < c.nsurf; s += warps) {
-    const int i = c.surf[s];
-    const int nc = c.ncand[s];
-    for (int q = gt % 32; q < nc; q += 32) {
-      const int slot = s * kContactCandCap + q;
-      const int t = c.cand[slot];
-      const int j[4] = {i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
-      T x[4][3], d[4][3];
-      for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) {
-          d[a][k] = du[k * n + j[a]];
-          x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
-        }
-      const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
-                                m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
-      c.pair_state[slot] = r.state;
-      if (r.state == kFree) continue;
-      T* corr = c.pair_corr + std::size_t(slot) * 12;
+  const int s = gt / 32;
+  if (s >= c.nsurf) return;
+  const int n = m.nnode, i = c.surf[s], nc = c.ncand[s];
+  for (int q = gt % 32; q < nc; q += 32) {
+    const int slot = s * kContactCandCap + q;
+    const int t = c.cand[slot];
+    const int j[4] = {i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
+    T x[4][3], d[4][3];
+    for (int a = 0; a < 4; ++a)
       for (int k = 0; k < 3; ++k) {
-        corr[k] = r.dp[k];
-        corr[3 + k] = r.da[k];
-        corr[6 + k] = r.db[k];
-        corr[9 + k] = r.dc[k];
+        d[a][k] = du[k * n + j[a]];
+        x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
       }
-      for (int a = 0; a < 4; ++a) {
-        atomicAdd(count + j[a], 1);
-        const int e = atomicAdd(c.in_count + j[a], 1);
-        if (e < kContactInCap)
-          c.in_list[std::size_t(j[a]) * kContactInCap + e] = slot * 4 + a;
-        else
-          atomicOr(c.overflow, kContactOverflowIncoming);
-      }
+    const NodeTriangleCorrection<T> r =
+        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
+                              m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
+    c.pair_state[slot] = r.state;
+    if (r.state == kFree) continue;
+    T* corr = c.pair_corr + std::size_t(slot) * 12;
+    for (int k = 0; k < 3; ++k) {
+      corr[k] = r.dp[k];
+      corr[3 + k] = r.da[k];
+      corr[6 + k] = r.db[k];
+      corr[9 + k] = r.dc[k];
+    }
+    for (int a = 0; a < 4; ++a) {
+      atomicAdd(count + j[a], 1);
+      const int e = atomicAdd(c.in_count + j[a], 1);
+      if (e < kContactInCap)
+        c.in_list[std::size_t(j[a]) * kContactInCap + e] = slot * 4 + a;
+      else
+        atomicOr(c.overflow, kContactOverflowIncoming);
     }
   }
 }
@@ -244,53 +242,51 @@ __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactVi
   pdl_wait();
   const int gt = blockIdx.x * blockDim.x + threadIdx.x;
   if (first && gt == 0) *c.rebuild = 0;  // the first pairs kernel has read it
-  const int lane = threadIdx.x % 32, w = threadIdx.x / 32, n = m.nnode, warps = int(gridDim.x * blockDim.x / 32);
-  for (int s = gt / 32; s < c.nsurf; s += warps) {  // s, and so ne below, is warp-uniform
-    const int i = c.surf[s];
-    const int ne = min(c.in_count[i], kContactInCap);
-    __syncwarp();  // every lane has read in_count
-    if (lane == 0) {
-      count_next[i] = 0;  // the next sweep's counts (its pairs kernel runs after this one)
-      if (ne) c.in_count[i] = 0;
-    }
-    if (ne == 0) continue;
-    int v[2];
-    for (int h = 0; h < 2; ++h)
-      v[h] = lane + 32 * h < ne ? c.in_list[std::size_t(i) * kContactInCap + lane + 32 * h] : INT_MAX;
-    int rank[2] = {0, 0};
-    for (int b = 0; b < 32; ++b) {
-      const int x0 = __shfl_sync(0xffffffffu, v[0], b), x1 = __shfl_sync(0xffffffffu, v[1], b);
-      for (int h = 0; h < 2; ++h) rank[h] += int(x0 < v[h]) + int(x1 < v[h]);
-    }
-    for (int h = 0; h < 2; ++h)
-      if (lane + 32 * h < ne) sorted[w][rank[h]] = v[h];
-    __syncwarp();
-    T term[2][3];
-    int state = 0;
-    for (int h = 0; h < 2; ++h) {
-      for (int k = 0; k < 3; ++k) term[h][k] = T(0);
-      if (lane + 32 * h >= ne) continue;
-      const int e = sorted[w][lane + 32 * h], slot = e >> 2, a = e & 3;
-      const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
-      const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
-      const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
-      for (int k = 0; k < 3; ++k) term[h][k] = share * corr[k];
-      if (a == 0) state = max(state, int(c.pair_state[slot]));
-    }
-    T acc[3] = {T(0), T(0), T(0)};
-    for (int r = 0; r < ne; ++r)  // in key order, on every lane alike
-      for (int k = 0; k < 3; ++k) acc[k] += __shfl_sync(0xffffffffu, r < 32 ? term[0][k] : term[1][k], r & 31);
-    for (int off = 16; off > 0; off /= 2) state = max(state, __shfl_xor_sync(0xffffffffu, state, off));
-    __syncwarp();  // sorted[w] is free for the next node
-    if (lane != 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int q = k * n + i;
-      du[q] += acc[k];
-      u[q] += acc[k];
-      if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
-    }
-    contact[i] = std::uint8_t(max(state, int(contact[i])));
+  const int lane = threadIdx.x % 32, w = threadIdx.x / 32, n = m.nnode, s = gt / 32;
+  if (s >= c.nsurf) return;  // whole warps: s, and so ne below, is warp-uniform
+  const int i = c.surf[s];
+  const int ne = min(c.in_count[i], kContactInCap);
+  __syncwarp();  // every lane has read in_count
+  if (lane == 0) {
+    count_next[i] = 0;  // the next sweep's counts (its pairs kernel runs after this one)
+    if (ne) c.in_count[i] = 0;
   }
+  if (ne == 0) return;
+  int v[2];
+  for (int h = 0; h < 2; ++h)
+    v[h] = lane + 32 * h < ne ? c.in_list[std::size_t(i) * kContactInCap + lane + 32 * h] : INT_MAX;
+  int rank[2] = {0, 0};
+  for (int b = 0; b < 32; ++b) {
+    const int x0 = __shfl_sync(0xffffffffu, v[0], b), x1 = __shfl_sync(0xffffffffu, v[1], b);
+    for (int h = 0; h < 2; ++h) rank[h] += int(x0 < v[h]) + int(x1 < v[h]);
+  }
+  for (int h = 0; h < 2; ++h)
+    if (lane + 32 * h < ne) sorted[w][rank[h]] = v[h];
+  __syncwarp();
+  T term[2][3];
+  int state = 0;
+  for (int h = 0; h < 2; ++h) {
+    for (int k = 0; k < 3; ++k) term[h][k] = T(0);
+    if (lane + 32 * h >= ne) continue;
+    const int e = sorted[w][lane + 32 * h], slot = e >> 2, a = e & 3;
+    const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
+    const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
+    const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
+    for (int k = 0; k < 3; ++k) term[h][k] = share * corr[k];
+    if (a == 0) state = max(state, int(c.pair_state[slot]));
+  }
+  T acc[3] = {T(0), T(0), T(0)};
+  for (int r = 0; r < ne; ++r)  // in key order, on every lane alike
+    for (int k = 0; k < 3; ++k) acc[k] += __shfl_sync(0xffffffffu, r < 32 ? term[0][k] : term[1][k], r & 31);
+  for (int off = 16; off > 0; off /= 2) state = max(state, __shfl_xor_sync(0xffffffffu, state, off));
+  if (lane != 0) return;
+  for (int k = 0; k < 3; ++k) {
+    const int q = k * n + i;
+    du[q] += acc[k];
+    u[q] += acc[k];
+    if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
+  }
+  contact[i] = std::uint8_t(max(state, int(contact[i])));
 }
 
 }  // namespace
