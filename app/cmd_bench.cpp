@@ -81,17 +81,26 @@ struct Result {
   Stats estimate_us, estimate_wall_us;
 };
 
-// Bytes one step must move through DRAM in this two-stage algorithm (each array read or
-// written once): element stage reads tet, dhdX, vol and u, writes the corner forces; node
+// Bytes one step must move through DRAM (each array read or written once). The two-kernel
+// step: the element stage reads tet, dhdX, vol and u, writes the corner forces; the node
 // stage reads the gather table and the corner forces, flags, 1/m, u, du (X0 for contact
-// nodes), writes u, du and the contact state. derived: the element stage derives dhdX
-// from the rest positions in double instead (derive_dhdX).
-double step_bytes(long ntet, long nnode, long ncontact, int real, bool derived) {
+// nodes), writes u, du and the contact state. kDerived: the element stage derives dhdX
+// from the rest positions in double instead (derive_dhdX). kHalo (tled_halo_step.cu):
+// no corner forces in memory; each element's rest data and block index once (a border
+// element's second reading, by the neighbouring block, counted as an L2 hit), and a
+// 16-bit slot per gather entry instead of the 4-byte gather table.
+enum class StepLayout { kTwoKernel, kDerived, kHalo };
+double step_bytes(long ntet, long nnode, long ncontact, int real, StepLayout layout) {
   const double T = real;
-  const double elem = derived ? ntet * (4 * 4 + T + 12 * T) + nnode * (3 * T + 4 * 8.0)
-                              : ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T;
-  const double node = (nnode + 1) * 4.0 + ntet * 4 * 4.0 + ntet * 12 * T + nnode * (1 + T + 4 * 3 * T + 1) + ncontact * 3 * T;
-  return elem + node;
+  const double nodes = (nnode + 1) * 4.0 + nnode * (1 + T + 4 * 3 * T + 1) + ncontact * 3 * T;
+  switch (layout) {
+    case StepLayout::kDerived:
+      return ntet * (4 * 4 + T + 12 * T) + nnode * (3 * T + 4 * 8.0) + ntet * (4 * 4.0 + 12 * T) + nodes;
+    case StepLayout::kHalo:
+      return ntet * (4 + 4 * 4 + 12 * T + T) + nnode * 3 * T + ntet * 4 * 2.0 + nodes;
+    case StepLayout::kTwoKernel: break;
+  }
+  return ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T + ntet * (4 * 4.0 + 12 * T) + nodes;
 }
 
 // The CPU backend's stages (sim/solver/cpu_step.h: the functions CpuSolver::step runs
@@ -191,7 +200,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   long ncontact = 0;
   for (auto f : sim.node_flags()) ncontact += (f & kNodeContact) ? 1 : 0;
   const int real = sc.precision == Precision::kFloat ? 4 : 8;
-  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, false);
+  r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, StepLayout::kTwoKernel);
 
 #if defined(SOFTTLED_HAVE_CUDA)
   auto* gpu = dynamic_cast<cuda::CudaSolverApi*>(&solver);
@@ -212,7 +221,11 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
     const cuda::ExecMode em = gpu->exec_mode();
     if (gpu->derives_gradients() && sc.element == kT4 && (em == cuda::ExecMode::kGraphPdl || em == cuda::ExecMode::kGraph)) {
       r.mode += ", dh/dX derived";
-      r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, true);
+      r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, StepLayout::kDerived);
+    }
+    if (const std::string h = gpu->halo_layout(); !h.empty()) {
+      r.mode += ", " + h;
+      r.bytes = step_bytes(r.ntet, r.nnode, ncontact, real, StepLayout::kHalo);
     }
     sync = [gpu] { gpu->synchronize(); };
     timed = [gpu](long n) { return gpu->time_steps_us(n); };
@@ -290,8 +303,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
       // The product's two steps (what auto picks between), the opt-in multi-step launch
       // and graph-pdl's fallback.
-      for (cuda::ExecMode m : {cuda::ExecMode::kMulti, cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl,
-                               cuda::ExecMode::kGraph}) {
+      for (cuda::ExecMode m : {cuda::ExecMode::kMulti, cuda::ExecMode::kFused, cuda::ExecMode::kHalo,
+                               cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph}) {
         sim.reset();
         gpu->set_exec_mode(m);
         r.modes.emplace_back(cuda::exec_mode_name(m) + lanes_tag, timed_samples(gpu));
@@ -395,9 +408,10 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--steps", o->steps, "timed steps for the scene (paper: 8000)")->check(int_range(1, 1000000000))->capture_default_str();
   c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
+  c->add_flag("--no-compare{false}", o->compare_modes, "CUDA: time only the chosen mode, not the others and other lane counts");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
-  c->add_option("--mode", o->mode, "CUDA execution: auto, multi, fused, graph-pdl, graph")
-      ->check(CLI::IsMember({"auto", "multi", "fused", "graph-pdl", "graph"}))->capture_default_str();
+  c->add_option("--mode", o->mode, "CUDA execution: auto, multi, fused, halo, graph-pdl, graph")
+      ->check(CLI::IsMember({"auto", "multi", "fused", "halo", "graph-pdl", "graph"}))->capture_default_str();
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
   c->add_option("--cpu-path", o->cpu_path, "CPU stages: simd (the product) or scalar (the reference they are tested against)")
       ->check(CLI::IsMember({"simd", "scalar"}))->capture_default_str();

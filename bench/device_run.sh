@@ -58,7 +58,7 @@ if has cpu; then
 fi
 
 if has sanitize; then
-  for mode in multi fused graph-pdl graph; do
+  for mode in multi fused halo graph-pdl graph; do
     say "compute-sanitizer memcheck: torus drop, 5 ms, mode $mode"
     SOFTTLED_CUDA_MODE=$mode compute-sanitizer --tool memcheck --leak-check full --error-exitcode 9 \
       "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.005 solver.precision=float > "$OUT/memcheck_$mode.txt" 2>&1
@@ -66,7 +66,7 @@ if has sanitize; then
     grep -E "ERROR SUMMARY|LEAK SUMMARY|simulated" "$OUT/memcheck_$mode.txt" | tee -a "$LOG"
     rm -f "$OUT/memcheck_$mode.txt"
   done
-  for mode in multi fused; do
+  for mode in multi fused halo; do
     say "compute-sanitizer racecheck: $mode step (shared memory), torus drop, 2 ms"
     SOFTTLED_CUDA_MODE=$mode compute-sanitizer --tool racecheck --error-exitcode 9 \
       "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.002 solver.precision=float > "$OUT/racecheck.txt" 2>&1

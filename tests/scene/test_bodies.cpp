@@ -343,7 +343,7 @@ TEST(Bodies, BodyContactOnTheGpuMatchesTheCpuAndRepeats) {
   cpu.step(n);
   ASSERT_GT(cpu.diagnostics().n_contact, 10);
   std::vector<std::vector<double>> runs;
-  for (const char* mode : {"fused", "graph-pdl", "fused"}) {
+  for (const char* mode : {"fused", "graph-pdl", "fused", "halo"}) {
     setenv("SOFTTLED_CUDA_MODE", mode, 1);
     Simulation gpu(s, "cuda");
     unsetenv("SOFTTLED_CUDA_MODE");
@@ -352,6 +352,7 @@ TEST(Bodies, BodyContactOnTheGpuMatchesTheCpuAndRepeats) {
   }
   EXPECT_EQ(runs[0], runs[1]) << "fused and graph-pdl differ";
   EXPECT_EQ(runs[0], runs[2]) << "two fused runs differ";
+  EXPECT_EQ(runs[0], runs[3]) << "fused and halo differ";
   double worst = 0, umax = 0;
   const std::vector<double>& uc = cpu.state().u;
   for (std::size_t k = 0; k < uc.size(); ++k) {

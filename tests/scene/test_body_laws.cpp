@@ -142,7 +142,7 @@ TEST(BodyLaws, EveryCudaModeGivesTheSameBits) {
   const Scene s = parse_scene(all + rest_of_scene(kSceneLaw, "\"auto\""), "mixed.toml");
   std::vector<std::vector<double>> runs;
   long n = 0;
-  for (const char* mode : {"fused", "graph-pdl", "multi", "fused"}) {
+  for (const char* mode : {"fused", "graph-pdl", "multi", "fused", "halo"}) {
     setenv("SOFTTLED_CUDA_MODE", mode, 1);
     Simulation gpu(s, "cuda");
     unsetenv("SOFTTLED_CUDA_MODE");
@@ -153,6 +153,7 @@ TEST(BodyLaws, EveryCudaModeGivesTheSameBits) {
   EXPECT_EQ(runs[0], runs[1]) << "fused and graph-pdl differ";
   EXPECT_EQ(runs[0], runs[2]) << "fused and multi differ";
   EXPECT_EQ(runs[0], runs[3]) << "two fused runs differ";
+  EXPECT_EQ(runs[0], runs[4]) << "fused and halo differ";
   Simulation cpu(s, "cpu");
   cpu.step(n);
   EXPECT_LT(max_abs_diff(runs[0], 0, cpu.state().u, 0, runs[0].size()), 1e-12);

@@ -23,6 +23,7 @@
 #include "sim/solver/cuda/device_buffer.h"
 #include "sim/solver/cuda/device_info.h"
 #include "sim/mesh/mesh_reorder.h"
+#include "sim/solver/halo_blocks.h"
 #include "sim/solver/obstacle_grids.h"
 #include "sim/solver/rest_state.h"
 #include "sim/solver/step_params.h"
@@ -38,6 +39,7 @@ const char* exec_mode_name(ExecMode m) {
     case ExecMode::kAuto: return "auto";
     case ExecMode::kMulti: return "multi";
     case ExecMode::kFused: return "fused";
+    case ExecMode::kHalo: return "halo";
     case ExecMode::kGraphPdl: return "graph-pdl";
     case ExecMode::kGraph: return "graph";
   }
@@ -45,9 +47,10 @@ const char* exec_mode_name(ExecMode m) {
 }
 
 ExecMode parse_exec_mode(const std::string& s) {
-  for (ExecMode m : {ExecMode::kAuto, ExecMode::kMulti, ExecMode::kFused, ExecMode::kGraphPdl, ExecMode::kGraph})
+  for (ExecMode m : {ExecMode::kAuto, ExecMode::kMulti, ExecMode::kFused, ExecMode::kHalo, ExecMode::kGraphPdl,
+                     ExecMode::kGraph})
     if (s == exec_mode_name(m)) return m;
-  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, multi, fused, graph-pdl or graph)");
+  throw InputError("unknown CUDA execution mode '" + s + "' (use auto, multi, fused, halo, graph-pdl or graph)");
 }
 
 Options options_from_env() {
@@ -57,6 +60,8 @@ Options options_from_env() {
   if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
   if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
   if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
+  if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_ELEMS")) o.halo_elements = std::atoi(h);
+  if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_BLOCK")) o.halo_block = std::atoi(h);
   if (const char* d = std::getenv("SOFTTLED_CUDA_DERIVE_GRADIENTS")) o.derive_gradients = std::atoi(d);
   return o;
 }
@@ -80,6 +85,10 @@ struct DeviceRest {
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
+  // Halo step (halo_blocks.h): empty where one node touches more elements than a block holds.
+  DeviceBuffer<int> hnode, helem_start, helem;
+  DeviceBuffer<std::uint16_t> hslot;
+  int nhblock = 0, hcap = 0, hthreads = 0;
   TetMeshView<T> view;
   SurfaceView surface;
 };
@@ -141,8 +150,8 @@ class CudaSolver final : public CudaSolverApi {
     // Derived where the table would come from DRAM: it and the corner forces (12 numbers
     // per element each) take more than half the L2. Below that the table is an L2 hit and
     // the nine double divisions per element cost more than they save (bench/NOTES.md).
-    const bool table_leaves_l2 = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
-    if (opt.derive_gradients < 0 ? table_leaves_l2 : opt.derive_gradients != 0) {
+    table_leaves_l2_ = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
+    if (opt.derive_gradients < 0 ? table_leaves_l2_ : opt.derive_gradients != 0) {
       std::vector<double> X0d(4 * std::size_t(n_), 0.0);
       for (int i = 0; i < n_; ++i)
         for (int k = 0; k < 3; ++k) X0d[4 * std::size_t(i) + k] = pm.X[3 * std::size_t(i) + k];
@@ -174,6 +183,7 @@ class CudaSolver final : public CudaSolverApi {
       v.laws = rest_.laws.data();
     }
     build_fused_blocks(r.gather_start);
+    build_halo(r.gather_start, r.gather_slot);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -279,6 +289,7 @@ class CudaSolver final : public CudaSolverApi {
   }
   // What runs: multi reports fused where it falls back (use_multi).
   ExecMode exec_mode() const override {
+    if (mode_ == ExecMode::kHalo && rest_.nhblock == 0) return ExecMode::kFused;
     return mode_ == ExecMode::kMulti && !use_multi(args(cfg_.step)) ? ExecMode::kFused : run_mode();
   }
 
@@ -290,6 +301,13 @@ class CudaSolver final : public CudaSolverApi {
   }
   int node_lanes() const override { return lanes_; }
   bool derives_gradients() const override { return !rest_.X0d.empty(); }
+  std::string halo_layout() const override {
+    if (!halo_step()) return "";
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%d blocks of <= %d elements x %d threads, %.2fx the elements", rest_.nhblock,
+                  rest_.hcap, rest_.hthreads, halo_duplication_);
+    return buf;
+  }
 
   void step(long nsteps) override {
     if (nsteps <= 0) return;
@@ -691,10 +709,18 @@ class CudaSolver final : public CudaSolverApi {
   // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
   // (fewer idle lanes, better coalescing per warp). T4ANP's fused step is two kernels
   // (tled_step.cu).
-  ExecMode auto_mode() const { return ne_ <= 256 * nsm_ ? ExecMode::kFused : ExecMode::kGraphPdl; }
+  // Where the table and the corner forces leave the L2, the halo step: the corner forces'
+  // round trip through DRAM costs more than computing the border elements twice.
+  ExecMode auto_mode() const {
+    if (ne_ <= 256 * nsm_) return ExecMode::kFused;
+    return table_leaves_l2_ && rest_.nhblock > 0 ? ExecMode::kHalo : ExecMode::kGraphPdl;
+  }
   ExecMode run_mode() const { return mode_; }
   // multi runs the fused step's phases, and falls back to fused graphs where it cannot run.
-  bool fused_step() const { return mode_ == ExecMode::kFused || mode_ == ExecMode::kMulti; }
+  bool fused_step() const {
+    return mode_ == ExecMode::kFused || mode_ == ExecMode::kMulti || mode_ == ExecMode::kHalo;
+  }
+  bool halo_step() const { return mode_ == ExecMode::kHalo && rest_.nhblock > 0; }
 
   // Multi-step launches (launch_multi_step): not with a contact stage (it runs between
   // steps), nor when the blocks cannot all be resident (the cooperative launch's rule;
@@ -765,6 +791,32 @@ class CudaSolver final : public CudaSolverApi {
     rest_.fsmem_entries = std::max(most, 1);
     rest_.fblock.upload(start);
   }
+  // Halo step: the largest block (elements, a power of two, at most 2048: two blocks per
+  // multiprocessor in float) that still gives every multiprocessor a block.
+  void build_halo(const std::vector<int>& gather_start, const std::vector<int>& gather_slot) {
+    const int most = int(std::min<std::size_t>(16384, 200 * 1024 / (12 * sizeof(T))));
+    HaloBlocks h;
+    if (opt_.halo_elements > 0) {
+      int cap = 32;
+      while (cap * 2 <= std::min(opt_.halo_elements, most)) cap *= 2;
+      h = build_halo_blocks(n_, ne_, gather_start, gather_slot, cap);
+    } else {
+      for (int cap = 2048; cap >= 128; cap /= 2) {
+        h = build_halo_blocks(n_, ne_, gather_start, gather_slot, cap);
+        if (h.nblock() >= nsm_) break;
+      }
+    }
+    if (h.nblock() <= 0) return;
+    rest_.hnode.upload(h.node_start);
+    rest_.helem_start.upload(h.elem_start);
+    rest_.helem.upload(h.elem);
+    rest_.hslot.upload(h.slot);
+    rest_.nhblock = h.nblock();
+    rest_.hcap = h.cap;
+    const int tb = opt_.halo_block;
+    rest_.hthreads = tb >= 32 && tb <= kHaloMaxThreads && tb % 32 == 0 ? tb : std::min(h.cap, kHaloMaxThreads);
+    halo_duplication_ = h.duplication(ne_);
+  }
   int auto_lanes() const { return small_mesh() ? 8 : 4; }
 
   // A step that is one small wave (about one element per thread of a 128-thread block per
@@ -794,6 +846,12 @@ class CudaSolver final : public CudaSolverApi {
     a.fblock = rest_.fblock.data();
     a.nfblock = rest_.nfblock;
     a.fsmem_entries = rest_.fsmem_entries;
+    a.hnode = rest_.hnode.data();
+    a.helem_start = rest_.helem_start.data();
+    a.helem = rest_.helem.data();
+    a.hslot = rest_.hslot.data();
+    a.nhblock = rest_.nhblock;
+    a.hcap = rest_.hcap;
     a.health = const_cast<DeviceHealth*>(health_.data());
     a.du2_bound = du2_bound(p.dt);
     return a;
@@ -804,8 +862,12 @@ class CudaSolver final : public CudaSolverApi {
   void enqueue_fused_step(const StepArgs<T>& a, int s, bool pdl) {
     const MultiStepBuffers<T> b = state_buffers(a);
     const int p = s & 1;
-    SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, b.u[p], b.du[p], b.u[1 - p], b.du[1 - p],
-                                             b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
+    if (halo_step())
+      SOFTTLED_CUDA_CHECK(launch_halo_step<T>(stream_, rest_.hthreads, pdl, a, b.u[p], b.du[p], b.u[1 - p], b.du[1 - p],
+                                              b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
+    else
+      SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, b.u[p], b.du[p], b.u[1 - p],
+                                               b.du[1 - p], b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
     enqueue_contact(b.u[1 - p], b.du[1 - p], b.ub[1 - p]);
   }
 
@@ -984,6 +1046,8 @@ class CudaSolver final : public CudaSolverApi {
   ExecMode mode_ = ExecMode::kAuto;
   int lanes_ = 1;
   bool fused_pdl_ = true;
+  double halo_duplication_ = 0;  // elements the halo step computes per mesh element
+  bool table_leaves_l2_ = false;  // dh/dX and the corner forces take more than half the L2
   // Step graphs of k steps at one dt (set_dt keeps them), at most kMaxGraphs of them.
   using GraphKey = std::pair<double, int>;
   static constexpr std::size_t kMaxGraphs = 96;

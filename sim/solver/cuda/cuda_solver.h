@@ -9,6 +9,9 @@
 //               alternate; graphs of K steps with programmatic dependent launch (PDL).
 //               auto on meshes up to 256 tets per SM; with T4ANP two kernels per step
 //               (the nodal pressures of the block's nodes first, anp.h)
+//   halo        the fused step's shape with each element computed once per block
+//               (tled_halo_step.cu): node blocks take every element touching their nodes
+//               (halo_blocks.h), so border elements are computed by each block they touch
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
 //               replayed, with PDL between the kernels (each is scheduled while its
@@ -33,9 +36,9 @@
 namespace softtled {
 namespace cuda {
 
-enum class ExecMode { kAuto, kMulti, kFused, kGraphPdl, kGraph };
+enum class ExecMode { kAuto, kMulti, kFused, kHalo, kGraphPdl, kGraph };
 const char* exec_mode_name(ExecMode m);
-ExecMode parse_exec_mode(const std::string& s);  // "auto", "multi", "fused", "graph-pdl", "graph"
+ExecMode parse_exec_mode(const std::string& s);  // "auto", "multi", "fused", "halo", "graph-pdl", "graph"
 
 struct Options {
   ExecMode mode = ExecMode::kAuto;
@@ -45,12 +48,14 @@ struct Options {
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
   int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
                              // (256 measured fastest: bench/NOTES.md)
+  int halo_elements = 0;     // halo mode: elements per block (a power of two); 0 = by mesh size
+  int halo_block = 0;        // halo mode: threads per block, 32..512; 0 = min(elements, 512)
   // The two-kernel T4 element stage derives dh/dX from the rest positions (1) or reads the
   // stored table (0); -1: derive where the table does not stay in L2 (bench/NOTES.md).
   int derive_gradients = -1;
 };
 // Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK /
-// _DERIVE_GRADIENTS applied.
+// _HALO_ELEMS / _HALO_BLOCK / _DERIVE_GRADIENTS applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches
@@ -72,6 +77,8 @@ class CudaSolverApi : public Solver {
   virtual int node_lanes() const = 0;          // in use
   // Whether the two-kernel T4 element stage derives dh/dX (Options::derive_gradients).
   virtual bool derives_gradients() const = 0;
+  // The halo step's blocks, as the bench prints them ("" in other modes).
+  virtual std::string halo_layout() const = 0;
   // Device-timed (events) n steps from the current state; returns microseconds.
   virtual double time_steps_us(long n) = 0;
   // Per-stage times; restores the live state afterwards.

@@ -4,6 +4,8 @@
 //   tled_step.cu    THE GPU STEP: fused_step_kernel, one kernel per step (launch_fused_step;
 //                   `auto` on meshes up to 256 tets per SM; T4ANP adds fused_pressure_kernel),
 //                   and multi_step_kernel, many such steps per launch (launch_multi_step)
+//   tled_halo_step.cu  halo_step_kernel: the fused step's shape with each element computed
+//                   once per block (node blocks with their elements' halo; halo_blocks.h)
 //   tled_stages.cu  the two-kernel step (graphs, with or without PDL; larger meshes and
 //                   T4ANP): element stage element_corner_forces (tet_forces.h) or the
 //                   three T4ANP kernels (anp.h), then the node stage gather_node_force +
@@ -68,6 +70,15 @@ struct StepArgs {
   const int* fblock = nullptr;
   int nfblock = 0;
   int fsmem_entries = 0;
+  // Halo step (launch_halo_step; halo_blocks.h): block b owns nodes [hnode[b], hnode[b + 1])
+  // and computes the elements helem[helem_start[b] ..) (at most hcap); hslot: each gather
+  // entry's place in its block's shared memory.
+  const int* hnode = nullptr;
+  const int* helem_start = nullptr;
+  const int* helem = nullptr;
+  const std::uint16_t* hslot = nullptr;
+  int nhblock = 0;
+  int hcap = 0;
   // The device watchdog: each updated node is tested with node_step_ok(du2_bound) and a
   // failure raised here (null: not tested).
   DeviceHealth* health = nullptr;
@@ -141,6 +152,15 @@ struct MultiStepBuffers {
 template <class T>
 cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs<T>& a, const MultiStepBuffers<T>& buf,
                               int nsteps, bool check_only = false);
+
+// Halo step (tled_halo_step.cu): as launch_fused_step (same buffers, same results bit for
+// bit), but block b of a.hnode computes each element touching its nodes once (one thread
+// per element, all four corners) into shared memory, then sums its nodes' corners from
+// there. T4ANP: halo_pressure_kernel first, on the same blocks. block: threads per block.
+constexpr int kHaloMaxThreads = 512;
+template <class T>
+cudaError_t launch_halo_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+                             const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next);
 
 // ---- the two-kernel step (tled_stages.cu) ----
 // T4: element_corner_forces (ls: one thread per element).

@@ -65,7 +65,7 @@ inline bool bitwise_equal(const HostState& a, const HostState& b) {
          std::memcmp(a.du.data(), b.du.data(), a.du.size() * sizeof(double)) == 0;
 }
 
-// Every execution mode (graph-pdl twice, graph, fused, multi, auto) from the same start, at 8, 4
+// Every execution mode (graph-pdl twice, graph, fused, multi, halo, auto) from the same start, at 8, 4
 // and 1 lanes per node: within a lane count the runs must be bitwise identical; another
 // lane count sums in another (fixed) order, so it may differ by rounding only (lanes_tol,
 // 1e-6 m by default). check_mode(requested, api) asserts which mode the solver actually runs.
@@ -77,7 +77,8 @@ void expect_modes_bitwise_identical(const Scene& s, long steps, const std::strin
     HostState ref;
     bool have_ref = false;
     for (cuda::ExecMode m : {cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                             cuda::ExecMode::kFused, cuda::ExecMode::kMulti, cuda::ExecMode::kAuto}) {
+                             cuda::ExecMode::kFused, cuda::ExecMode::kMulti, cuda::ExecMode::kHalo,
+                             cuda::ExecMode::kAuto}) {
       auto sim = make_sim(s, "cuda");
       auto* api = dynamic_cast<cuda::CudaSolverApi*>(&SolverAccess::of(*sim));
       ASSERT_NE(api, nullptr);

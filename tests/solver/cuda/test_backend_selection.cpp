@@ -60,7 +60,7 @@ TEST(BackendSelection, CudaModesAreTheProductStepsAndTheGraphFallback) {
   // fused and graph-pdl (what auto picks), graph (graph-pdl without PDL) and the opt-in
   // multi; the removed bench-only modes are input errors, not silently something else.
   for (cuda::ExecMode m : {cuda::ExecMode::kAuto, cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
-                           cuda::ExecMode::kMulti})
+                           cuda::ExecMode::kMulti, cuda::ExecMode::kHalo})
     EXPECT_EQ(cuda::parse_exec_mode(cuda::exec_mode_name(m)), m);
   EXPECT_THROW(cuda::parse_exec_mode("plain"), InputError);
   EXPECT_THROW(cuda::parse_exec_mode("persistent"), InputError);

@@ -52,8 +52,9 @@ TEST(CudaAnp, AllExecutionModesAreBitwiseIdentical) {
   SKIP_WITHOUT_GPU();
   const long steps = 5000;  // past the first contact (~3600 steps); the nodal pressure uses the node stage's lanes
   expect_modes_bitwise_identical(torus("float"), steps, "T4ANP, ", [](cuda::ExecMode m, cuda::CudaSolverApi& api) {
-    // T4ANP's fused step (two kernels: pressures, then forces and nodes) really runs fused.
-    if (m == cuda::ExecMode::kFused || m == cuda::ExecMode::kMulti) EXPECT_EQ(api.exec_mode(), m);
+    // T4ANP's fused and halo steps (two kernels each: pressures, then forces and nodes) really run.
+    if (m == cuda::ExecMode::kFused || m == cuda::ExecMode::kMulti || m == cuda::ExecMode::kHalo)
+      EXPECT_EQ(api.exec_mode(), m);
   });
 }
 
