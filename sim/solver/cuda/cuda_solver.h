@@ -2,7 +2,7 @@
 // CUDA backend of Solver. Plain C++ header: no CUDA types, so the factory, the bench and
 // the tests include it with the ordinary compiler.
 //
-// How the steps reach the GPU is the ExecMode; `auto` picks one of fused and graph-pdl:
+// How the steps reach the GPU is the ExecMode; `auto` picks one of fused, halo and graph-pdl:
 //   fused       the GPU step (tled_step.cu): one kernel per step, node blocks each
 //               computing the corner forces of their nodes' elements (every element 4
 //               times) into shared memory, then the node stage; two displacement buffers
@@ -11,12 +11,14 @@
 //               (the nodal pressures of the block's nodes first, anp.h)
 //   halo        the fused step's shape with each element computed once per block
 //               (tled_halo_step.cu): node blocks take every element touching their nodes
-//               (halo_blocks.h), so border elements are computed by each block they touch
+//               (halo_blocks.h), so border elements are computed by each block they
+//               touch. auto where graph-pdl's dh/dX table and corner forces exceed half
+//               the L2 (float above ~262k tets on an H100)
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
 //               replayed, with PDL between the kernels (each is scheduled while its
 //               predecessor runs and prefetches its rest data before waiting). auto on
-//               larger meshes
+//               meshes between fused and halo
 //   graph       graph-pdl without PDL: what graph-pdl falls back to on a driver that
 //               cannot capture programmatic launches
 //   multi       the fused step's phases, many steps per cooperative launch with a grid

@@ -13,7 +13,6 @@
 // du_next) out. T4ANP adds halo_pressure_kernel first: the element volumes into shared
 // memory and the block's nodal pressures summed from there (each element's pressure needs
 // its neighbours' nodes, so the two phases are two kernels).
-#include <algorithm>
 #include <cstddef>
 
 #include "sim/fem/anp.h"

@@ -1,7 +1,8 @@
 // The GPU step: fused_step_kernel, one kernel per explicit step (Li, Guo et al.,
 // Algorithm 1, steps 7-11; Taylor et al. 2008 for the GPU TLED layout). What `auto` runs
 // on meshes up to 256 tets per SM (the paper's torus and everything interactive); larger
-// meshes run the two-kernel step of tled_stages.cu, captured in CUDA graphs. T4ANP needs
+// meshes run the two-kernel step of tled_stages.cu, captured in CUDA graphs, and those
+// whose tables leave the L2 the halo step of tled_halo_step.cu. T4ANP needs
 // every node's pressure before any corner force (anp.h: two global phases), so its fused
 // step is two kernels: fused_pressure_kernel, then fused_step_kernel with the pressures.
 //
