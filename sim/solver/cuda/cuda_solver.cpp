@@ -150,8 +150,12 @@ class CudaSolver final : public CudaSolverApi {
     // Derived where the table would come from DRAM: it and the corner forces (12 numbers
     // per element each) take more than half the L2. Below that the table is an L2 hit and
     // the nine double divisions per element cost more than they save (bench/NOTES.md).
-    table_leaves_l2_ = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
-    if (opt.derive_gradients < 0 ? table_leaves_l2_ : opt.derive_gradients != 0) {
+    const bool table_leaves_l2 = 24.0 * sizeof(T) * ne_ > 0.5 * double(info.l2_bytes);
+    // The halo step (auto_mode) pays from the same line in float; in double its duplicated
+    // arithmetic costs twice as much (FP64 at half the FP32 rate), so from twice as many
+    // elements (H100: float between 177k and 287k tets, double between 287k and 1M).
+    halo_pays_ = 24.0 * 4 * ne_ > 0.5 * double(info.l2_bytes) * (sizeof(T) / 4.0);
+    if (opt.derive_gradients < 0 ? table_leaves_l2 : opt.derive_gradients != 0) {
       std::vector<double> X0d(4 * std::size_t(n_), 0.0);
       for (int i = 0; i < n_; ++i)
         for (int k = 0; k < 3; ++k) X0d[4 * std::size_t(i) + k] = pm.X[3 * std::size_t(i) + k];
@@ -709,11 +713,11 @@ class CudaSolver final : public CudaSolverApi {
   // lanes per node on small meshes (max node degree ~60 on the torus), 4 on large ones
   // (fewer idle lanes, better coalescing per warp). T4ANP's fused step is two kernels
   // (tled_step.cu).
-  // Where the table and the corner forces leave the L2, the halo step: the corner forces'
-  // round trip through DRAM costs more than computing the border elements twice.
+  // On meshes past halo_pays_'s line (the constructor's), the halo step: there the corner
+  // forces' round trip through DRAM costs more than computing the border elements twice.
   ExecMode auto_mode() const {
     if (ne_ <= 256 * nsm_) return ExecMode::kFused;
-    return table_leaves_l2_ && rest_.nhblock > 0 ? ExecMode::kHalo : ExecMode::kGraphPdl;
+    return halo_pays_ && rest_.nhblock > 0 ? ExecMode::kHalo : ExecMode::kGraphPdl;
   }
   ExecMode run_mode() const { return mode_; }
   // multi runs the fused step's phases, and falls back to fused graphs where it cannot run.
@@ -1047,7 +1051,7 @@ class CudaSolver final : public CudaSolverApi {
   int lanes_ = 1;
   bool fused_pdl_ = true;
   double halo_duplication_ = 0;  // elements the halo step computes per mesh element
-  bool table_leaves_l2_ = false;  // dh/dX and the corner forces take more than half the L2
+  bool halo_pays_ = false;  // auto_mode: the mesh is large enough for the halo step
   // Step graphs of k steps at one dt (set_dt keeps them), at most kMaxGraphs of them.
   using GraphKey = std::pair<double, int>;
   static constexpr std::size_t kMaxGraphs = 96;

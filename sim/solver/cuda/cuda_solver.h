@@ -13,7 +13,7 @@
 //               (tled_halo_step.cu): node blocks take every element touching their nodes
 //               (halo_blocks.h), so border elements are computed by each block they
 //               touch. auto where graph-pdl's dh/dX table and corner forces exceed half
-//               the L2 (float above ~262k tets on an H100)
+//               the L2 (float above ~262k tets on an H100; double from twice that)
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
 //               replayed, with PDL between the kernels (each is scheduled while its
