@@ -84,7 +84,7 @@ fi
 
 if has ncu; then
   say "ncu: element and node kernels on the torus"
-  ncu $NCU_SECTIONS -k regex:'element_forces|node_|fused_step' -c 4 \
+  ncu $NCU_SECTIONS -k regex:'element_forces|node_|fused_step|halo_step' -c 4 \
     "$B/softtled" run --scene "$SCENE" --backend cuda --set time.duration=0.0002 solver.precision=float > "$OUT/ncu.txt" 2>&1
   echo "ncu rc=$?" | tee -a "$LOG"
   grep -E "$NCU_GREP" "$OUT/ncu.txt" | head -60 | tee -a "$LOG"
@@ -92,7 +92,7 @@ fi
 
 if has ncu1m; then
   say "ncu: element and node kernels on the 1M-tet torus (mesh from the cache the sweep filled)"
-  ncu $NCU_SECTIONS -k regex:'element_forces|node_|fused_step' -c 2 \
+  ncu $NCU_SECTIONS -k regex:'element_forces|node_|fused_step|halo_step' -c 2 \
     "$B/softtled" run --scene "$SCENE" --backend cuda --set 'body.segments=[360,72]' mesh.max_volume=0.0018 \
     time.duration=2e-6 solver.precision=float > "$OUT/ncu1m.txt" 2>&1
   echo "ncu rc=$?" | tee -a "$LOG"
