@@ -1,6 +1,7 @@
 #include "sim/solver/halo_blocks.h"
 
 #include <algorithm>
+#include <utility>
 #include <stdexcept>
 
 namespace softtled {
@@ -53,6 +54,18 @@ HaloBlocks build_halo_blocks(int nnode, int ntet, const std::vector<int>& gather
   }
   if (nnode > 0) close(nnode);
   return h;
+}
+
+HaloBlocks choose_halo_blocks(int nnode, int ntet, const std::vector<int>& gather_start,
+                              const std::vector<int>& gather_slot, int min_blocks, int max_cap) {
+  HaloBlocks best;
+  for (int cap = max_cap; cap >= 128; cap /= 2) {
+    HaloBlocks h = build_halo_blocks(nnode, ntet, gather_start, gather_slot, cap);
+    if (h.nblock() == 0) break;  // a node's elements no longer fit: keep the last that did
+    best = std::move(h);
+    if (best.nblock() >= min_blocks) break;
+  }
+  return best;
 }
 
 }  // namespace softtled

@@ -32,4 +32,10 @@ struct HaloBlocks {
 HaloBlocks build_halo_blocks(int nnode, int ntet, const std::vector<int>& gather_start,
                              const std::vector<int>& gather_slot, int cap);
 
+// The layout the GPU runs: the largest cap (a power of two, max_cap down to 128) that still
+// gives at least min_blocks blocks (one per multiprocessor); where none does, the smallest
+// cap that a node's elements still fit. Empty only when not even max_cap holds one node's.
+HaloBlocks choose_halo_blocks(int nnode, int ntet, const std::vector<int>& gather_start,
+                              const std::vector<int>& gather_slot, int min_blocks, int max_cap);
+
 }  // namespace softtled

@@ -6,7 +6,9 @@
 //    forces, through the slots, are bit for bit the node stage's gather_node_force over the
 //    whole mesh's corner forces;
 //  - a node with more elements than a block holds leaves the layout empty (the solver
-//    then runs the fused step), and a cap that is not a power of two is refused.
+//    then runs the fused step), and a cap that is not a power of two is refused;
+//  - the solver's choice of block size: the largest that fills the multiprocessors, else
+//    the smallest that still holds every node's elements.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -121,4 +123,36 @@ TEST(HaloBlocks, TooSmallABlockOrABadCapIsRefused) {
   EXPECT_EQ(build_halo_blocks(r.nnode, r.ntet, r.gather_start, r.gather_slot, 32).nblock(), 0);
   EXPECT_THROW(build_halo_blocks(r.nnode, r.ntet, r.gather_start, r.gather_slot, 1000), std::invalid_argument);
   EXPECT_THROW(build_halo_blocks(r.nnode, r.ntet, r.gather_start, r.gather_slot, 32768), std::invalid_argument);
+}
+
+TEST(HaloBlocks, TheChosenCapIsTheLargestThatFillsTheMultiprocessors) {
+  const RestArrays<float>& r = torus_rest();
+  auto blocks = [&](int cap) { return build_halo_blocks(r.nnode, r.ntet, r.gather_start, r.gather_slot, cap).nblock(); };
+  for (int min_blocks : {1, 4, 12, 132}) {
+    const HaloBlocks h = choose_halo_blocks(r.nnode, r.ntet, r.gather_start, r.gather_slot, min_blocks, 2048);
+    ASSERT_GT(h.nblock(), 0) << min_blocks;
+    if (h.nblock() >= min_blocks) {
+      // Largest such cap: twice the cap gives fewer blocks than asked (or is past the maximum).
+      EXPECT_TRUE(h.cap == 2048 || blocks(2 * h.cap) < min_blocks) << min_blocks;
+    } else {
+      EXPECT_EQ(h.cap, 128) << "no cap fills " << min_blocks << " blocks: the smallest is taken";
+    }
+  }
+  // A fan: node 0 in all 200 elements (each with three nodes of its own). Cap 128 cannot
+  // hold node 0, so asking for more blocks than any cap gives stops at 256, the last that fits.
+  const int nt = 200, nn = 1 + 3 * nt;
+  std::vector<int> gs(1, 0), slot;
+  for (int e = 0; e < nt; ++e) slot.push_back(e);  // node 0: corner 0 of every element
+  gs.push_back(nt);
+  for (int e = 0; e < nt; ++e)
+    for (int a = 1; a < 4; ++a) {
+      slot.push_back(a * nt + e);
+      gs.push_back(int(slot.size()));
+    }
+  ASSERT_EQ(int(gs.size()), nn + 1);
+  EXPECT_EQ(build_halo_blocks(nn, nt, gs, slot, 128).nblock(), 0);
+  const HaloBlocks fan = choose_halo_blocks(nn, nt, gs, slot, 1000, 2048);
+  EXPECT_EQ(fan.cap, 256);
+  EXPECT_EQ(fan.nblock(), 1);
+  EXPECT_EQ(choose_halo_blocks(nn, nt, gs, slot, 1000, 128).nblock(), 0) << "nothing fits: no layout";
 }

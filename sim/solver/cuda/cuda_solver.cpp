@@ -805,10 +805,7 @@ class CudaSolver final : public CudaSolverApi {
       while (cap * 2 <= std::min(opt_.halo_elements, most)) cap *= 2;
       h = build_halo_blocks(n_, ne_, gather_start, gather_slot, cap);
     } else {
-      for (int cap = 2048; cap >= 128; cap /= 2) {
-        h = build_halo_blocks(n_, ne_, gather_start, gather_slot, cap);
-        if (h.nblock() >= nsm_) break;
-      }
+      h = choose_halo_blocks(n_, ne_, gather_start, gather_slot, nsm_, 2048);
     }
     if (h.nblock() <= 0) return;
     rest_.hnode.upload(h.node_start);
