@@ -301,7 +301,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       const cuda::ExecMode keep = gpu->exec_mode();
       const int keep_lanes = gpu->node_lanes();
       const std::string lanes_tag = ",lanes=" + std::to_string(keep_lanes);
-      // The product's two steps (what auto picks between), the opt-in multi-step launch
+      // The product's three steps (what auto picks between), the opt-in multi-step launch
       // and graph-pdl's fallback.
       for (cuda::ExecMode m : {cuda::ExecMode::kMulti, cuda::ExecMode::kFused, cuda::ExecMode::kHalo,
                                cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph}) {

@@ -57,7 +57,7 @@ TEST(BackendSelection, UnknownBackendIsAnInputError) {
 
 #if defined(SOFTTLED_HAVE_CUDA)
 TEST(BackendSelection, CudaModesAreTheProductStepsAndTheGraphFallback) {
-  // fused and graph-pdl (what auto picks), graph (graph-pdl without PDL) and the opt-in
+  // fused, halo and graph-pdl (what auto picks), graph (graph-pdl without PDL) and the opt-in
   // multi; the removed bench-only modes are input errors, not silently something else.
   for (cuda::ExecMode m : {cuda::ExecMode::kAuto, cuda::ExecMode::kFused, cuda::ExecMode::kGraphPdl, cuda::ExecMode::kGraph,
                            cuda::ExecMode::kMulti, cuda::ExecMode::kHalo})
