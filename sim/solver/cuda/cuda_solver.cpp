@@ -85,7 +85,8 @@ struct DeviceRest {
   DeviceBuffer<int> s_node, s_tri, s_vtri_start, s_vtri;
   DeviceBuffer<int> fblock;  // fused step: first node of each block, + nnode (StepArgs::fblock)
   int nfblock = 0, fsmem_entries = 0;
-  // Halo step (halo_blocks.h): empty where one node touches more elements than a block holds.
+  // Halo step (halo_blocks.h): built when the halo step is first chosen (ensure_halo);
+  // empty before and where one node touches more elements than a block holds.
   DeviceBuffer<int> hnode, helem_start, helem;
   DeviceBuffer<std::uint16_t> hslot;
   int nhblock = 0, hcap = 0, hthreads = 0;
@@ -187,7 +188,6 @@ class CudaSolver final : public CudaSolverApi {
       v.laws = rest_.laws.data();
     }
     build_fused_blocks(r.gather_start);
-    build_halo(r.gather_start, r.gather_slot);
 
     // Render vertices keep the original mesh's order (the renderer indexes them with the
     // same SurfaceTopology); only the node each one reads is renumbered.
@@ -286,8 +286,10 @@ class CudaSolver final : public CudaSolverApi {
                                         cudaMemcpyHostToDevice, stream_));
   }
 
+  // mode_ is kHalo only with the halo tables built: everything that reads them asks for kHalo.
   void set_exec_mode(ExecMode m) override {
     if (m == ExecMode::kAuto) m = auto_mode();
+    if (m == ExecMode::kHalo) ensure_halo();
     if (m != mode_) clear_graphs();
     mode_ = m;
   }
@@ -715,8 +717,9 @@ class CudaSolver final : public CudaSolverApi {
   // (tled_step.cu).
   // On meshes past halo_pays_'s line (the constructor's), the halo step: there the corner
   // forces' round trip through DRAM costs more than computing the border elements twice.
-  ExecMode auto_mode() const {
+  ExecMode auto_mode() {
     if (ne_ <= 256 * nsm_) return ExecMode::kFused;
+    if (halo_pays_) ensure_halo();  // whether the mesh has a layout at all
     return halo_pays_ && rest_.nhblock > 0 ? ExecMode::kHalo : ExecMode::kGraphPdl;
   }
   ExecMode run_mode() const { return mode_; }
@@ -794,6 +797,19 @@ class CudaSolver final : public CudaSolverApi {
     rest_.nfblock = int(start.size()) - 1;
     rest_.fsmem_entries = std::max(most, 1);
     rest_.fblock.upload(start);
+  }
+  // The halo tables, once, on first use: ~15 bytes per element of device memory that the
+  // other modes never read. The gather table comes back from the device: kept on the host
+  // it would take about 17 bytes per element for good.
+  void ensure_halo() {
+    if (halo_built_) return;
+    std::vector<int> gather_start, gather_slot;
+    rest_.gather_start.download(gather_start);
+    rest_.gather_slot.download(gather_slot);
+    build_halo(gather_start, gather_slot);
+    // The uploads are on the legacy stream, which stream_ (non-blocking) does not wait for.
+    SOFTTLED_CUDA_CHECK(cudaDeviceSynchronize());
+    halo_built_ = true;  // also with no layout (nhblock = 0): there would be none next time either
   }
   // Halo step: the largest block (elements, a power of two, at most 2048: two blocks per
   // multiprocessor in float) that still gives every multiprocessor a block.
@@ -1049,6 +1065,7 @@ class CudaSolver final : public CudaSolverApi {
   bool fused_pdl_ = true;
   double halo_duplication_ = 0;  // elements the halo step computes per mesh element
   bool halo_pays_ = false;  // auto_mode: the mesh is large enough for the halo step
+  bool halo_built_ = false;  // ensure_halo has run (nhblock = 0 after it: no layout)
   // Step graphs of k steps at one dt (set_dt keeps them), at most kMaxGraphs of them.
   using GraphKey = std::pair<double, int>;
   static constexpr std::size_t kMaxGraphs = 96;

@@ -3,6 +3,8 @@
 // tled_output.cu) and their one launch helper. Included by .cu files only.
 #include <cuda_runtime.h>
 
+#include <type_traits>
+
 #include "sim/fem/step_health.h"
 #include "sim/solver/cuda/tled_kernels.h"
 
@@ -64,6 +66,18 @@ template <class Kernel>
 cudaError_t allow_dynamic_smem(Kernel k, std::size_t bytes) {
   if (bytes <= 48 * 1024) return cudaSuccess;
   return cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(bytes));
+}
+
+// The launches' one switch over StepArgs::lanes: f(std::integral_constant<int, G>{}) for
+// G = 1, 4, 8 (each kernel is instantiated per G); cudaErrorInvalidValue for other counts.
+template <class F>
+cudaError_t with_lanes(int lanes, F&& f) {
+  switch (lanes) {
+    case 1: return f(std::integral_constant<int, 1>{});
+    case 4: return f(std::integral_constant<int, 4>{});
+    case 8: return f(std::integral_constant<int, 8>{});
+  }
+  return cudaErrorInvalidValue;
 }
 
 // Every launch goes through here: the shape, the dynamic shared memory and, with ls.pdl,

@@ -153,20 +153,15 @@ cudaError_t launch_halo_kernels(cudaStream_t s, LaunchShape ls, const StepArgs<T
   if (kAnp) {
     LaunchShape lp = ls;
     lp.smem_bytes = 2 * std::size_t(a.hcap) * sizeof(T);
-    cudaError_t e = cudaErrorInvalidValue;
-    switch (a.lanes) {
-      case 1: e = launch(s, lp, halo_pressure_kernel<T, 1>, a, ue_prev); break;
-      case 4: e = launch(s, lp, halo_pressure_kernel<T, 4>, a, ue_prev); break;
-      case 8: e = launch(s, lp, halo_pressure_kernel<T, 8>, a, ue_prev); break;
-    }
+    const cudaError_t e = with_lanes(a.lanes, [&](auto g) {
+      return launch(s, lp, halo_pressure_kernel<T, decltype(g)::value>, a, ue_prev);
+    });
     if (e != cudaSuccess) return e;
   }
-  switch (a.lanes) {
-    case 1: return launch(s, ls, halo_step_kernel<T, 1, kAnp>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 4: return launch(s, ls, halo_step_kernel<T, 4, kAnp>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 8: return launch(s, ls, halo_step_kernel<T, 8, kAnp>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-  }
-  return cudaErrorInvalidValue;
+  return with_lanes(a.lanes, [&](auto g) {
+    return launch(s, ls, halo_step_kernel<T, decltype(g)::value, kAnp>, a, u_prev, du_prev, u_next, du_next, ue_prev,
+                  ub_next);
+  });
 }
 
 }  // namespace

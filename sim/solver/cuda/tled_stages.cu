@@ -250,21 +250,15 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
   cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
                               : launch(s, le, anp_volume_kernel<T, false>, a.m, u, a.vol_now);
   if (e != cudaSuccess) return e;
-  switch (a.lanes) {
-    case 1:
-      e = ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
-                      : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
-      break;
-    case 4:
-      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 4, true>, a)
-                      : launch(s, ln, anp_pressure_lanes_kernel<T, 4, false>, a);
-      break;
-    case 8:
-      e = ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, 8, true>, a)
-                      : launch(s, ln, anp_pressure_lanes_kernel<T, 8, false>, a);
-      break;
-    default: return cudaErrorInvalidValue;
-  }
+  e = with_lanes(a.lanes, [&](auto g) {
+    constexpr int G = decltype(g)::value;
+    if constexpr (G == 1)  // one thread per node: the kernel without lanes
+      return ln.prefetch ? launch(s, ln, anp_pressure_kernel<T, true>, a.m, a.mat, vol_now, a.p_node)
+                         : launch(s, ln, anp_pressure_kernel<T, false>, a.m, a.mat, vol_now, a.p_node);
+    else
+      return ln.prefetch ? launch(s, ln, anp_pressure_lanes_kernel<T, G, true>, a)
+                         : launch(s, ln, anp_pressure_lanes_kernel<T, G, false>, a);
+  });
   if (e != cudaSuccess) return e;
   return le.prefetch ? launch(s, le, anp_forces_kernel<T, true>, a.m, a.mat, u, p_node, a.b.fcorner)
                      : launch(s, le, anp_forces_kernel<T, false>, a.m, a.mat, u, p_node, a.b.fcorner);
@@ -272,18 +266,13 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
 
 template <class T>
 cudaError_t launch_node_update(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
-  switch (a.lanes) {
-    case 1:
-      if (ls.prefetch) return launch(s, ls, node_update_kernel<T, true>, a);
-      return launch(s, ls, node_update_kernel<T, false>, a);
-    case 4:
-      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 4, true>, a);
-      return launch(s, ls, node_lanes_kernel<T, 4, false>, a);
-    case 8:
-      if (ls.prefetch) return launch(s, ls, node_lanes_kernel<T, 8, true>, a);
-      return launch(s, ls, node_lanes_kernel<T, 8, false>, a);
-  }
-  return cudaErrorInvalidValue;
+  return with_lanes(a.lanes, [&](auto g) {
+    constexpr int G = decltype(g)::value;
+    if constexpr (G == 1)  // one thread per node: the kernel without lanes
+      return ls.prefetch ? launch(s, ls, node_update_kernel<T, true>, a) : launch(s, ls, node_update_kernel<T, false>, a);
+    else
+      return ls.prefetch ? launch(s, ls, node_lanes_kernel<T, G, true>, a) : launch(s, ls, node_lanes_kernel<T, G, false>, a);
+  });
 }
 
 #define SOFTTLED_INSTANTIATE(T)                                                                                        \

@@ -316,20 +316,15 @@ template <class T, bool kAnp, bool kLaws>
 cudaError_t launch_fused_kernels(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a, const T* u_prev,
                                  const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
   if (kAnp) {
-    cudaError_t e = cudaErrorInvalidValue;
-    switch (a.lanes) {
-      case 1: e = launch(s, ls, fused_pressure_kernel<T, 1, kLaws>, a, ue_prev); break;
-      case 4: e = launch(s, ls, fused_pressure_kernel<T, 4, kLaws>, a, ue_prev); break;
-      case 8: e = launch(s, ls, fused_pressure_kernel<T, 8, kLaws>, a, ue_prev); break;
-    }
+    const cudaError_t e = with_lanes(a.lanes, [&](auto g) {
+      return launch(s, ls, fused_pressure_kernel<T, decltype(g)::value, kLaws>, a, ue_prev);
+    });
     if (e != cudaSuccess) return e;
   }
-  switch (a.lanes) {
-    case 1: return launch(s, ls, fused_step_kernel<T, 1, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 4: return launch(s, ls, fused_step_kernel<T, 4, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-    case 8: return launch(s, ls, fused_step_kernel<T, 8, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-  }
-  return cudaErrorInvalidValue;
+  return with_lanes(a.lanes, [&](auto g) {
+    return launch(s, ls, fused_step_kernel<T, decltype(g)::value, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next,
+                  ue_prev, ub_next);
+  });
 }
 }  // namespace
 
