@@ -155,23 +155,33 @@ Command add_run_command(CLI::App& app) {
       }
       if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * double(done) / double(intervals));
     };
-    // On a GPU the device steps output interval k + 1 while the host checks and writes
-    // interval k (Simulation::queue / collect): the same states, checks and rows as the
-    // loop below, without the device waiting for the host.
-    const bool pipelined = !o->sync_checks && !adaptive && intervals > 0 && every <= kMaxChunkSteps && sim.pipelines();
+    // The device steps output interval k + 1 while the host checks and writes interval k
+    // (Simulation::queue / collect; on the CPU the same calls in the same order, nothing
+    // overlapping): the same states, checks and rows as the loop below. A trip the
+    // adaptive step survives rolls back to the last row written: queued again from there.
+    const bool pipelined = !o->sync_checks && intervals > 0 && every <= kMaxChunkSteps && sim.pipelines();
     try {
       if (pipelined) {
-        long queued = 0, done = 0;
-        std::deque<long> sizes;  // steps of each queued interval, oldest first
+        long queued = 0, done = 0;  // output intervals queued, and written
+        std::deque<long> sizes;     // steps (adaptive: intervals) of each queued call, oldest first
         auto queue_next = [&] {
           sizes.push_back(std::min(per_interval, intervals - queued));
-          sim.queue(sizes.back());
           queued += sizes.back();
+          if (adaptive)
+            sim.queue_until(std::min(s.duration, double(queued) * s.output_every));
+          else
+            sim.queue(sizes.back());
         };
         queue_next();
         while (!sizes.empty()) {
           if (queued < intervals && !stop_requested()) queue_next();
           const Simulation::Checkpoint& c = sim.collect();
+          if (c.rolled_back) {
+            sizes.clear();
+            queued = done;
+            if (!stop_requested()) queue_next();
+            continue;
+          }
           done += sizes.front();
           sizes.pop_front();
           output(done, c.diag, c.state);

@@ -192,15 +192,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;
-    // The last good check's time too, which a rollback restores.
-    last_good_offset_ += double(last_good_steps_) * params_.dt;
-    last_good_steps_ = 0;
   }
-  // The increment state du is a displacement per step: rescaled so the velocity du / dt
-  // carries over to the new step, in the saved state here and in the live one by the
-  // solver (change_step, below).
-  if (dt_old > 0 && q.dt != dt_old)
-    for (double& v : last_good_.du) v *= q.dt / dt_old;
   std::vector<PlaneMotion> motion(q.planes.size());
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
     if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
@@ -221,6 +213,9 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   params_ = q;
   ts_.dt = q.dt;
   solver_->set_params(q);
+  // The increment state du is a displacement per step: the solver rescales it so that the
+  // velocity du / dt carries over to the new step (change_step; a rollback does the same
+  // to the saved state, check_state).
   if (dt_old > 0 && q.dt != dt_old) solver_->change_step(q.dt / dt_old, 0.5 * (dt_old + q.dt));
   state_changed();
   if (estimate_now) adapt_step(5 * AdaptiveStep::kIterations, false);
@@ -243,9 +238,6 @@ void Simulation::change_dt(double dt_new) {
   if (dt_new == dt_old) return;
   t_offset_ = time();
   nsteps_ = 0;
-  last_good_offset_ += double(last_good_steps_) * dt_old;
-  last_good_steps_ = 0;
-  for (double& v : last_good_.du) v *= dt_new / dt_old;
   params_.dt = dt_new;
   ts_.dt = dt_new;
   solver_->set_dt(params_);
@@ -309,11 +301,12 @@ long Simulation::steps_to_estimate_event() const {
 }
 
 void Simulation::advance_to(double t_end) {
-  while (time() < t_end - 0.5 * params_.dt) {
-    long k = std::max(1L, std::lround((t_end - time()) / params_.dt));
-    step(std::min(k, steps_to_estimate_event()));
-  }
-  check_health();
+  do {
+    while (time() < t_end - 0.5 * params_.dt) {
+      long k = std::max(1L, std::lround((t_end - time()) / params_.dt));
+      step(std::min(k, steps_to_estimate_event()));
+    }
+  } while (check_health());  // rolled back (the adaptive step went on): to t_end again
 }
 
 void Simulation::apply_initial_state() {
@@ -361,8 +354,8 @@ void Simulation::apply_initial_state() {
   since_estimate_ = 0;
   estimate_every_ = AdaptiveStep::kEvery;
   last_good_ = s;
-  last_good_steps_ = 0;
-  last_good_offset_ = 0;
+  last_good_time_ = 0;
+  last_good_dt_ = params_.dt;
   work_ = last_good_work_ = 0;
   work_u_ = s.u;
   if (obstacles_moving()) {  // back at t = 0
@@ -408,8 +401,8 @@ void Simulation::set_state(const HostState& s) {
   solver_->set_state(s);
   state_changed();
   last_good_ = s;
-  last_good_steps_ = nsteps_;
-  last_good_offset_ = t_offset_;
+  last_good_time_ = time();
+  last_good_dt_ = params_.dt;
   last_good_total_ = total_steps_;
   last_good_work_ = work_;
   work_u_ = s.u;
@@ -428,11 +421,11 @@ void Simulation::advance(long n, long check_every) {
   }
 }
 
-void Simulation::check_health() {
+bool Simulation::check_health() {
   account_work();
   const HostState& s = state();
   const Diagnostics d = diagnostics();
-  check_state(s, d, solver_->take_health());
+  return check_state(s, d, solver_->take_health());
 }
 
 bool Simulation::outside_work() const {
@@ -441,9 +434,7 @@ bool Simulation::outside_work() const {
   return !fext_.empty() || planes || obstacles_moving();
 }
 
-bool Simulation::pipelines() const {
-  return solver_->async_snapshots() && !params_.dt_adaptive && !outside_work();
-}
+bool Simulation::pipelines() const { return !outside_work(); }
 
 void Simulation::arm_speed_test(const Diagnostics& d) {
   // Gravity's work is bounded by the energy scale only where a floor (a plane facing
@@ -463,16 +454,33 @@ void Simulation::disarm_speed_test() {
   solver_->set_node_energy_bound(node_energy_max_);
 }
 
-void Simulation::queue(long n) {
+Simulation::Bookkeeping Simulation::bookkeeping() const {
+  return {nsteps_, total_steps_, t_offset_, params_.dt, ts_, rung_, omega_prev_, estimate_every_, lambda_scale_, relax_at_};
+}
+
+void Simulation::restore(const Bookkeeping& b) {
+  nsteps_ = b.nsteps, total_steps_ = b.total_steps, t_offset_ = b.t_offset, params_.dt = b.dt, ts_ = b.ts;
+  rung_ = b.rung, omega_prev_ = b.omega_prev, estimate_every_ = b.estimate_every;
+  lambda_scale_ = b.lambda_scale, relax_at_ = b.relax_at;
+}
+
+void Simulation::queue(long n) { queue_snapshot(n, 0); }
+void Simulation::queue_until(double t_end) { queue_snapshot(-1, t_end); }
+
+void Simulation::queue_snapshot(long n, double t_end) {
   if (int(queued_.size()) >= Solver::kSnapshotSlots) throw std::logic_error("Simulation::queue: collect() first");
   const int slot = next_slot_;
   next_slot_ = (next_slot_ + 1) % Solver::kSnapshotSlots;
   const bool overlap = pipelines();
   if (overlap) {
-    step(n);
+    if (n >= 0)
+      step(n);
+    else
+      while (time() < t_end - 0.5 * params_.dt)  // advance_to's steps
+        step(std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event()));
     solver_->begin_snapshot(slot);
   }
-  queued_.push_back({slot, n, overlap, nsteps_, total_steps_, t_offset_});
+  queued_.push_back({slot, n, t_end, overlap, bookkeeping()});
 }
 
 const Simulation::Checkpoint& Simulation::collect() {
@@ -480,9 +488,13 @@ const Simulation::Checkpoint& Simulation::collect() {
   const Queued q = queued_.front();
   queued_.erase(queued_.begin());
   Checkpoint& c = checkpoints_[q.slot];
-  if (!q.overlap) {  // nothing to overlap: advance(n, n) now, in the same order
+  c.rolled_back = false;
+  if (!q.overlap) {  // nothing to overlap: advance now, in the same order
     try {
-      advance(q.n, q.n);
+      if (q.n >= 0)
+        advance(q.n, q.n);
+      else
+        advance_to(q.t_end);
     } catch (...) {
       queued_.clear();  // rolled back (or failed): what was queued after it never runs
       throw;
@@ -493,27 +505,29 @@ const Simulation::Checkpoint& Simulation::collect() {
   }
   double se = 0;
   StepHealth health;
-  // The check at the snapshot's own step count and time; the live count runs ahead.
-  const long live_steps = nsteps_, live_total = total_steps_;
-  const double live_offset = t_offset_;
+  // The check at the snapshot's own time, step and controller; the live ones run ahead.
+  const Bookkeeping live = bookkeeping();
   try {
     solver_->end_snapshot(q.slot, c.state, se, health);
-    nsteps_ = q.nsteps, total_steps_ = q.total_steps, t_offset_ = q.t_offset;
+    restore(q.at);
     c.diag = diagnostics_of(c.state, se);
-    check_state(c.state, c.diag, health);  // pipelines(): a fixed step, so a finding always throws
+    c.rolled_back = check_state(c.state, c.diag, health);
   } catch (const SimulationDiverged&) {
     queued_.clear();  // rolled back to the last healthy check: what was queued after it is gone
     throw;
   } catch (...) {
     queued_.clear();
-    nsteps_ = live_steps, total_steps_ = live_total, t_offset_ = live_offset;
+    restore(live);
     throw;
   }
-  nsteps_ = live_steps, total_steps_ = live_total, t_offset_ = live_offset;
+  if (c.rolled_back)
+    queued_.clear();  // the run goes on from the restored check: the caller queues again
+  else
+    restore(live);
   return c;
 }
 
-void Simulation::check_state(const HostState& s, const Diagnostics& d, const StepHealth& h) {
+bool Simulation::check_state(const HostState& s, const Diagnostics& d, const StepHealth& h) {
   if (planes_moved_) watchdog_.rebase();  // a moving plane did work nobody counted
   planes_moved_ = false;
   const bool unstable_dt = params_.dt > ts_.dt_cr * (1 + 1e-12);
@@ -523,13 +537,18 @@ void Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   if (models.empty()) models.push_back(params_.material_model);
   const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f) {
-    // Roll back to the last healthy state so what the user sees (and can export) is sane.
+    // Roll back to the last healthy state so what the user sees (and can export) is sane,
+    // at the step in use now: du spans that step (change_step's rescaling).
     drop_estimate();
-    solver_->set_state(last_good_);
+    HostState back = last_good_;
+    if (params_.dt != last_good_dt_)
+      for (double& v : back.du) v *= params_.dt / last_good_dt_;
+    solver_->set_dt(params_);  // a snapshot's check (collect) runs at its own step
+    solver_->set_state(back);
     state_changed();
     const double t_bad = time();
-    nsteps_ = last_good_steps_;
-    t_offset_ = last_good_offset_;
+    nsteps_ = 0;
+    t_offset_ = last_good_time_;
     total_steps_ = last_good_total_;
     work_ = last_good_work_;
     work_u_ = last_good_.u;
@@ -547,21 +566,18 @@ void Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
       adapt_step(AdaptiveStep::kWarmup, true);
       std::fprintf(stderr, "adaptive step: %s\n  continuing with lambda x %.3g (dt = %.4g us), trip %d of %d\n",
                    msg.c_str(), lambda_scale_, params_.dt * 1e6, failures_, AdaptiveStep::kMaxFailures);
-      return;
+      return true;
     }
     SimulationDiverged e(msg);
     e.element = f->element;
     throw e;
   }
-  if (lambda_scale_ < 1 && time() >= relax_at_) {  // a healthy stretch: lambda back, step by step
-    lambda_scale_ = std::min(1.0, 2 * lambda_scale_);
-    relax_at_ = time() + 200.0 * params_.dt;
-  }
   last_good_ = s;
-  last_good_steps_ = nsteps_;
-  last_good_offset_ = t_offset_;
+  last_good_time_ = time();
+  last_good_dt_ = params_.dt;
   last_good_total_ = total_steps_;
   last_good_work_ = work_;
+  return false;
 }
 
 void Simulation::step(long n) {
@@ -577,6 +593,12 @@ void Simulation::step(long n) {
     dt_hi_ = std::max(dt_hi_, params_.dt);
     state_changed();
     if (params_.dt_adaptive) {
+      // A healthy stretch after a trip: lambda back, in steps (at step time, not at a
+      // check, so that a pipelined run, checking an interval later, steps the same).
+      if (lambda_scale_ < 1 && time() >= relax_at_) {
+        lambda_scale_ = std::min(1.0, 2 * lambda_scale_);
+        relax_at_ = time() + 200.0 * params_.dt;
+      }
       since_estimate_ += k;
       if (estimate_pending_ && since_estimate_ >= estimate_lag_)
         finish_estimate(true);

@@ -99,23 +99,29 @@ class Simulation {
   // SimulationDiverged is thrown.
   void advance(long n, long check_every);
 
-  // ---- pipelined stepping (softtled run on a GPU) ----
+  // ---- pipelined stepping (softtled run) ----
   // queue(n): n steps, then a snapshot of the state after them (Solver::begin_snapshot);
-  // on a GPU backend it returns at once. At most Solver::kSnapshotSlots are queued.
-  // collect(): waits for the oldest, runs the watchdog on it exactly as advance() does at
-  // a check (a finding rolls back to the last healthy check, drops what is queued, and
-  // throws SimulationDiverged), and returns it with its diagnostics. So the host checks
-  // and writes output interval k while the device steps interval k + 1: the same states,
-  // checks and numbers as advance(n, n) per interval. pipelines(): whether that overlaps
-  // anything (asynchronous snapshots, a fixed step, no moving plane or obstacle and no
-  // user force, which the host applies between steps); where false, collect() does
-  // advance(n, n) for its queue() call.
+  // queue_until(t): steps until time() reaches t (as advance_to; the adaptive step), then
+  // the snapshot. On a GPU both return once the steps are enqueued. At most
+  // Solver::kSnapshotSlots are queued.
+  // collect(): waits for the oldest, runs the watchdog on it exactly as advance() and
+  // advance_to() do at a check, at the snapshot's own time, step and controller state, and
+  // returns it with its diagnostics. A finding rolls back to the last healthy check and
+  // drops what is queued; then it throws SimulationDiverged, or, where the adaptive step
+  // survives the trip (halved lambda), returns with rolled_back set: the caller queues
+  // again from time(). So the host checks and writes output interval k while the device
+  // steps interval k + 1, with the same states, checks and numbers as advance(n, n) or
+  // advance_to(t) per interval (Solver::async_snapshots: whether anything overlaps).
+  // pipelines(): false where the host acts between steps (user forces, moving planes or
+  // obstacles); there collect() does advance(n, n) or advance_to(t) for its queue call.
   struct Checkpoint {
     HostState state;
     Diagnostics diag;
+    bool rolled_back = false;
   };
   bool pipelines() const;
   void queue(long n);
+  void queue_until(double t_end);
   const Checkpoint& collect();
   void reset();  // back to the initial state (the viewer's "drop again")
   // The live state on the host, downloaded at most once per step count: every reader of
@@ -139,6 +145,7 @@ class Simulation {
   int watchdog_trips() const { return failures_; }  // adaptive: trips survived so far
   // Steps until time() reaches t_end (within half a step), then one watchdog check, as
   // advance(): for a changing step (time.dt = "adaptive"), where a step count is unknown.
+  // A trip the adaptive step survives rolls back and steps to t_end again.
   void advance_to(double t_end);
   Diagnostics diagnostics();  // of state(), computed once per step count
 
@@ -158,10 +165,14 @@ class Simulation {
   friend class SolverAccess;  // the bench's and backend tests' hatch (solver_access.h)
 
   void apply_initial_state();
-  void check_health();
+  // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
+  // and the adaptive step goes on (check_state).
+  bool check_health();
   // The watchdog on state s with diagnostics d and what the backend's kernels found (h)
-  // at the live bookkeeping (nsteps_, time()); check_health() and collect() both end here.
-  void check_state(const HostState& s, const Diagnostics& d, const StepHealth& h);
+  // at the bookkeeping in effect (time(), params_.dt, the controller); check_health() and
+  // collect() both end here. A finding rolls back to the last healthy check and throws
+  // SimulationDiverged, or returns true where the adaptive step survives it.
+  bool check_state(const HostState& s, const Diagnostics& d, const StepHealth& h);
   // The watchdog's speed test (step_health.h): armed at a reset (the start, set_state)
   // with the bound kNodeEnergyFactor x (energy scale + ke + se) there; off (infinite) from
   // there on wherever the scene gains energy the watchdog cannot bound per node: user
@@ -170,12 +181,27 @@ class Simulation {
   void arm_speed_test(const Diagnostics& d);
   void disarm_speed_test();
   bool outside_work() const;  // user forces, moving planes or obstacles
+  // Time and the adaptive controller at one point of the run: a queued snapshot carries
+  // them, so that collect() checks it, and a trip there restarts, exactly as at a live
+  // check (the live ones run an interval ahead).
+  struct Bookkeeping {
+    long nsteps, total_steps;
+    double t_offset, dt;
+    TimeStepInfo ts;
+    int rung;
+    double omega_prev;
+    long estimate_every;
+    double lambda_scale, relax_at;
+  };
+  Bookkeeping bookkeeping() const;
+  void restore(const Bookkeeping& b);  // params_.dt too; the solver keeps its own
+  void queue_snapshot(long n, double t_end);
   struct Queued {
     int slot;
-    long n;        // its steps
+    long n;        // its steps, or
+    double t_end;  // ... (n < 0) the time it steps to
     bool overlap;  // stepped and snapshotted at queue(); else collect() advances
-    long nsteps, total_steps;  // the bookkeeping after them (overlap only)
-    double t_offset;
+    Bookkeeping at;  // after its steps (overlap only)
   };
   std::vector<Queued> queued_;  // oldest first
   Checkpoint checkpoints_[Solver::kSnapshotSlots];
@@ -224,9 +250,10 @@ class Simulation {
   Diagnostics diag_;          // diagnostics of state_, valid while diag_valid_
   bool diag_valid_ = false;
   Watchdog watchdog_;
-  HostState last_good_;  // the state at the last healthy check, what a rollback restores
-  long last_good_steps_ = 0;
-  double last_good_offset_ = 0;
+  // The state at the last healthy check, what a rollback restores: its time and the step
+  // its increments du span (a rollback rescales du to the step in use then).
+  HostState last_good_;
+  double last_good_time_ = 0, last_good_dt_ = 0;
   double last_good_work_ = 0;
   bool planes_moved_ = false;      // a kinematic plane moved since the last check
   double node_energy_max_ = std::numeric_limits<double>::infinity();  // arm_speed_test

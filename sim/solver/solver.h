@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sim/contact/mesh_sdf.h"
@@ -174,18 +175,27 @@ class Solver {
   // The live state in device memory; an empty view (u null) on a host backend.
   virtual DeviceStateView device_state() const { return {}; }
 
-  // ---- asynchronous snapshots (Simulation::queue / collect) ----
-  // begin_snapshot queues, after the steps queued so far, a copy of the state, its
-  // strain energy and its device watchdog record (take_health) into slot
-  // (0 .. kSnapshotSlots - 1) and returns at once; end_snapshot waits for that copy and
-  // hands it over, so the host can check one output interval while the device steps the
-  // next. A backend that cannot (the host backends, where stepping and checking share the
-  // CPU anyway) has no async_snapshots and none of this.
+  // ---- snapshots (Simulation::queue / collect) ----
+  // begin_snapshot takes, after the steps queued so far, a copy of the state, its strain
+  // energy and the backend's watchdog record (take_health) into slot
+  // (0 .. kSnapshotSlots - 1); end_snapshot hands it over. An asynchronous backend
+  // (async_snapshots: the GPU) queues the copy behind the steps and returns at once, so
+  // the host checks one output interval while the device steps the next. A host backend
+  // takes it here and now (steps and checks share the CPU anyway): the same states and
+  // checks in the same order, through the same code.
   static constexpr int kSnapshotSlots = 2;
   virtual bool async_snapshots() const { return false; }
-  virtual void begin_snapshot(int slot) { (void)slot; }
+  virtual void begin_snapshot(int slot) {
+    HostSnapshot& sn = host_snaps_[slot];
+    get_state(sn.state);
+    sn.strain_energy = strain_energy();
+    sn.health = take_health();
+  }
   virtual void end_snapshot(int slot, HostState& s, double& strain_energy, StepHealth& health) {
-    (void)slot, (void)s, (void)strain_energy, (void)health;
+    HostSnapshot& sn = host_snaps_[slot];
+    std::swap(s, sn.state);
+    strain_energy = sn.strain_energy;
+    health = sn.health;
   }
 
   // ---- the device watchdog (step_health.h) ----
@@ -227,6 +237,14 @@ class Solver {
   virtual void set_cpu_threads(int /*threads*/) {}
   // The CPU backend's SIMD stages (default) or its scalar reference stages; others ignore it.
   virtual void set_cpu_simd(bool /*on*/) {}
+
+ private:
+  struct HostSnapshot {
+    HostState state;
+    double strain_energy = 0;
+    StepHealth health;
+  };
+  HostSnapshot host_snaps_[kSnapshotSlots];  // the synchronous begin_snapshot's
 };
 
 // flags: NodeFlag byte per node. threads: OpenMP threads for the step, 0 = automatic:
