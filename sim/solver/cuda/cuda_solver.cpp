@@ -408,10 +408,10 @@ class CudaSolver final : public CudaSolverApi {
     to_host_state(u.data(), du.data(), c.data(), overflow, s);
   }
 
-  // Snapshots (solver.h): the state's D2H copies and the strain energy's kernels queued
-  // behind the steps, into pinned buffers, with an event that end_snapshot waits for; the
-  // next steps queued after them cannot touch the state before the copies are done
-  // (stream order).
+  // Snapshots (solver.h): the strain energy's kernels, the state check and one kernel
+  // writing state, energy and record into pinned buffers (launch_snapshot), queued behind
+  // the steps, with an event that end_snapshot waits for; the next steps queued after them
+  // cannot touch the state before the snapshot kernel is done (stream order).
   bool async_snapshots() const override { return true; }
   void begin_snapshot(int slot) override {
     Snapshot& sn = snaps_.at(std::size_t(slot));
@@ -422,14 +422,12 @@ class CudaSolver final : public CudaSolverApi {
       sn.contact = std::make_unique<PinnedBuffer<std::uint8_t>>(std::size_t(std::max(n_, 1)));
       sn.se.resize(1);
     }
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.u->data(), live_.u.data(), live_.u.bytes(), cudaMemcpyDeviceToHost, stream_));
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.du->data(), live_.du.data(), live_.du.bytes(), cudaMemcpyDeviceToHost, stream_));
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.contact->data(), live_.contact.data(), live_.contact.bytes(),
-                                        cudaMemcpyDeviceToHost, stream_));
     contact_.download_overflow(sn.overflow.data(), stream_);
     enqueue_strain_energy(sn.se.data());
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(sn.energy.data(), sn.se.data(), sizeof(double), cudaMemcpyDeviceToHost, stream_));
-    enqueue_take_health(sn.health.data());
+    enqueue_state_check();
+    SOFTTLED_CUDA_CHECK(launch_snapshot<T>(stream_, shape_for(3 * n_, nsm_, false), n_, live_.u.data(), live_.du.data(),
+                                           live_.contact.data(), sn.se.data(), health_.data(), sn.u->data(),
+                                           sn.du->data(), sn.contact->data(), sn.energy.data(), sn.health.data()));
     SOFTTLED_CUDA_CHECK(cudaEventRecord(sn.done.get(), stream_));
   }
   void end_snapshot(int slot, HostState& s, double& strain_energy, StepHealth& health) override {
@@ -654,11 +652,14 @@ class CudaSolver final : public CudaSolverApi {
   // check of the live state (launch_state_check), then the copy, then the record cleared
   // for the next interval.
   void enqueue_take_health(DeviceHealth* dst) {
+    enqueue_state_check();
+    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(dst, health_.data(), sizeof(DeviceHealth), cudaMemcpyDeviceToHost, stream_));
+    SOFTTLED_CUDA_CHECK(cudaMemsetAsync(health_.data(), 0, sizeof(DeviceHealth), stream_));
+  }
+  void enqueue_state_check() {
     const LaunchShape ls = shape_for(std::max(ne_, n_), nsm_, false);
     SOFTTLED_CUDA_CHECK(launch_state_check<T>(stream_, ls, rest_.view, cfg_.mat, live_.u.data(), live_.du.data(),
                                               du2_bound(cfg_.step.dt), health_.data()));
-    SOFTTLED_CUDA_CHECK(cudaMemcpyAsync(dst, health_.data(), sizeof(DeviceHealth), cudaMemcpyDeviceToHost, stream_));
-    SOFTTLED_CUDA_CHECK(cudaMemsetAsync(health_.data(), 0, sizeof(DeviceHealth), stream_));
   }
   // A record in the mesh's numbering.
   StepHealth step_health(const DeviceHealth& r) const {

@@ -282,6 +282,14 @@ template <class T>
 cudaError_t launch_state_check(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
                                const T* u, const T* du, T du2_bound, DeviceHealth* h);
 
+// A snapshot (CudaSolver::begin_snapshot), after the strain energy's sum (se) and the state
+// check: u, du (3n each), contact (n), *se and *health into host memory the device can
+// write (pinned: mapped under unified addressing), then *health cleared.
+template <class T>
+cudaError_t launch_snapshot(cudaStream_t s, const LaunchShape& ls, int n, const T* u, const T* du,
+                            const std::uint8_t* contact, const double* se, DeviceHealth* health, T* hu, T* hdu,
+                            std::uint8_t* hcontact, double* henergy, DeviceHealth* hhealth);
+
 // Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
 // fixed tree order into partials (kSumBlocks of them), then one block reduces those.
 constexpr int kSumBlocks = 128;

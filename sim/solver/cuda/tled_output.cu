@@ -83,6 +83,35 @@ __global__ void block_sum_kernel(const double* __restrict__ in, int n, int chunk
 
 }  // namespace
 
+// A snapshot's state, strain energy and watchdog record in one kernel, written straight
+// into pinned (mapped) host memory; then the record is cleared for the next interval.
+// Replaces three copies, two small copies and a memset: each a stream operation of its
+// own, ~45 us per snapshot together (bench/NOTES.md, "The adaptive step pipelined").
+template <class T>
+__global__ void snapshot_kernel(int n, const T* __restrict__ u, const T* __restrict__ du,
+                                const std::uint8_t* __restrict__ contact, const double* __restrict__ se,
+                                DeviceHealth* __restrict__ health, T* hu, T* hdu, std::uint8_t* hcontact, double* henergy,
+                                DeviceHealth* hhealth) {
+  const int stride = gridDim.x * blockDim.x;
+  for (int i = blockIdx.x * blockDim.x + threadIdx.x; i < 3 * n; i += stride) {
+    hu[i] = u[i];
+    hdu[i] = du[i];
+    if (i < n) hcontact[i] = contact[i];
+  }
+  if (blockIdx.x == 0 && threadIdx.x == 0) {
+    *henergy = *se;
+    *hhealth = *health;
+    *health = DeviceHealth{};
+  }
+}
+
+template <class T>
+cudaError_t launch_snapshot(cudaStream_t s, const LaunchShape& ls, int n, const T* u, const T* du,
+                            const std::uint8_t* contact, const double* se, DeviceHealth* health, T* hu, T* hdu,
+                            std::uint8_t* hcontact, double* henergy, DeviceHealth* hhealth) {
+  return launch(s, ls, snapshot_kernel<T>, n, u, du, contact, se, health, hu, hdu, hcontact, henergy, hhealth);
+}
+
 template <class T>
 cudaError_t launch_render_vertices(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const SurfaceView& sv,
                                    const T* u, const std::uint8_t* contact, RenderScalar scalar,
@@ -124,7 +153,10 @@ cudaError_t launch_sum(cudaStream_t s, const double* in, int n, double* partials
                                                      const TetMeshView<T>&, const NeoHookean<T>&, bool, const T*, \
                                                      T*, double*);                                        \
   template cudaError_t launch_state_check<T>(cudaStream_t, const LaunchShape&, const TetMeshView<T>&,       \
-                                             const NeoHookean<T>&, const T*, const T*, T, DeviceHealth*);
+                                             const NeoHookean<T>&, const T*, const T*, T, DeviceHealth*);  \
+  template cudaError_t launch_snapshot<T>(cudaStream_t, const LaunchShape&, int, const T*, const T*,         \
+                                          const std::uint8_t*, const double*, DeviceHealth*, T*, T*,         \
+                                          std::uint8_t*, double*, DeviceHealth*);
 SOFTTLED_INSTANTIATE(float)
 SOFTTLED_INSTANTIATE(double)
 #undef SOFTTLED_INSTANTIATE
