@@ -300,12 +300,14 @@ long Simulation::steps_to_estimate_event() const {
   return std::max(1L, (estimate_pending_ ? estimate_lag_ : estimate_every_) - since_estimate_);
 }
 
+void Simulation::step_to(double t_end) {
+  while (time() < t_end - 0.5 * params_.dt)
+    step(std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event()));
+}
+
 void Simulation::advance_to(double t_end) {
   do {
-    while (time() < t_end - 0.5 * params_.dt) {
-      long k = std::max(1L, std::lround((t_end - time()) / params_.dt));
-      step(std::min(k, steps_to_estimate_event()));
-    }
+    step_to(t_end);
   } while (check_health());  // rolled back (the adaptive step went on): to t_end again
 }
 
@@ -476,8 +478,7 @@ void Simulation::queue_snapshot(long n, double t_end) {
     if (n >= 0)
       step(n);
     else
-      while (time() < t_end - 0.5 * params_.dt)  // advance_to's steps
-        step(std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event()));
+      step_to(t_end);
     solver_->begin_snapshot(slot);
   }
   queued_.push_back({slot, n, t_end, overlap, bookkeeping()});

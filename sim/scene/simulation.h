@@ -196,6 +196,7 @@ class Simulation {
   Bookkeeping bookkeeping() const;
   void restore(const Bookkeeping& b);  // params_.dt too; the solver keeps its own
   void queue_snapshot(long n, double t_end);
+  void step_to(double t_end);  // steps until time() reaches t_end, within half a step
   struct Queued {
     int slot;
     long n;        // its steps, or
