@@ -1,4 +1,4 @@
-// Several bodies ([[body]], issue 14 phase B): per-body keys and material, body-body
+// Several bodies ([[body]]): per-body keys and material, body-body
 // contact (body_contact.h) on the CPU, and the two shipped scenes' physics:
 // two_ring_collision (momentum conserved, kinetic energy only lost, the rings separate)
 // and torus_stack (no interpenetration beyond 0.05 mm, it settles). Bad input: overlapping

@@ -338,7 +338,7 @@ TEST(CudaSolver, ExternalForcesAndParameterChangesMatchCpu) {
   EXPECT_GT(std::abs(a.u[0 * n + pulled]), 1e-7) << "the sideways pull must have moved the node";
 }
 
-// Rigid obstacles (issue 14): torus_on_ball (a ball) and stairs (three boxes), and a
+// Rigid obstacles: torus_on_ball (a ball) and stairs (three boxes), and a
 // moving box paddle (posed on the host before every step, a direct launch each step):
 // the GPU follows the CPU within float tolerance (double: rounding), and every execution
 // mode ends in the same bits.
