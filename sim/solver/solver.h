@@ -252,8 +252,8 @@ class Solver {
 // thread per kTetsPerThread elements at most, since below that the two barriers per step
 // cost more than the work they split (measured on 2 cores with the SIMD stages: see
 // bench/NOTES.md, CPU). Deterministic: the same machine and mesh give the same count,
-// whatever else runs (the load average chose it before, so one command took 264 or 501
-// us/step). A core busy with other work makes each barrier wait for a time slice; pass
+// whatever else runs (the load average chose it before, so one command's speed varied
+// twofold). A core busy with other work makes each barrier wait for a time slice; pass
 // --threads / solver.threads to choose.
 constexpr int kTetsPerThread = 2048;
 int auto_cpu_threads(int ntet);
