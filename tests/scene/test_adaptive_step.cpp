@@ -229,7 +229,7 @@ TEST_P(AdaptiveRun, PipelinedRunIsTheRunOfAdvanceTo) {
   // The coarse paper drop through its first impact (~0.05 s), where the step moves.
   const Scene sc = load_scene(assets_dir() + "/scenes/torus_drop.toml", {"body.segments=[45, 9]", "time.dt=adaptive"});
   const double every = 0.002;
-  const int intervals = 35, fault_after = 25;  // NaN injected at the 50 ms check
+  const int intervals = 35, fault_after = 25;  // the fault injected at the 50 ms check
   // The fault: one node flung up at 20 m/s, behind the facade. Finite, so the estimates
   // made on it still move the step (a NaN would freeze the controller until the check).
   auto inject = [](Simulation& sim) {
@@ -255,7 +255,7 @@ TEST_P(AdaptiveRun, PipelinedRunIsTheRunOfAdvanceTo) {
     if (k == fault_after) inject(a);
   }
   // queue_until / collect, two intervals in flight except around the injection (which
-  // must hit the state of the 5 ms check, as above).
+  // must hit the state of the 50 ms check, as above).
   Simulation b(sc, backend());
   EXPECT_TRUE(b.pipelines());
   std::vector<Diagnostics> rows_b;
@@ -290,7 +290,6 @@ TEST_P(AdaptiveRun, PipelinedRunIsTheRunOfAdvanceTo) {
   EXPECT_TRUE(a.state().u == b.state().u && a.state().du == b.state().du) << "final states differ";
   expect_sane(b, "pipelined, after the trip");
 }
-
 
 TEST_P(AdaptiveRun, WatchdogTripRollsBackHalvesLambdaAndGoesOn) {
   Simulation sim(box_on_floor(kAdaptive), backend());
