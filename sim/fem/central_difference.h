@@ -108,27 +108,39 @@ SIM_HD inline NodeState<T> integrate_node(const T f[3], const T x0[3], const T u
   return s;
 }
 
-// The node loop's body, given node i's summed force f: loads its values from the
-// struct-of-arrays (component k of node i at [k * nnode + i]), integrate_node, stores.
-// Reads (u_in, du_in) and writes (u_out, du_out): the same arrays in place, or the fused
-// GPU step's double buffers. fext may be null (no user forces). ub_out: null, or where
-// the next element stage's displacement u + (beta / dt) du goes (beta > 0). Returns the
-// new state (the CUDA step checks it: step_health.h).
+// Node i's inputs to integrate_node, loaded from the struct-of-arrays (component k of node
+// i at [k * nnode + i]). fext may be null (no user forces). x0 is read only for
+// contact-tested nodes (others get zeros: integrate_node does not look at it).
 template <class T>
-SIM_HD inline NodeState<T> update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
-                               const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i,
-                               T* ub_out = nullptr) {
+struct NodeInputs {
+  T x0[3], u[3], du[3], fe[3];
+  T inv_mass;
+  std::uint8_t flags;
+};
+template <class T>
+SIM_HD inline NodeInputs<T> load_node_inputs(const TetMeshView<T>& m, const StepParams<T>& p, const T* u_in,
+                                             const T* du_in, const T* fext, int i) {
   const int n = m.nnode;
-  const std::uint8_t flags = m.flags[i];
-  T x0[3] = {T(0), T(0), T(0)}, u[3], du[3], fe[3];
-  const bool tested = (flags & kNodeContact) && has_contacts(p.contact);
+  NodeInputs<T> in;
+  in.flags = m.flags[i];
+  in.inv_mass = m.inv_mass[i];
+  const bool tested = (in.flags & kNodeContact) && has_contacts(p.contact);
   for (int k = 0; k < 3; ++k) {
-    if (tested) x0[k] = m.X0[k * n + i];  // only contact-tested nodes need their position
-    u[k] = u_in[k * n + i];
-    du[k] = du_in[k * n + i];
-    fe[k] = fext ? fext[k * n + i] : T(0);
+    in.x0[k] = tested ? m.X0[k * n + i] : T(0);
+    in.u[k] = u_in[k * n + i];
+    in.du[k] = du_in[k * n + i];
+    in.fe[k] = fext ? fext[k * n + i] : T(0);
   }
-  const NodeState<T> s = integrate_node(f, x0, u, du, m.inv_mass[i], flags, fe, p);
+  return in;
+}
+
+// integrate_node on loaded inputs, and the new state stored: (u_out, du_out), the contact
+// state, and with ub_out (beta > 0) the next element stage's displacement u + (beta / dt) du.
+template <class T>
+SIM_HD inline NodeState<T> integrate_and_store_node(const StepParams<T>& p, const T f[3], const NodeInputs<T>& in,
+                                                    int n, int i, T* u_out, T* du_out, std::uint8_t* contact,
+                                                    T* ub_out) {
+  const NodeState<T> s = integrate_node(f, in.x0, in.u, in.du, in.inv_mass, in.flags, in.fe, p);
   for (int k = 0; k < 3; ++k) {
     u_out[k * n + i] = s.u[k];
     du_out[k * n + i] = s.du[k];
@@ -137,6 +149,17 @@ SIM_HD inline NodeState<T> update_node(const TetMeshView<T>& m, const StepParams
     for (int k = 0; k < 3; ++k) ub_out[k * n + i] = rayleigh_displacement(s.u[k], s.du[k], p.beta_dt);
   contact[i] = s.contact;
   return s;
+}
+
+// The node loop's body, given node i's summed force f: load, integrate, store. Reads
+// (u_in, du_in) and writes (u_out, du_out): the same arrays in place, or the fused GPU
+// step's double buffers. Returns the new state (the CUDA step checks it: step_health.h).
+template <class T>
+SIM_HD inline NodeState<T> update_node(const TetMeshView<T>& m, const StepParams<T>& p, const T f[3], const T* u_in,
+                                       const T* du_in, const T* fext, T* u_out, T* du_out, std::uint8_t* contact, int i,
+                                       T* ub_out = nullptr) {
+  return integrate_and_store_node(p, f, load_node_inputs(m, p, u_in, du_in, fext, i), m.nnode, i, u_out, du_out,
+                                  contact, ub_out);
 }
 
 }  // namespace softtled

@@ -63,6 +63,7 @@ Options options_from_env() {
   if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_ELEMS")) o.halo_elements = std::atoi(h);
   if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_BLOCK")) o.halo_block = std::atoi(h);
   if (const char* d = std::getenv("SOFTTLED_CUDA_DERIVE_GRADIENTS")) o.derive_gradients = std::atoi(d);
+  if (const char* p = std::getenv("SOFTTLED_CUDA_FUSED_PRELOAD")) o.fused_preload = std::atoi(p);
   return o;
 }
 
@@ -884,8 +885,8 @@ class CudaSolver final : public CudaSolverApi {
       SOFTTLED_CUDA_CHECK(launch_halo_step<T>(stream_, rest_.hthreads, pdl, a, b.u[p], b.du[p], b.u[1 - p], b.du[1 - p],
                                               b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
     else
-      SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, a, b.u[p], b.du[p], b.u[1 - p],
-                                               b.du[1 - p], b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
+      SOFTTLED_CUDA_CHECK(launch_fused_step<T>(stream_, fused_block(), pdl, opt_.fused_preload, a, b.u[p], b.du[p],
+                                               b.u[1 - p], b.du[1 - p], b.ub[p] ? b.ub[p] : b.u[p], b.ub[1 - p]));
     enqueue_contact(b.u[1 - p], b.du[1 - p], b.ub[1 - p]);
   }
 

@@ -55,9 +55,12 @@ struct Options {
   // The two-kernel T4 element stage derives dh/dX from the rest positions (1) or reads the
   // stored table (0); -1: derive where the table does not stay in L2 (bench/NOTES.md).
   int derive_gradients = -1;
+  // Fused mode: the kernel variant that loads the nodes' state early (1) or not (0); -1:
+  // the first where all its blocks are resident at once (launch_fused_step).
+  int fused_preload = -1;
 };
 // Options with SOFTTLED_CUDA_MODE / _REORDER / _GRAPH_STEPS / _NODE_LANES / _FUSED_BLOCK /
-// _HALO_ELEMS / _HALO_BLOCK / _DERIVE_GRADIENTS applied.
+// _HALO_ELEMS / _HALO_BLOCK / _DERIVE_GRADIENTS / _FUSED_PRELOAD applied.
 Options options_from_env();
 
 // Device time per launch of each stage, measured by replaying a graph of `reps` launches

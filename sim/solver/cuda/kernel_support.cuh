@@ -42,6 +42,28 @@ __device__ __forceinline__ T lane_sum(T v) {
   return v;
 }
 
+// The node stage's split of a block's nodes [n0, n1) over G lanes each. The block loops
+// t over nb * G (a bound uniform over the block, so whole warps shuffle together); thread
+// t takes lane t % G of node n0 + t / G and that node's gather entries [j0, j1), which are
+// empty where t lies past the block's last node (valid false).
+struct NodeLane {
+  bool valid;
+  int i, lane, j0, j1;
+};
+template <int G>
+__device__ __forceinline__ NodeLane node_lane(const int* gather_start, int n0, int n1, int t) {
+  NodeLane l;
+  l.valid = t < (n1 - n0) * G;
+  l.i = n0 + t / G;
+  l.lane = t % G;
+  l.j0 = l.j1 = 0;
+  if (l.valid) {
+    l.j0 = gather_start[l.i];
+    l.j1 = gather_start[l.i + 1];
+  }
+  return l;
+}
+
 // Raises the device watchdog's record (DeviceHealth); node / element < 0: none named.
 __device__ __forceinline__ void raise_health(DeviceHealth* h, unsigned bits, int node, int element) {
   atomicOr(&h->bits, bits);
@@ -49,16 +71,19 @@ __device__ __forceinline__ void raise_health(DeviceHealth* h, unsigned bits, int
   if (element >= 0) atomicMax(&h->element_c, ~unsigned(element));
 }
 
-// The node stage's update of node i (update_node) and the test of its new state
-// (node_step_ok, step_health.h), raised where a.health is set. inv_mass is loaded before
-// update_node's stores so that the compiler reuses update_node's own load of it.
+// The node stage's update of node i from its loaded inputs (integrate_and_store_node) and
+// the test of its new state (node_step_ok, step_health.h), raised where a.health is set.
+template <class T>
+__device__ __forceinline__ void finish_node(const StepArgs<T>& a, const T f[3], const NodeInputs<T>& in, T* u_out,
+                                            T* du_out, int i, T* ub_out) {
+  const NodeState<T> s = integrate_and_store_node(a.p, f, in, a.m.nnode, i, u_out, du_out, a.b.contact, ub_out);
+  if (a.health && !node_step_ok(s.du, in.inv_mass, a.du2_bound))
+    raise_health(a.health, node_health(s.u, s.du, in.inv_mass, a.du2_bound), i, -1);
+}
 template <class T>
 __device__ __forceinline__ void update_and_check_node(const StepArgs<T>& a, const T f[3], const T* u_in,
                                                       const T* du_in, T* u_out, T* du_out, int i, T* ub_out) {
-  const T inv_mass = a.m.inv_mass[i];
-  const NodeState<T> s = update_node(a.m, a.p, f, u_in, du_in, a.b.fext, u_out, du_out, a.b.contact, i, ub_out);
-  if (a.health && !node_step_ok(s.du, inv_mass, a.du2_bound))
-    raise_health(a.health, node_health(s.u, s.du, inv_mass, a.du2_bound), i, -1);
+  finish_node(a, f, load_node_inputs(a.m, a.p, u_in, du_in, a.b.fext, i), u_out, du_out, i, ub_out);
 }
 
 // Raises kernel k's dynamic shared memory limit when it needs more than the default 48 KiB.

@@ -34,19 +34,13 @@ __device__ __forceinline__ HaloBlock halo_block(const StepArgs<T>& a) {
   return {a.hnode[b], a.hnode[b + 1], a.helem_start[b], a.helem_start[b + 1] - a.helem_start[b]};
 }
 
-// Node i's force from the block's corner forces fs, G lanes per node in the node stage's
+// Node l.i's force from the block's corner forces fs, G lanes per node in the node stage's
 // split (lane l: gather entries l, l + G, ...), then lane_sum: gather_node_force's sum.
 template <class T, int G>
-__device__ __forceinline__ void halo_node_force(const StepArgs<T>& a, int i, bool valid, int lane, const T* fs,
-                                                T f[3]) {
+__device__ __forceinline__ void halo_node_force(const StepArgs<T>& a, const NodeLane& l, const T* fs, T f[3]) {
   const int C4 = 4 * a.hcap;
   f[0] = f[1] = f[2] = T(0);
-  int j0 = 0, j1 = 0;
-  if (valid) {
-    j0 = a.m.gather_start[i];
-    j1 = a.m.gather_start[i + 1];
-  }
-  for (int j = j0 + lane; j < j1; j += G) {
+  for (int j = l.j0 + l.lane; j < l.j1; j += G) {
     const int slot = a.hslot[j];
     for (int k = 0; k < 3; ++k) f[k] += fs[k * C4 + slot];
   }
@@ -77,25 +71,19 @@ __global__ void __launch_bounds__(kHaloMaxThreads)
     v0s[l] = m.vol[e];
   }
   __syncthreads();
-  const int nb = hb.n1 - hb.n0, mask = a.hcap - 1;
-  for (int t0 = 0; t0 < nb * G; t0 += nt) {
-    const int t = t0 + tid;
-    const bool valid = t < nb * G;
-    const int i = hb.n0 + t / G, lane = t % G;
-    int j0 = 0, j1 = 0;
-    if (valid) {
-      j0 = m.gather_start[i];
-      j1 = m.gather_start[i + 1];
-    }
+  const int mask = a.hcap - 1;
+  for (int t0 = 0; t0 < (hb.n1 - hb.n0) * G; t0 += nt) {
+    const NodeLane nl = node_lane<G>(m.gather_start, hb.n0, hb.n1, t0 + tid);
     T sv = T(0), sv0 = T(0);
-    for (int j = j0 + lane; j < j1; j += G) {
+    for (int j = nl.j0 + nl.lane; j < nl.j1; j += G) {
       const int l = a.hslot[j] & mask;  // the element's place, whatever the corner
       sv += vs[l];
       sv0 += v0s[l];
     }
     sv = lane_sum<G>(sv);
     sv0 = lane_sum<G>(sv0);
-    if (valid && lane == 0)
+    const int i = nl.i;
+    if (nl.valid && nl.lane == 0)
       a.p_node[i] = m.node_law ? anp_pressure(m.laws[m.node_law[i]].mat, sv, sv0) : anp_pressure(a.mat, sv, sv0);
   }
 }
@@ -136,14 +124,11 @@ __global__ void __launch_bounds__(kHaloMaxThreads)
       for (int c = 0; c < 4; ++c) fs[(4 * k + c) * C + l] = f[c][k];
   }
   __syncthreads();
-  const int nb = hb.n1 - hb.n0;
-  for (int t0 = 0; t0 < nb * G; t0 += nt) {  // uniform bound: whole warps shuffle together
-    const int t = t0 + tid;
-    const bool valid = t < nb * G;
-    const int i = hb.n0 + t / G, lane = t % G;
+  for (int t0 = 0; t0 < (hb.n1 - hb.n0) * G; t0 += nt) {
+    const NodeLane l = node_lane<G>(m.gather_start, hb.n0, hb.n1, t0 + tid);
     T f[3];
-    halo_node_force<T, G>(a, i, valid, lane, fs, f);
-    if (valid && lane == 0) update_and_check_node(a, f, u_prev, du_prev, u_next, du_next, i, ub_next);
+    halo_node_force<T, G>(a, l, fs, f);
+    if (l.valid && l.lane == 0) update_and_check_node(a, f, u_prev, du_prev, u_next, du_next, l.i, ub_next);
   }
 }
 

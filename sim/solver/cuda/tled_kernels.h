@@ -129,10 +129,13 @@ inline const T* element_displacement(const BodyStateView<T>& b) {
 // a.b.fext are used. block: threads per block (>= 32, multiple of 32, <= kFusedMaxThreads).
 // Stiffness-proportional damping (beta > 0): the corner forces are taken at ue_prev =
 // the ub buffer that goes with u_prev, and the node stage writes ub_next; with beta = 0
-// ue_prev is u_prev and ub_next null.
+// ue_prev is u_prev and ub_next null. preload: 1 the variant that loads the nodes' own
+// state before the corner forces (faster where every block is resident at once, slower
+// where the extra registers cost a second wave: bench/NOTES.md), 0 the other, -1 the first
+// where its blocks fit one wave. Both give the same numbers bit for bit.
 constexpr int kFusedMaxThreads = 256;
 template <class T>
-cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, int preload, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next);
 
 // Multi-step launch (tled_step.cu, multi_step_kernel): nsteps fused steps in one

@@ -150,28 +150,20 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
     v0s[j - fb.jb] = r.vol;
   }
   __syncthreads();
-  const int nb = fb.n1 - fb.n0;
-  for (int t0 = 0; t0 < nb * G; t0 += nt) {
-    const int t = t0 + tid;
-    const bool valid = t < nb * G;
-    const int i = fb.n0 + t / G, lane = t % G;
-    int j0 = 0, j1 = 0;
-    if (valid) {
-      j0 = m.gather_start[i] - fb.jb;
-      j1 = m.gather_start[i + 1] - fb.jb;
-    }
+  for (int t0 = 0; t0 < (fb.n1 - fb.n0) * G; t0 += nt) {
+    const NodeLane l = node_lane<G>(m.gather_start, fb.n0, fb.n1, t0 + tid);
     T sv = T(0), sv0 = T(0);
-    for (int j = j0 + lane; j < j1; j += G) {
+    for (int j = l.j0 - fb.jb + l.lane; j < l.j1 - fb.jb; j += G) {
       sv += vs[j];
       sv0 += v0s[j];
     }
     sv = lane_sum<G>(sv);
     sv0 = lane_sum<G>(sv0);
-    if (valid && lane == 0) {
+    if (l.valid && l.lane == 0) {
       if constexpr (kLaws)
-        a.p_node[i] = anp_pressure(node_material(m, a.mat, i), sv, sv0);
+        a.p_node[l.i] = anp_pressure(node_material(m, a.mat, l.i), sv, sv0);
       else
-        a.p_node[i] = anp_pressure(a.mat, sv, sv0);
+        a.p_node[l.i] = anp_pressure(a.mat, sv, sv0);
     }
   }
 }
@@ -182,13 +174,20 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
 // corners l, l + G, ... in order, then lane_sum: the same sums in the same order as the
 // two-kernel step's node kernel. The loop bound is uniform over the block, so whole warps
 // shuffle together. r as in fused_pressure_phase.
-template <class T, int G, bool kAnp, bool kCoherent, bool kLaws>
+template <class T, int G, bool kAnp, bool kCoherent, bool kLaws, bool kPreload>
 __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T> r,
                                                   T* fs, const T* u_prev, const T* du_prev, T* u_next, T* du_next,
                                                   const T* ue_prev, T* ub_next) {
   const int S = a.fsmem_entries;
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
+  // kPreload: the node loop's first pass (nearly always its only one) loads its nodes'
+  // inputs now, so that their L2 round trip overlaps the corner forces instead of following
+  // the sum. Held across the corner forces they cost registers (79 against 61 in float):
+  // launch_fused_step takes this variant only where all blocks are resident in one wave.
+  const NodeLane l0 = node_lane<G>(m.gather_start, fb.n0, fb.n1, tid);
+  NodeInputs<T> in0;
+  if (kPreload && l0.valid && l0.lane == 0) in0 = load_node_inputs(m, a.p, u_prev, du_prev, a.b.fext, l0.i);
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
     if (j != fb.jb + tid) load_corner_rest<T, kLaws>(m, j, r);
     T f[3];
@@ -196,24 +195,17 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
     for (int k = 0; k < 3; ++k) fs[k * S + (j - fb.jb)] = f[k];
   }
   __syncthreads();
-  const int nb = fb.n1 - fb.n0;
-  for (int t0 = 0; t0 < nb * G; t0 += nt) {
-    const int t = t0 + tid;
-    const bool valid = t < nb * G;
-    const int i = fb.n0 + t / G, lane = t % G;
-    int j0 = 0, j1 = 0;
-    if (valid) {
-      j0 = m.gather_start[i] - fb.jb;
-      j1 = m.gather_start[i + 1] - fb.jb;
-    }
+  for (int t0 = 0; t0 < (fb.n1 - fb.n0) * G; t0 += nt) {
+    const NodeLane l = kPreload && t0 == 0 ? l0 : node_lane<G>(m.gather_start, fb.n0, fb.n1, t0 + tid);
     T f[3] = {T(0), T(0), T(0)};
-    for (int j = j0 + lane; j < j1; j += G)
+    for (int j = l.j0 - fb.jb + l.lane; j < l.j1 - fb.jb; j += G)
       for (int k = 0; k < 3; ++k) f[k] += fs[k * S + j];
     for (int k = 0; k < 3; ++k) f[k] = lane_sum<G>(f[k]);
     // The node's own u and du were written by this same thread in the previous step of a
     // multi-step launch, so ordinary loads see them.
-    if (valid && lane == 0)
-      update_and_check_node(a, f, u_prev, du_prev, u_next, du_next, i, ub_next);
+    if (l.valid && l.lane == 0)
+      finish_node(a, f, kPreload && t0 == 0 ? in0 : load_node_inputs(m, a.p, u_prev, du_prev, a.b.fext, l.i), u_next,
+                  du_next, l.i, ub_next);
   }
 }
 
@@ -247,7 +239,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
 }
 
 // One step per launch (graphs of K launches with PDL).
-template <class T, int G, bool kAnp, bool kLaws>
+template <class T, int G, bool kAnp, bool kLaws, bool kPreload>
 __global__ void __launch_bounds__(kFusedMaxThreads)
     fused_step_kernel(const StepArgs<T> a, const T* __restrict__ u_prev, const T* __restrict__ du_prev,
                       T* __restrict__ u_next, T* __restrict__ du_next, const T* __restrict__ ue_prev,
@@ -258,7 +250,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
   CornerRest<T> r;
   load_block_rest<T, G, kLaws>(a, fb, r);
   pdl_wait();  // u_prev is written by the previous step (T4ANP: p_node by the pressure kernel)
-  fused_force_phase<T, G, kAnp, false, kLaws>(a, fb, r, reinterpret_cast<T*>(fused_smem), u_prev, du_prev, u_next,
+  fused_force_phase<T, G, kAnp, false, kLaws, kPreload>(a, fb, r, reinterpret_cast<T*>(fused_smem), u_prev, du_prev, u_next,
                                               du_next, ue_prev, ub_next);
 }
 
@@ -288,7 +280,7 @@ __global__ void __launch_bounds__(kFusedMaxThreads)
       fused_pressure_phase<T, G, true, false>(a, fb, r, smem, ue);
       grid.sync();
     }
-    fused_force_phase<T, G, kAnp, true, false>(a, fb, r, smem, buf.u[p], buf.du[p], buf.u[1 - p], buf.du[1 - p], ue,
+    fused_force_phase<T, G, kAnp, true, false, false>(a, fb, r, smem, buf.u[p], buf.du[p], buf.u[1 - p], buf.du[1 - p], ue,
                                         beta ? buf.ub[1 - p] : nullptr);
     if (s + 1 < nsteps) grid.sync();
   }
@@ -310,11 +302,24 @@ cudaError_t fused_shape(const StepArgs<T>& a, int block, LaunchShape& ls) {
 }  // namespace
 
 namespace {
+// Whether kernel k at shape ls has all its blocks resident at once on this device.
+template <class Kernel>
+cudaError_t one_wave(Kernel k, const LaunchShape& ls, bool& fits) {
+  int dev = 0, nsm = 0, per_sm = 0;
+  cudaError_t e = cudaGetDevice(&dev);
+  if (e == cudaSuccess) e = cudaDeviceGetAttribute(&nsm, cudaDevAttrMultiProcessorCount, dev);
+  if (e == cudaSuccess) e = allow_dynamic_smem(k, ls.smem_bytes);  // before the occupancy query counts it
+  if (e == cudaSuccess) e = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, k, ls.block, ls.smem_bytes);
+  fits = e == cudaSuccess && per_sm * nsm >= ls.grid;
+  return e;
+}
+
 // The one-step kernels of a fused step at a.lanes lanes per node (T4ANP: the pressure
-// kernel first).
+// kernel first); preload as launch_fused_step's.
 template <class T, bool kAnp, bool kLaws>
-cudaError_t launch_fused_kernels(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a, const T* u_prev,
-                                 const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
+cudaError_t launch_fused_kernels(cudaStream_t s, const LaunchShape& ls, int preload, const StepArgs<T>& a,
+                                 const T* u_prev, const T* du_prev, T* u_next, T* du_next, const T* ue_prev,
+                                 T* ub_next) {
   if (kAnp) {
     const cudaError_t e = with_lanes(a.lanes, [&](auto g) {
       return launch(s, ls, fused_pressure_kernel<T, decltype(g)::value, kLaws>, a, ue_prev);
@@ -322,24 +327,30 @@ cudaError_t launch_fused_kernels(cudaStream_t s, const LaunchShape& ls, const St
     if (e != cudaSuccess) return e;
   }
   return with_lanes(a.lanes, [&](auto g) {
-    return launch(s, ls, fused_step_kernel<T, decltype(g)::value, kAnp, kLaws>, a, u_prev, du_prev, u_next, du_next,
-                  ue_prev, ub_next);
+    constexpr int G = decltype(g)::value;
+    const auto with_preload = fused_step_kernel<T, G, kAnp, kLaws, true>;
+    bool pre = preload > 0;
+    if (preload < 0)
+      if (const cudaError_t e = one_wave(with_preload, ls, pre); e != cudaSuccess) return e;
+    return pre ? launch(s, ls, with_preload, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
+               : launch(s, ls, fused_step_kernel<T, G, kAnp, kLaws, false>, a, u_prev, du_prev, u_next, du_next,
+                        ue_prev, ub_next);
   });
 }
 }  // namespace
 
 template <class T>
-cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, const StepArgs<T>& a, const T* u_prev,
+cudaError_t launch_fused_step(cudaStream_t s, int block, bool pdl, int preload, const StepArgs<T>& a, const T* u_prev,
                               const T* du_prev, T* u_next, T* du_next, const T* ue_prev, T* ub_next) {
   if (a.nfblock <= 0) return cudaSuccess;
   LaunchShape ls;
   if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
   ls.pdl = pdl;
   if (a.m.laws)
-    return a.anp ? launch_fused_kernels<T, true, true>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
-                 : launch_fused_kernels<T, false, true>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
-  return a.anp ? launch_fused_kernels<T, true, false>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
-               : launch_fused_kernels<T, false, false>(s, ls, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+    return a.anp ? launch_fused_kernels<T, true, true>(s, ls, preload, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
+                 : launch_fused_kernels<T, false, true>(s, ls, preload, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
+  return a.anp ? launch_fused_kernels<T, true, false>(s, ls, preload, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next)
+               : launch_fused_kernels<T, false, false>(s, ls, preload, a, u_prev, du_prev, u_next, du_next, ue_prev, ub_next);
 }
 
 namespace {
@@ -367,15 +378,11 @@ cudaError_t launch_multi_step(cudaStream_t s, int block, int nsm, const StepArgs
   if (a.m.laws) return cudaErrorInvalidValue;  // multi_step_kernel has one law
   LaunchShape ls;
   if (const cudaError_t e = fused_shape(a, block, ls); e != cudaSuccess) return e;
-  switch (a.lanes * 2 + (a.anp ? 1 : 0)) {
-    case 2: return launch_multi<T, 1, false>(s, ls, a, buf, nsteps, nsm, check_only);
-    case 3: return launch_multi<T, 1, true>(s, ls, a, buf, nsteps, nsm, check_only);
-    case 8: return launch_multi<T, 4, false>(s, ls, a, buf, nsteps, nsm, check_only);
-    case 9: return launch_multi<T, 4, true>(s, ls, a, buf, nsteps, nsm, check_only);
-    case 16: return launch_multi<T, 8, false>(s, ls, a, buf, nsteps, nsm, check_only);
-    case 17: return launch_multi<T, 8, true>(s, ls, a, buf, nsteps, nsm, check_only);
-  }
-  return cudaErrorInvalidValue;
+  return with_lanes(a.lanes, [&](auto g) {
+    constexpr int G = decltype(g)::value;
+    return a.anp ? launch_multi<T, G, true>(s, ls, a, buf, nsteps, nsm, check_only)
+                 : launch_multi<T, G, false>(s, ls, a, buf, nsteps, nsm, check_only);
+  });
 }
 
 template cudaError_t launch_multi_step<float>(cudaStream_t, int, int, const StepArgs<float>&,
@@ -383,9 +390,9 @@ template cudaError_t launch_multi_step<float>(cudaStream_t, int, int, const Step
 template cudaError_t launch_multi_step<double>(cudaStream_t, int, int, const StepArgs<double>&,
                                                const MultiStepBuffers<double>&, int, bool);
 
-template cudaError_t launch_fused_step<float>(cudaStream_t, int, bool, const StepArgs<float>&, const float*,
+template cudaError_t launch_fused_step<float>(cudaStream_t, int, bool, int, const StepArgs<float>&, const float*,
                                              const float*, float*, float*, const float*, float*);
-template cudaError_t launch_fused_step<double>(cudaStream_t, int, bool, const StepArgs<double>&, const double*,
+template cudaError_t launch_fused_step<double>(cudaStream_t, int, bool, int, const StepArgs<double>&, const double*,
                                               const double*, double*, double*, const double*, double*);
 
 }  // namespace softtled::cuda

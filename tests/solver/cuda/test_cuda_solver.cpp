@@ -415,6 +415,30 @@ TEST(CudaSolver, MultiStepLaunchesMatchTheFusedStepAcrossLaunches) {
   }
 }
 
+// fused_step_kernel's two variants (each node's own state loaded before the corner forces
+// or after their sum; launch_fused_step picks the first where all blocks fit one wave)
+// compute the same numbers: the torus forced onto each, T4 and T4ANP, float and double,
+// through the first contact, bit for bit.
+TEST(CudaSolver, FusedPreloadVariantsAreBitwiseIdentical) {
+  SKIP_WITHOUT_GPU();
+  struct Env {
+    ~Env() { unsetenv("SOFTTLED_CUDA_FUSED_PRELOAD"); }
+  } env;
+  for (const char* element : {"T4", "T4ANP"})
+    for (const char* precision : {"float", "double"}) {
+      const Scene s = torus(precision, {std::string("material.element=") + element});
+      HostState st[2];
+      for (int pre = 0; pre < 2; ++pre) {
+        setenv("SOFTTLED_CUDA_FUSED_PRELOAD", pre ? "1" : "0", 1);
+        auto sim = make_gpu(s, cuda::ExecMode::kFused);
+        sim->step(4500);
+        EXPECT_GT(sim->diagnostics().n_contact, 0) << element << ", " << precision << ": past the first contact";
+        st[pre] = sim->state();
+      }
+      EXPECT_TRUE(bitwise_equal(st[0], st[1])) << element << ", " << precision;
+    }
+}
+
 // The live state in device memory (Simulation::device_state, what the Python module hands
 // to CuPy or PyTorch through __cuda_array_interface__): read here with cudaMemcpy after
 // ordering on its stream, row r is mesh node rows[r], bit for bit what state() downloads;
