@@ -13,6 +13,7 @@
 #include "sim/mesh/surface_generators.h"
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/tet_io.h"
+#include "sim/scene/start_crossings.h"
 
 namespace softtled {
 
@@ -289,6 +290,54 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
   }
 }
 
+namespace {
+// The body's surface edges (each once, a < b) as segments, and each edge's body.
+void surface_edges(const TetMesh& m, std::vector<std::array<int, 2>>& nodes, std::vector<std::array<double, 6>>& seg,
+                   std::vector<int>& body) {
+  for (int f = 0; f < m.nbtri(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.boundary_tri[3 * f + k], b = m.boundary_tri[3 * f + (k + 1) % 3];
+      if (a < b) nodes.push_back({a, b});  // each edge of a closed surface appears once each way
+    }
+  for (const auto& e : nodes) {
+    seg.push_back({m.X[3 * e[0]], m.X[3 * e[0] + 1], m.X[3 * e[0] + 2], m.X[3 * e[1]], m.X[3 * e[1] + 1], m.X[3 * e[1] + 2]});
+    body.push_back(m.node_body.empty() ? 0 : m.node_body[e[0]]);
+  }
+}
+
+// A surface edge of the body that crosses obstacle o although no node is inside it (a
+// thin plate or capsule through a torus's tube): {a, b}, or {-1, -1}.
+std::array<int, 2> edge_through_obstacle(const TetMesh& m, const ObstacleSpec& o) {
+  std::vector<std::array<int, 2>> nodes;
+  std::vector<std::array<double, 6>> seg;
+  std::vector<int> body;
+  surface_edges(m, nodes, seg, body);
+  if (o.shape == kObstacleMesh) {
+    if (!o.sdf) return {-1, -1};
+    const SurfaceMesh& sm = o.sdf->surface;
+    std::vector<std::array<double, 9>> tri(sm.ntri());
+    for (int t = 0; t < sm.ntri(); ++t)
+      for (int v = 0; v < 3; ++v) {
+        const double* q = &sm.xyz[3 * sm.tri[3 * t + v]];
+        for (int k = 0; k < 3; ++k)
+          tri[t][3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
+      }
+    const SegmentTriangleHit h = first_crossing(seg, std::vector<int>(seg.size(), 0), tri, std::vector<int>(tri.size(), 1));
+    return h.segment < 0 ? std::array<int, 2>{-1, -1} : nodes[h.segment];
+  }
+  for (std::size_t e = 0; e < seg.size(); ++e) {
+    const double* p = &seg[e][0];
+    const double* q = &seg[e][3];
+    const double len = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]));
+    // The signed distance changes by at most the distance moved: farther than the edge's
+    // length from both ends, the edge cannot reach the obstacle.
+    if (signed_distance(o, p) > len && signed_distance(o, q) > len) continue;
+    if (segment_enters_convex_obstacle(o, p, q, 1e-9)) return nodes[e];
+  }
+  return {-1, -1};
+}
+}  // namespace
+
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles) {
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
@@ -335,6 +384,12 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
           throw InputError(key + ": the obstacle starts inside the body (" + (ob.shape == kObstacleMesh ? "" : "its ") +
                            what + " lies in element " + std::to_string(e) + "); move body.position or the obstacle");
       }
+    const std::array<int, 2> cut = edge_through_obstacle(m, ob);
+    if (cut[0] >= 0)
+      throw InputError(key + ": the " + obstacle_shape_name(ob.shape) +
+                       " obstacle cuts through the body at the start (the surface edge between nodes " +
+                       std::to_string(cut[0]) + " and " + std::to_string(cut[1]) +
+                       " crosses it); move body.position or the obstacle");
   }
 }
 
@@ -342,9 +397,33 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
 
 namespace softtled {
 
-void check_bodies_apart(const Scene& s, const TetMesh& m) {
+namespace {
+// Two bodies can overlap with every node outside the other (a thin plate through a
+// torus): then a surface edge of one crosses a surface triangle of the other.
+void check_surfaces_apart(const Scene& s, const TetMesh& m) {
+  std::vector<std::array<int, 2>> nodes;
+  std::vector<std::array<double, 6>> seg;
+  std::vector<int> seg_body;
+  surface_edges(m, nodes, seg, seg_body);
+  std::vector<std::array<double, 9>> tri(m.nbtri());
+  std::vector<int> tri_body(m.nbtri());
+  for (int f = 0; f < m.nbtri(); ++f) {
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) tri[f][3 * v + k] = m.X[3 * m.boundary_tri[3 * f + v] + k];
+    tri_body[f] = m.node_body[m.boundary_tri[3 * f]];
+  }
+  const SegmentTriangleHit h = first_crossing(seg, seg_body, tri, tri_body);
+  if (h.segment < 0) return;
+  const std::string& a = s.body(seg_body[h.segment]).key;
+  const std::string& b = s.body(tri_body[h.triangle]).key;
+  throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (the surface edge between nodes " +
+                   std::to_string(nodes[h.segment][0]) + " and " + std::to_string(nodes[h.segment][1]) + " of " + a +
+                   " crosses a surface triangle of " + b + "); move " + a + ".position or " + b + ".position");
+}
+
+// A surface node of one body inside an element of another.
+void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
   const int nb = m.nbody();
-  if (nb < 2) return;
   // Bounding box of each body's nodes; the surface nodes inside another body's box go
   // into a grid (cell: twice the mean element box), then each element is tested against
   // the other bodies' nodes in the cells its box covers.
@@ -419,6 +498,14 @@ void check_bodies_apart(const Scene& s, const TetMesh& m) {
           }
         }
   }
+}
+
+}  // namespace
+
+void check_bodies_apart(const Scene& s, const TetMesh& m) {
+  if (m.nbody() < 2) return;
+  check_nodes_outside_bodies(s, m);
+  check_surfaces_apart(s, m);
 }
 
 }  // namespace softtled

@@ -161,6 +161,16 @@ TEST(Bodies, BadInputNamesTheKey) {
   // One body wholly inside the other.
   const std::string e1b = error_of(two, {"body.1.position=[0, 0, 0]", "body.1.radius=1"});
   EXPECT_NE(e1b.find("overlap"), std::string::npos) << e1b;
+  // A thin plate through a torus's hole and tube: every node of each lies outside the
+  // other, but the torus's surface edges cross the plate's faces.
+  const std::string plate =
+      "[[body]]\nshape = \"torus\"\nsegments = [45, 9]\n[[body]]\nshape = \"box\"\nsize = [40, 40, 0.01]\n"
+      "divisions = [1, 1, 1]\nposition = [0, 0.3, 0]\nrotation_deg = [90, 0, 0]\n[mesh]\nkeep_boundary = true\n"
+      "radius_edge = 0\n[floor]\nenabled = false\n";
+  const std::string e1c = error_of(plate);
+  EXPECT_NE(e1c.find("body[0] and body[1] overlap at the start (the surface edge between nodes"), std::string::npos)
+      << e1c;
+  EXPECT_EQ(error_of(plate, {"body.1.position=[0, 10, 0]"}), "") << "the same plate above the torus is fine";
   // Too many bodies.
   std::string many;
   for (int i = 0; i <= kMaxBodies; ++i) many += "[[body]]\nshape = \"sphere\"\n";

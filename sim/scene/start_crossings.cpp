@@ -1,0 +1,141 @@
+#include "sim/scene/start_crossings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace softtled {
+
+bool segment_crosses_triangle(const double p[3], const double q[3], const double a[3], const double b[3],
+                              const double c[3]) {
+  const double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double h[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
+  const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+  const double scale = std::sqrt((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
+                                 (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]));
+  if (!(std::fabs(det) > 1e-12 * scale)) return false;  // parallel (or degenerate)
+  const double inv = 1 / det;
+  const double s[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double u = inv * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]);
+  if (u < 0 || u > 1) return false;
+  const double r[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
+  const double v = inv * (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
+  if (v < 0 || u + v > 1) return false;
+  const double t = inv * (e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]);
+  return t > 0 && t < 1;  // an end point on the triangle (bodies touching) is no crossing
+}
+
+bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol) {
+  auto dist = [&](double s) {
+    const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
+    return signed_distance(o, x);
+  };
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  double lo = 0, hi = 1, x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = dist(x1), f2 = dist(x2);
+  if (dist(0) < -tol || dist(1) < -tol) return true;
+  for (int it = 0; it < 80 && hi - lo > 1e-12; ++it) {
+    if (f1 < -tol || f2 < -tol) return true;
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = dist(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = dist(x2);
+    }
+  }
+  return f1 < -tol || f2 < -tol;
+}
+
+namespace {
+template <std::size_t N>
+void box_of(const std::array<double, N>& pts, double lo[3], double hi[3]) {
+  for (int k = 0; k < 3; ++k) lo[k] = hi[k] = pts[k];
+  for (std::size_t i = 3; i < N; ++i) {
+    const int k = int(i % 3);
+    lo[k] = std::min(lo[k], pts[i]);
+    hi[k] = std::max(hi[k], pts[i]);
+  }
+}
+}  // namespace
+
+SegmentTriangleHit first_crossing(const std::vector<std::array<double, 6>>& segments,
+                                  const std::vector<int>& segment_group,
+                                  const std::vector<std::array<double, 9>>& triangles,
+                                  const std::vector<int>& triangle_group) {
+  SegmentTriangleHit hit;
+  if (segments.empty() || triangles.empty()) return hit;
+  // Cell: twice the mean extent of the triangles; a box covering more than kMaxCells
+  // cells is not gridded but tested against everything (a huge plate among small ones).
+  constexpr double kMaxCells = 1e5;
+  double mean = 0;
+  for (const auto& t : triangles) {
+    double lo[3], hi[3];
+    box_of(t, lo, hi);
+    mean += std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  }
+  const double h = 2 * mean / double(triangles.size());
+  if (!(h > 0) || !std::isfinite(h)) return hit;
+  auto cells = [&](const double lo[3], const double hi[3], long long c0[3], long long c1[3]) {
+    double n = 1;
+    for (int k = 0; k < 3; ++k) {
+      c0[k] = static_cast<long long>(std::floor(lo[k] / h));
+      c1[k] = static_cast<long long>(std::floor(hi[k] / h));
+      n *= double(c1[k] - c0[k] + 1);
+    }
+    return n;
+  };
+  auto key = [](long long x, long long y, long long z) {
+    return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
+           (static_cast<unsigned long long>(z) * 83492791ull);
+  };
+  std::unordered_map<unsigned long long, std::vector<int>> grid;
+  std::vector<int> big;  // triangles in too many cells
+  for (int t = 0; t < int(triangles.size()); ++t) {
+    double lo[3], hi[3];
+    long long c0[3], c1[3];
+    box_of(triangles[t], lo, hi);
+    if (cells(lo, hi, c0, c1) > kMaxCells) {
+      big.push_back(t);
+      continue;
+    }
+    for (long long x = c0[0]; x <= c1[0]; ++x)
+      for (long long y = c0[1]; y <= c1[1]; ++y)
+        for (long long z = c0[2]; z <= c1[2]; ++z) grid[key(x, y, z)].push_back(t);
+  }
+  std::vector<int> seen(triangles.size(), -1);
+  auto test = [&](int s, int t) {
+    if (seen[t] == s || triangle_group[t] == segment_group[s]) return false;
+    seen[t] = s;
+    const auto& g = segments[s];
+    const auto& tr = triangles[t];
+    return segment_crosses_triangle(&g[0], &g[3], &tr[0], &tr[3], &tr[6]);
+  };
+  for (int s = 0; s < int(segments.size()); ++s) {
+    double lo[3], hi[3];
+    long long c0[3], c1[3];
+    box_of(segments[s], lo, hi);
+    bool found = false;
+    if (cells(lo, hi, c0, c1) > kMaxCells) {
+      for (int t = 0; t < int(triangles.size()) && !found; ++t) found = test(s, t) ? (hit = {s, t}, true) : false;
+    } else {
+      for (long long x = c0[0]; x <= c1[0] && !found; ++x)
+        for (long long y = c0[1]; y <= c1[1] && !found; ++y)
+          for (long long z = c0[2]; z <= c1[2] && !found; ++z) {
+            const auto it = grid.find(key(x, y, z));
+            if (it == grid.end()) continue;
+            for (int t : it->second)
+              if (test(s, t)) {
+                hit = {s, t};
+                found = true;
+                break;
+              }
+          }
+      for (std::size_t b = 0; b < big.size() && !found; ++b)
+        if (test(s, big[b])) hit = {s, big[b]}, found = true;
+    }
+    if (found) return hit;
+  }
+  return hit;
+}
+
+}  // namespace softtled

@@ -1,0 +1,33 @@
+#pragma once
+// Start-of-run overlap tests that do not rely on a node lying inside the other thing: a
+// thin plate through a torus, or a capsule through its tube, leaves every node outside,
+// but a surface edge of the body crosses the other surface. Host only, double.
+#include <array>
+#include <vector>
+
+#include "sim/solver/solver.h"
+
+namespace softtled {
+
+// Segment pq against triangle abc (Moller & Trumbore 1997, "Fast, minimum storage
+// ray/triangle intersection", restricted to 0 < t < 1). Parallel or degenerate: false.
+bool segment_crosses_triangle(const double p[3], const double q[3], const double a[3], const double b[3],
+                              const double c[3]);
+
+// Whether segment pq comes inside a sphere, box or capsule obstacle (signed distance < -tol
+// somewhere on it). Their signed distance is convex along a line, so a golden-section
+// search for its minimum over the segment is exact to the search's tolerance.
+bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol);
+
+// Segments (p, q) and triangles (a, b, c) in groups (a body, an obstacle); the first
+// segment, in index order, that crosses a triangle of another group, through a uniform
+// grid over the triangles. {-1, -1}: none.
+struct SegmentTriangleHit {
+  int segment = -1, triangle = -1;
+};
+SegmentTriangleHit first_crossing(const std::vector<std::array<double, 6>>& segments,
+                                  const std::vector<int>& segment_group,
+                                  const std::vector<std::array<double, 9>>& triangles,
+                                  const std::vector<int>& triangle_group);
+
+}  // namespace softtled
