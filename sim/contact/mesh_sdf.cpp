@@ -1,4 +1,5 @@
 #include "sim/contact/mesh_sdf.h"
+#include "sim/mesh/tetgen_mesher.h"
 
 #include <algorithm>
 #include <chrono>
@@ -203,12 +204,26 @@ void vote_inside_along(const SdfGrid& g, int a, std::vector<unsigned char>& vote
 
 }  // namespace
 
+void check_obstacle_surface(const SurfaceMesh& s, const std::string& what) {
+  const long crossing = count_self_intersections(s);
+  if (crossing > 0)
+    throw InputError(what + ": the surface intersects itself (" + std::to_string(crossing) +
+                     " facets cross others); an obstacle must be one closed solid per shell, without self-intersections");
+  const ShellNesting nest = shell_nesting(s);
+  for (int c = 0; c < nest.ncomp; ++c)
+    if (nest.depth[c] > 0)
+      throw InputError(what + ": shell " + std::to_string(c + 1) + " of " + std::to_string(nest.ncomp) +
+                       " (the one with triangle " + std::to_string(nest.first_tri[c]) +
+                       ") lies inside another shell; an obstacle must be one solid per shell (no cavities or nested shells)");
+}
+
 SdfGrid build_mesh_sdf(const SurfaceMesh& s, int resolution) {
   const auto t0 = std::chrono::steady_clock::now();
   if (resolution < kMinSdfResolution || resolution > kMaxSdfResolution)
     throw std::invalid_argument("build_mesh_sdf: resolution " + std::to_string(resolution) + " outside [" +
                                 std::to_string(kMinSdfResolution) + ", " + std::to_string(kMaxSdfResolution) + "]");
   if (s.ntri() == 0) throw std::invalid_argument("build_mesh_sdf: empty surface");
+  check_obstacle_surface(s, "obstacle mesh");
   SdfGrid g;
   g.surface = s;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};

@@ -15,6 +15,7 @@
 //             still grazes an edge.
 // Cost: about (nodes) x log(triangles) closest-point searches; README "Obstacles" gives
 // the times measured.
+#include <string>
 #include <vector>
 
 #include "sim/contact/obstacle_sdf.h"
@@ -56,8 +57,14 @@ struct SdfGrid {
 // The grid of a closed, consistently oriented surface (check_and_orient_closed_surface)
 // with `resolution` cells across its longest bounding-box side, in the surface's frame.
 // Throws std::invalid_argument for a resolution outside [kMinSdfResolution, kMaxSdfResolution]
-// or an empty surface (the scene reader refuses both first, naming the key).
+// or an empty surface (the scene reader refuses both first, naming the key), and
+// InputError ("obstacle mesh: ...") for a surface check_obstacle_surface refuses.
 SdfGrid build_mesh_sdf(const SurfaceMesh& s, int resolution = kDefaultSdfResolution);
+
+// Throws InputError ("WHAT: ...") unless the closed surface is one solid per shell: no
+// self-intersections (count_self_intersections, TetGen's -d probe) and no shell inside
+// another (shell_nesting: a cavity or a nested copy would flip the grid's sign).
+void check_obstacle_surface(const SurfaceMesh& s, const std::string& what);
 
 // The point of triangle abc closest to p (Ericson, Real-Time Collision Detection, sec. 5.1.5).
 void closest_point_on_triangle(const double p[3], const double a[3], const double b[3], const double c[3], double q[3]);

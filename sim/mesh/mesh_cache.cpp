@@ -21,7 +21,7 @@ namespace {
 // Format 1 trusted any entry whose sizes fit: a hand-edited node moved the stable step
 // from 22.5 to 13.1 us. Now the payload's checksum, the sizes against the file size, the
 // tets (make_tet_mesh) and the volume against the surface's must all agree.
-constexpr std::uint32_t kFormat = 2;  // bump when the file layout or mesher changes
+constexpr std::uint32_t kFormat = 3;  // bump when the file layout or mesher changes
 constexpr char kMagic[8] = {'S', 'O', 'F', 'T', 'T', 'E', 'T', '\0'};
 constexpr std::size_t kHeaderBytes = 48;
 

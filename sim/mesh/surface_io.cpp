@@ -36,6 +36,9 @@ double to_number(const std::string& tok, const std::string& name, int line) {
   return v;
 }
 
+// A UTF-8 byte order mark some editors write before the first line.
+bool has_bom(const std::string& d) { return d.size() >= 3 && d.compare(0, 3, "\xEF\xBB\xBF") == 0; }
+
 constexpr std::size_t kMaxElements = 50'000'000;  // refuse absurd counts before allocating
 
 }  // namespace
@@ -166,7 +169,7 @@ struct PolygonList {
 SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   SurfaceMesh s;
   PolygonList polygons{name, true, {}, {}, {}};
-  std::istringstream in(data);
+  std::istringstream in(has_bom(data) ? data.substr(3) : data);
   std::string line;
   int lineno = 0;
   while (std::getline(in, line)) {
@@ -262,7 +265,8 @@ class OffTokens {
 }  // namespace
 
 SurfaceMesh parse_off(const std::string& data, const std::string& name) {
-  OffTokens in(data, name);
+  const std::string unmarked = has_bom(data) ? data.substr(3) : std::string();
+  OffTokens in(has_bom(data) ? unmarked : data, name);
   // Header: [ST][C][N][4][n]OFF (geomview's OFF format).
   if (!in.ensure()) throw InputError(name + ": missing 'OFF' header");
   const std::string header = in.take();
@@ -351,22 +355,51 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
         }
     }
   } else {
-    std::istringstream in(data);
-    std::string tok;
-    if (!(in >> tok) || tok != "solid")
-      throw InputError(name + ": neither binary STL (size does not match the triangle count) nor ASCII STL ('solid' missing)");
+    // Binary-looking data (control bytes other than line breaks and tabs) of 84 bytes or more: a
+    // binary STL whose size does not match its triangle count (its header may well start
+    // with "solid").
+    std::uint32_t declared = 0;
+    if (data.size() >= 84) std::memcpy(&declared, data.data() + 80, 4);
+    const auto size_mismatch = [&] {
+      return InputError(name + ": binary STL whose size does not match its triangle count: " + std::to_string(data.size()) +
+                        " bytes, but the header declares " + std::to_string(declared) + " triangles (" +
+                        std::to_string(84 + 50 * std::uint64_t(declared)) + " bytes); the file is truncated or corrupt");
+    };
+    const bool looks_binary = data.size() >= 84 && std::any_of(data.begin(), data.end(), [](char ch) {
+      return ch != '\n' && ch != '\r' && ch != '\t' && ((ch >= 0 && ch < 32) || ch == 127);
+    });
+    if (looks_binary) throw size_mismatch();
+    std::istringstream lines(has_bom(data) ? data.substr(3) : data);
+    std::string line, tok;
+    int lineno = 0;
+    bool started = false;
     int in_facet = 0;
-    while (in >> tok) {
-      if (tok == "vertex") {
-        std::string a, b, c;
-        if (!(in >> a >> b >> c)) throw InputError(name + ": vertex needs 3 coordinates");
-        soup.insert(soup.end(), {to_number(a, name, 0), to_number(b, name, 0), to_number(c, name, 0)});
-        ++in_facet;
-      } else if (tok == "endfacet") {
-        if (in_facet != 3) throw InputError(name + ": a facet does not have exactly 3 vertices");
-        in_facet = 0;
+    while (std::getline(lines, line)) {
+      ++lineno;
+      std::istringstream in(line);
+      while (in >> tok) {
+        if (!started) {
+          if (tok != "solid") {
+            throw InputError(name + ":" + std::to_string(lineno) +
+                             ": neither binary STL (size does not match the triangle count) nor ASCII STL ('solid' missing)");
+          }
+          started = true;
+          break;  // the rest of the line is the solid's name
+        }
+        if (tok == "vertex") {
+          std::string a, b, c;
+          if (!(in >> a >> b >> c)) throw InputError(name + ":" + std::to_string(lineno) + ": vertex needs 3 coordinates");
+          soup.insert(soup.end(), {to_number(a, name, lineno), to_number(b, name, lineno), to_number(c, name, lineno)});
+          ++in_facet;
+        } else if (tok == "endfacet") {
+          if (in_facet != 3) throw InputError(name + ":" + std::to_string(lineno) + ": a facet does not have exactly 3 vertices");
+          in_facet = 0;
+        }
+        if (soup.size() > 9 * kMaxElements) throw InputError(name + ": too large");
       }
-      if (soup.size() > 9 * kMaxElements) throw InputError(name + ": too large");
+    }
+    if (!started) {
+      throw InputError(name + ": neither binary STL (size does not match the triangle count) nor ASCII STL ('solid' missing)");
     }
     if (soup.size() % 9 != 0) throw InputError(name + ": truncated facet");
   }

@@ -1,6 +1,7 @@
 #include "sim/mesh/surface_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -53,6 +54,9 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
     const double area2 = std::sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     const double l2 = std::max({e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2],
                                 e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]});
+    if (!std::isfinite(area2) || !std::isfinite(l2))
+      fail("triangle " + std::to_string(t) + ": the coordinates overflow (its edge lengths or area exceed the range of a "
+           "double; coordinates must stay well below 1e150)");
     if (!(area2 > 1e-12 * l2)) fail("triangle " + std::to_string(t) + " is degenerate (zero area)");
     for (int k = 0; k < 3; ++k) ++directed[{v[k], v[(k + 1) % 3]}];
   }
@@ -89,8 +93,113 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   const double vol = enclosed_volume(s);
   if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
     fail("the surface encloses no volume (flat or collapsed)");
-  if (vol < 0)
-    for (int t = 0; t < s.ntri(); ++t) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
+  const ShellNesting nest = shell_nesting(s);
+  if (nest.ncomp <= 1) {
+    if (vol < 0)
+      for (int t = 0; t < s.ntri(); ++t) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
+    return;
+  }
+  // Each shell on its own: outwards at even depth, inwards (into the cavity) at odd depth.
+  std::vector<double> cvol(nest.ncomp, 0.0);
+  const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
+  for (int t = 0; t < s.ntri(); ++t) {
+    double p[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) p[k][d] = s.xyz[3 * s.tri[3 * t + k] + d] - o[d];
+    cvol[nest.tri_comp[t]] += (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                               p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) / 6.0;
+  }
+  for (int t = 0; t < s.ntri(); ++t) {
+    const int c = nest.tri_comp[t];
+    const bool want_positive = nest.depth[c] % 2 == 0;
+    if ((cvol[c] > 0) != want_positive) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
+  }
+  if (!(enclosed_volume(s) > 1e-9 * diag * diag * diag)) fail("the surface encloses no volume (flat or collapsed)");
+}
+
+double generalized_winding_number(const SurfaceMesh& s, const double p[3], const std::vector<int>* tri_comp, int comp) {
+  double w = 0;
+  for (int t = 0; t < s.ntri(); ++t) {
+    if (tri_comp && comp >= 0 && (*tri_comp)[t] != comp) continue;
+    double a[3], b[3], c[3];
+    for (int d = 0; d < 3; ++d) {
+      a[d] = s.xyz[3 * s.tri[3 * t] + d] - p[d];
+      b[d] = s.xyz[3 * s.tri[3 * t + 1] + d] - p[d];
+      c[d] = s.xyz[3 * s.tri[3 * t + 2] + d] - p[d];
+    }
+    const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2], ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2],
+                 bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+    const double den = la * lb * lc + ab * lc + ac * lb + bc * la;
+    w += 2 * std::atan2(det, den);
+  }
+  return w / (4 * 3.14159265358979323846);
+}
+
+void point_off_triangle(const SurfaceMesh& s, int t, double side, double step_fraction, double p[3]) {
+  const double* a = &s.xyz[3 * s.tri[3 * t]];
+  const double* b = &s.xyz[3 * s.tri[3 * t + 1]];
+  const double* c = &s.xyz[3 * s.tri[3 * t + 2]];
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double e3[3] = {c[0] - b[0], c[1] - b[1], c[2] - b[2]};
+  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  auto len = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  const double longest = std::max({len(e1), len(e2), len(e3)});
+  const double height = longest > 0 ? area2 / longest : 0;
+  const double step = side * step_fraction * height / (area2 > 0 ? area2 : 1);
+  for (int d = 0; d < 3; ++d) p[d] = (a[d] + b[d] + c[d]) / 3 + step * n[d];
+}
+
+ShellNesting shell_nesting(const SurfaceMesh& s) {
+  ShellNesting r;
+  const int n = s.npoint(), nt = s.ntri();
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (int t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(s.tri[3 * t]), b = find(s.tri[3 * t + k]);
+      if (a != b) parent[a] = b;
+    }
+  std::vector<int> id(n, -1);
+  r.tri_comp.resize(nt);
+  for (int t = 0; t < nt; ++t) {
+    const int root = find(s.tri[3 * t]);
+    if (id[root] < 0) {
+      id[root] = r.ncomp++;
+      r.first_tri.push_back(t);
+    }
+    r.tri_comp[t] = id[root];
+  }
+  r.depth.assign(r.ncomp, 0);
+  if (r.ncomp <= 1) return r;
+  // Bounding boxes: shell c can lie inside shell d only if its box lies inside d's.
+  std::vector<std::array<double, 6>> box(r.ncomp, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        const double x = s.xyz[3 * s.tri[3 * t + k] + d];
+        auto& b = box[r.tri_comp[t]];
+        b[d] = std::min(b[d], x), b[3 + d] = std::max(b[3 + d], x);
+      }
+  for (int c = 0; c < r.ncomp; ++c) {
+    double p[3];
+    point_off_triangle(s, r.first_tri[c], 0, 0, p);  // the centroid, on shell c
+    for (int d = 0; d < r.ncomp; ++d) {
+      if (d == c) continue;
+      bool inside_box = true;
+      for (int k = 0; k < 3; ++k) inside_box = inside_box && box[c][k] >= box[d][k] && box[c][3 + k] <= box[d][3 + k];
+      if (inside_box && std::fabs(generalized_winding_number(s, p, &r.tri_comp, d)) > 0.5) ++r.depth[c];
+    }
+  }
+  return r;
 }
 
 }  // namespace softtled

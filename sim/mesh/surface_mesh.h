@@ -16,9 +16,32 @@ struct SurfaceMesh {
 
 // Throws InputError unless the surface is a closed, edge-manifold, consistently oriented
 // triangle mesh with finite coordinates and no degenerate triangles. `what` names the
-// source in the message. Flips the whole surface if it is oriented inwards.
+// source in the message. Orients every shell (shell_nesting) so that enclosed_volume is the
+// solid's volume: shells of even depth outwards, those of odd depth (cavities) inwards.
 void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what);
 
 double enclosed_volume(const SurfaceMesh& s);
+
+// Shells of a closed surface: its connected components (triangles sharing vertices) and how
+// deeply each lies inside the others. A shell of odd depth bounds a cavity of the solid
+// (inside one shell), of even depth a solid part. Depth counts the other shells whose
+// generalized winding number at a point of this shell is above 1/2 in magnitude.
+struct ShellNesting {
+  int ncomp = 0;
+  std::vector<int> tri_comp;   // component of each triangle
+  std::vector<int> depth;      // per component
+  std::vector<int> first_tri;  // a triangle of each component
+};
+ShellNesting shell_nesting(const SurfaceMesh& s);
+
+// Generalized winding number of the triangles of s (all, or those of component `comp` of
+// tri_comp when comp >= 0) at p (Jacobson et al. 2013; solid angles by Van Oosterom and
+// Strackee): 1 inside a closed outward-oriented shell, 0 outside.
+double generalized_winding_number(const SurfaceMesh& s, const double p[3], const std::vector<int>* tri_comp = nullptr, int comp = -1);
+
+// A point just off triangle t: its centroid stepped along the triangle's normal by `side`
+// (+1: the side the normal points to, -1: the other) times a small fraction of the
+// triangle's smallest height.
+void point_off_triangle(const SurfaceMesh& s, int t, double side, double step_fraction, double p[3]);
 
 }  // namespace softtled

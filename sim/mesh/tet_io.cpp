@@ -9,6 +9,7 @@
 
 #include "sim/io/output_file.h"
 #include "sim/mesh/surface_io.h"
+#include "sim/mesh/tetgen_mesher.h"
 
 namespace softtled {
 namespace {
@@ -78,6 +79,34 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
       for (int b = 0; b < a; ++b)
         if (t[a] == t[b])
           throw InputError(name + ": " + tet_name(e) + " uses node " + std::to_string(t[a]) + " twice (degenerate)");
+    }
+  }
+  // Coincident nodes: two distinct nodes (both used by tets) at exactly the same
+  // coordinates make a crack, a tet soup or a doubled mesh; sorted by coordinates, O(n log n).
+  {
+    std::vector<char> used(nnode, 0);
+    for (int v : soup.tet) used[v] = 1;
+    std::vector<int> order;
+    order.reserve(nnode);
+    for (long i = 0; i < nnode; ++i)
+      if (used[i]) order.push_back(int(i));
+    const double* X = soup.X.data();
+    auto less = [X](int a, int b) {
+      for (int k = 0; k < 3; ++k)
+        if (X[3 * a + k] != X[3 * b + k]) return X[3 * a + k] < X[3 * b + k];
+      return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t i = 1; i < order.size(); ++i) {
+      const int a = order[i - 1], b = order[i];
+      if (X[3 * a] == X[3 * b] && X[3 * a + 1] == X[3 * b + 1] && X[3 * a + 2] == X[3 * b + 2]) {
+        std::ostringstream o;
+        o.precision(17);
+        o << name << ": nodes " << a << " and " << b << " (0-based, file order) are distinct nodes at the same position ("
+          << X[3 * a] << ", " << X[3 * a + 1] << ", " << X[3 * a + 2]
+          << "): tets that should share a node use copies of it (a crack, a tet soup or a doubled mesh)";
+        throw InputError(o.str());
+      }
     }
   }
   // Signed volumes; degenerate ones (flat, relative to the mean) refused, the first named.
@@ -187,8 +216,35 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
       i = j;
     }
   }
+  check_tet_boundary_overlap(m, name);
   if (report) *report = rep;
   return m;
+}
+
+void check_tet_boundary_overlap(const TetMesh& m, const std::string& name) {
+  const SurfaceMesh b = boundary_surface(m);
+  // Above the size the probe is skipped (documented in tet_io.h); -1: TetGen could not tell.
+  const long crossing = m.nbtri() <= kMaxSelfIntersectionCheckTriangles ? count_self_intersections(b) : 0;
+  if (crossing > 0)
+    throw InputError(name + ": tets overlap: the mesh's boundary surface intersects itself (" + std::to_string(crossing) +
+                     " boundary faces cross others); parts of the mesh occupy the same space without sharing faces");
+  // A boundary component inside another part's solid: at a point just inside it (against
+  // its outward normal) the winding number of the whole boundary is 2, not 1.
+  const ShellNesting nest = shell_nesting(b);
+  if (nest.ncomp <= 1 || double(nest.ncomp) * double(b.ntri()) > kMaxNestingCheckWork) return;
+  for (int c = 0; c < nest.ncomp; ++c) {
+    double p[3];
+    point_off_triangle(b, nest.first_tri[c], -1, 1e-3, p);
+    const double w = generalized_winding_number(b, p);
+    if (w >= 1.5) {
+      const double* q = &b.xyz[3 * b.tri[3 * nest.first_tri[c]]];
+      std::ostringstream o;
+      o << name << ": tets overlap: boundary component " << c + 1 << " of " << nest.ncomp << " (through the node at ("
+        << q[0] << ", " << q[1] << ", " << q[2] << ")) lies inside the solid of another part (winding number " << std::lround(w)
+        << "); parts of the mesh occupy the same space";
+      throw InputError(o.str());
+    }
+  }
 }
 
 bool is_tet_file_extension(const std::string& path) {

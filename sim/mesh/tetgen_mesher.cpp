@@ -362,7 +362,10 @@ extern "C" void child_crash_handler(int sig) {
     tetgenio* probe = new tetgenio;  // never freed: the child ends with _exit
     char sw_d[] = "pdzQ";
     tetrahedralize(sw_d, &in, probe);
-    if (probe->numberoftrifaces > 0) {
+    if (switches.empty()) {  // the probe alone (count_self_intersections)
+      h.status = TetgenRun::kIntersects;
+      h.count = probe->numberoftrifaces;
+    } else if (probe->numberoftrifaces > 0) {
       h.status = TetgenRun::kIntersects;
       h.count = probe->numberoftrifaces;
     } else {
@@ -472,6 +475,75 @@ TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double 
 
 }  // namespace
 
+namespace {
+// The surface as TetGen's input (coordinates times `scale`), with hole points.
+void fill_tetgenio(const SurfaceMesh& surf, double scale, const std::vector<double>& holes, tetgenio& in) {
+  in.firstnumber = 0;
+  in.numberofpoints = surf.npoint();
+  in.pointlist = new REAL[surf.xyz.size()];
+  for (std::size_t i = 0; i < surf.xyz.size(); ++i) in.pointlist[i] = surf.xyz[i] * scale;
+  in.numberoffacets = surf.ntri();
+  in.facetlist = new tetgenio::facet[surf.ntri()];
+  in.facetmarkerlist = nullptr;
+  for (int t = 0; t < surf.ntri(); ++t) {
+    tetgenio::facet& f = in.facetlist[t];
+    tetgenio::init(&f);
+    f.numberofpolygons = 1;
+    f.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&f.polygonlist[0]);
+    f.polygonlist[0].numberofvertices = 3;
+    f.polygonlist[0].vertexlist = new int[3]{surf.tri[3 * t], surf.tri[3 * t + 1], surf.tri[3 * t + 2]};
+  }
+  if (!holes.empty()) {
+    in.numberofholes = int(holes.size() / 3);
+    in.holelist = new REAL[holes.size()];
+    for (std::size_t i = 0; i < holes.size(); ++i) in.holelist[i] = holes[i] * scale;
+  }
+}
+}  // namespace
+
+long count_self_intersections(const SurfaceMesh& s, double time_limit_s) {
+  if (s.ntri() == 0) return 0;
+  tetgenio in;
+  fill_tetgenio(s, kMm, {}, in);
+  const TetgenRun run = run_tetgen_isolated(in, "", time_limit_s, 0, 0);
+  if (run.status != TetgenRun::kIntersects) return -1;
+  return run.count;
+}
+
+std::vector<double> cavity_hole_points(const SurfaceMesh& surface) {
+  std::vector<double> holes;
+  {
+    const ShellNesting first = shell_nesting(surface);  // depths do not depend on orientation
+    if (std::none_of(first.depth.begin(), first.depth.end(), [](int d) { return d % 2 == 1; })) return holes;
+  }
+  SurfaceMesh s = surface;
+  check_and_orient_closed_surface(s, "surface");  // cavities oriented inwards (into the cavity)
+  const ShellNesting nest = shell_nesting(s);
+  for (int c = 0; c < nest.ncomp; ++c) {
+    if (nest.depth[c] % 2 == 0) continue;
+    bool found = false;
+    int tried = 0;
+    for (int t = nest.first_tri[c]; t < s.ntri() && !found && tried < 20; ++t) {
+      if (nest.tri_comp[t] != c) continue;
+      ++tried;
+      for (double frac : {1e-3, 1e-2, 1e-1}) {
+        double p[3];
+        point_off_triangle(s, t, +1, frac, p);  // the normal of a cavity's shell points into the cavity
+        if (std::fabs(generalized_winding_number(s, p)) < 0.5 && std::fabs(generalized_winding_number(s, p, &nest.tri_comp, c)) > 0.5) {
+          holes.insert(holes.end(), {p[0], p[1], p[2]});
+          found = true;
+          break;
+        }
+      }
+    }
+    if (!found)
+      throw InputError("surface to mesh: no point found strictly inside the cavity bounded by shell " + std::to_string(c) +
+                       " (its triangle " + std::to_string(nest.first_tri[c]) + "); the shells may intersect");
+  }
+  return holes;
+}
+
 TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) {
   // TetGen reads switches in double precision but is scale-sensitive only through "a";
   // mesh in millimetres so tolerances act on O(1) numbers, then convert back to metres.
@@ -490,22 +562,7 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
   const std::string sw = format(settings);
   const std::string sw_capped = sw + "S" + std::to_string(steiner_cap);
   tetgenio in;
-  in.firstnumber = 0;
-  in.numberofpoints = surf.npoint();
-  in.pointlist = new REAL[surf.xyz.size()];
-  for (std::size_t i = 0; i < surf.xyz.size(); ++i) in.pointlist[i] = surf.xyz[i] * to_mm;
-  in.numberoffacets = surf.ntri();
-  in.facetlist = new tetgenio::facet[surf.ntri()];
-  in.facetmarkerlist = nullptr;
-  for (int t = 0; t < surf.ntri(); ++t) {
-    tetgenio::facet& f = in.facetlist[t];
-    tetgenio::init(&f);
-    f.numberofpolygons = 1;
-    f.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&f.polygonlist[0]);
-    f.polygonlist[0].numberofvertices = 3;
-    f.polygonlist[0].vertexlist = new int[3]{surf.tri[3 * t], surf.tri[3 * t + 1], surf.tri[3 * t + 2]};
-  }
+  fill_tetgenio(surf, to_mm, cavity_hole_points(surf), in);  // one hole point in each cavity
   const TetgenRun run = run_tetgen_isolated(in, sw_capped, o.time_limit_s,
                                             surf.npoint() + steiner_cap + 16 * long(surf.ntri()) + 64, 2 * o.max_tets + 64);
   switch (run.status) {

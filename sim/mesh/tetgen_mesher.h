@@ -7,6 +7,7 @@
 // terminate. So nothing reaches it unchecked: the options are validated here, whoever
 // the caller is, and errors are InputError naming the scene key (mesh.*) and the problem.
 #include <string>
+#include <vector>
 
 #include "sim/mesh/surface_mesh.h"
 #include "sim/mesh/tet_mesh.h"
@@ -82,6 +83,17 @@ void check_surface_for_meshing(const SurfaceMesh& s, const std::string& what = "
 //   volume   + 2.5 V / max_volume     TetGen's tets average 0.4 of the bound
 // Without -q and -a (radius_edge 0, no max_volume) it is 2.5 n_tri.
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o);
+
+// Self-intersections of a surface (closed or not): the number of facets TetGen's -d probe
+// ("pdzQ", in a child process as for meshing) finds crossing others; 0 when none. -1 when
+// the probe could not answer (TetGen crashed, failed or ran past time_limit_s): unknown.
+long count_self_intersections(const SurfaceMesh& s, double time_limit_s = 60);
+
+// One point strictly inside each cavity of a closed surface (a shell of odd nesting depth,
+// shell_nesting): inside that shell and outside every shell nested in it, checked by
+// winding numbers. TetGen gets them as hole points, so a hollow body stays hollow.
+// 3 x ncavity, in the surface's frame. Throws InputError when no such point is found.
+std::vector<double> cavity_hole_points(const SurfaceMesh& s);
 
 // Checks the options and the surface (above), refuses a mesh estimated above o.max_tets
 // ("mesh too large: about N tetrahedra ..."), then meshes. Throws InputError for bad

@@ -192,7 +192,11 @@ std::shared_ptr<const SdfGrid> scene_obstacle_grid(const Scene& s, int i) {
                   kMaxCoordinate, kMaxOffsetPerExtent);
     throw InputError(key + buf);
   }
-  return std::make_shared<const SdfGrid>(build_mesh_sdf(m, d.resolution));
+  try {  // build_mesh_sdf refuses self-intersecting and nested shells (check_obstacle_surface)
+    return std::make_shared<const SdfGrid>(build_mesh_sdf(m, d.resolution));
+  } catch (const InputError& e) {
+    throw InputError(key + ".file: " + scene_relative_path(s, d.file) + ": " + e.what());
+  }
 }
 }  // namespace
 

@@ -37,6 +37,15 @@ std::string load_error(const std::string& path, std::uint64_t max_bytes = kDefau
   return "(loaded)";
 }
 
+std::string parse_error_of_stl(const std::string& data) {
+  try {
+    parse_stl(data, "a.stl");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(parsed)";
+}
+
 void write_file(const std::string& path, const std::string& content) {
   std::ofstream o(path, std::ios::binary);
   o << content;
@@ -234,4 +243,28 @@ TEST(SurfaceFiles, OffVariantsLoad) {
     EXPECT_NE(e.find(c.fragment), std::string::npos) << c.name << ": " << e;
     std::remove(path.c_str());
   }
+}
+
+TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
+  const std::string d = data_dir();
+  // Binary STL with a "solid" header and a triangle count (7) that does not match the size.
+  std::string e = load_error(d + "solidhdr_wrong.stl");
+  EXPECT_NE(e.find("solidhdr_wrong.stl: binary STL whose size does not match its triangle count: 284 bytes, but the "
+                   "header declares 7 triangles (434 bytes)"),
+            std::string::npos) << e;
+  // ASCII STL errors give the real line.
+  const std::string stl = "solid t\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 x 0\n";
+  EXPECT_NE(parse_error_of_stl(stl).find(":5: 'x' is not a number"), std::string::npos) << parse_error_of_stl(stl);
+  // A text file without "solid" is still called what it is, whatever its size.
+  const std::string text = "facet normal 0 0 0\n" + std::string(100, ' ') + "\n";
+  EXPECT_NE(parse_error_of_stl(text).find("a.stl:1: neither binary STL"), std::string::npos) << parse_error_of_stl(text);
+  // A UTF-8 byte order mark before the first line of an OBJ is skipped: all 4 vertices.
+  const SurfaceMesh bom = load_surface(d + "bom_tet.obj");
+  EXPECT_EQ(bom.npoint(), 4);
+  EXPECT_EQ(bom.ntri(), 4);
+  const SurfaceMesh bom_off = parse_off("\xEF\xBB\xBFOFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "b.off");
+  EXPECT_EQ(bom_off.npoint(), 4);
+  // Coordinates of 1e308: the products overflow, not a degenerate triangle.
+  e = load_error(d + "ovf.obj");
+  EXPECT_NE(e.find("ovf.obj: triangle 0: the coordinates overflow"), std::string::npos) << e;
 }

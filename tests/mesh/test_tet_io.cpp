@@ -3,7 +3,10 @@
 // case refused with a message naming the file and the problem.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -14,6 +17,7 @@
 #include "scene_helpers.h"
 #include "sim/io/mesh_report.h"
 #include "sim/io/vtu_writer.h"
+#include "sim/mesh/surface_generators.h"
 #include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/scene/scene_geometry.h"
@@ -378,4 +382,111 @@ TEST(TetIo, SceneKeysForTetFile) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("body.file/body.scale: the mesh is"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+// The unit cube split into 6 tets (8 nodes), shifted by (dx, dy, dz) and with its node
+// indices offset by `base`, appended to `s`.
+void add_cube(TetSoup& s, double dx = 0, double dy = 0, double dz = 0, double scale = 1) {
+  const int base = int(s.X.size() / 3);
+  const double P[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (const auto& p : P) s.X.insert(s.X.end(), {p[0] * scale + dx, p[1] * scale + dy, p[2] * scale + dz});
+  const int T[6][4] = {{0, 3, 7, 2}, {0, 7, 4, 6}, {5, 0, 4, 6}, {0, 7, 6, 2}, {5, 0, 6, 1}, {6, 0, 2, 1}};
+  for (const auto& t : T) s.tet.insert(s.tet.end(), {base + t[0], base + t[1], base + t[2], base + t[3]});
+}
+std::string import_error(TetSoup s) {
+  try {
+    import_tet_soup(std::move(s), "x.msh");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+}  // namespace
+
+TEST(TetIo, CoincidentNodesAreRefusedNamingBoth) {
+  TetSoup cube;
+  add_cube(cube);
+  EXPECT_EQ(import_error(cube), "(loaded)");
+  // A tet soup: every tet on its own 4 nodes.
+  TetSoup soup;
+  for (int e = 0; e < 6; ++e)
+    for (int k = 0; k < 4; ++k) {
+      const int v = cube.tet[4 * e + k];
+      soup.X.insert(soup.X.end(), {cube.X[3 * v], cube.X[3 * v + 1], cube.X[3 * v + 2]});
+      soup.tet.push_back(4 * e + k);
+    }
+  std::string e = import_error(soup);
+  EXPECT_NE(e.find("x.msh: nodes 0 and 4 (0-based, file order) are distinct nodes at the same position (0, 0, 0)"),
+            std::string::npos) << e;
+  // A crack: the last tet uses a copy (node 8) of node 1.
+  TetSoup crack = cube;
+  crack.X.insert(crack.X.end(), {1, 0, 0});
+  std::replace(crack.tet.begin() + 20, crack.tet.end(), 1, 8);
+  e = import_error(crack);
+  EXPECT_NE(e.find("nodes 1 and 8 (0-based, file order) are distinct nodes at the same position (1, 0, 0)"), std::string::npos) << e;
+  // Two identical copies on separate nodes.
+  TetSoup twice = cube;
+  add_cube(twice);
+  e = import_error(twice);
+  EXPECT_NE(e.find("nodes 0 and 8 "), std::string::npos) << e;
+  // The tester's files through the loader (exit 2 in the CLI: InputError).
+  for (const char* f : {"soup.ele", "cracked.ele", "doubled.ele"}) {
+    const std::string err = load_error(data_dir() + f);
+    EXPECT_NE(err.find("distinct nodes at the same position"), std::string::npos) << f << ": " << err;
+  }
+}
+
+TEST(TetIo, OverlappingTetsWithoutSharedFacesAreRefused) {
+  // Two cubes on separate nodes, the second shifted by 0.5: the boundaries cross.
+  TetSoup two;
+  add_cube(two);
+  add_cube(two, 0.5, 0.5, 0.5);
+  std::string e = import_error(two);
+  EXPECT_NE(e.find("x.msh: tets overlap: the mesh's boundary surface intersects itself"), std::string::npos) << e;
+  // Two tets overlapping, no shared face.
+  TetSoup tets;
+  tets.X = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.2, 0.2, 0.2, 1.2, 0.2, 0.2, 0.2, 1.2, 0.2, 0.2, 0.2, 1.2};
+  tets.tet = {0, 1, 2, 3, 4, 5, 6, 7};
+  e = import_error(tets);
+  EXPECT_NE(e.find("tets overlap"), std::string::npos) << e;
+  // A small cube wholly inside a large one (boundaries do not cross: nesting).
+  TetSoup nested;
+  add_cube(nested, 0, 0, 0, 3);
+  add_cube(nested, 1, 1, 1, 1);
+  e = import_error(nested);
+  EXPECT_NE(e.find("tets overlap: boundary component 2 of 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("lies inside the solid of another part (winding number 2)"), std::string::npos) << e;
+  // Two separate cubes side by side are fine (two parts, no overlap).
+  TetSoup apart;
+  add_cube(apart);
+  add_cube(apart, 2, 0, 0);
+  EXPECT_EQ(import_error(apart), "(loaded)");
+  for (const char* f : {"interpen.ele", "overlap_nofs.ele"}) {
+    const std::string err = load_error(data_dir() + f);
+    EXPECT_NE(err.find("tets overlap"), std::string::npos) << f << ": " << err;
+  }
+}
+
+TEST(TetIo, OverlapCheckCostOnALargeBoundary) {
+  // ~100k boundary triangles: a sphere's surface meshed by TetGen, imported again.
+  const SurfaceMesh s = make_sphere(0.05, 6);  // 81920 triangles
+  TetgenOptions o;
+  o.radius_edge = 0;
+  const TetMesh m = tetrahedralize_surface(s, o);
+  ASSERT_GT(m.nbtri(), 50000);
+  ASSERT_GT(m.nbtri(), kMaxSelfIntersectionCheckTriangles);
+  auto t0 = std::chrono::steady_clock::now();
+  check_tet_boundary_overlap(m, "big");  // the probe is skipped above the documented size
+  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("overlap check of %d boundary triangles (probe skipped): %.2f s\n", m.nbtri(), secs);
+  EXPECT_LT(secs, 2.0);
+  // Just below the size (20480 triangles) the probe runs.
+  const TetMesh m2 = tetrahedralize_surface(make_sphere(0.05, 5), o);
+  ASSERT_LE(m2.nbtri(), kMaxSelfIntersectionCheckTriangles);
+  t0 = std::chrono::steady_clock::now();
+  check_tet_boundary_overlap(m2, "mid");
+  secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("overlap check of %d boundary triangles: %.2f s\n", m2.nbtri(), secs);
+  EXPECT_LT(secs, 4.0);  // about 1 s measured; loose for a shared machine
 }

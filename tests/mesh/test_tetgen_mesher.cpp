@@ -7,7 +7,10 @@
 #include <limits>
 #include <string>
 
+#include "sim/contact/mesh_sdf.h"
 #include "sim/mesh/surface_generators.h"
+#include "sim/mesh/surface_io.h"
+#include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 
 using namespace softtled;
@@ -284,4 +287,126 @@ TEST(TetgenIsolation, TimeLimitStopsTetgen) {
                      {"did not finish within 0.001 s", "mesh.time_limit_s"}, "1 ms");
   o.time_limit_s = -1;
   expect_input_error([&] { tetgen_switches(o); }, {"mesh.time_limit_s"}, "negative limit");
+}
+
+namespace {
+// An axis-aligned box [lo, lo + size]^3 as 12 triangles, outward (or inward when `in`).
+void add_box(SurfaceMesh& s, double lo, double size, bool in = false) {
+  const int b = s.npoint();
+  for (int k = 0; k < 8; ++k) s.xyz.insert(s.xyz.end(), {lo + size * (k & 1), lo + size * ((k >> 1) & 1), lo + size * ((k >> 2) & 1)});
+  const int F[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                        {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  for (const auto& f : F) {
+    if (in) s.tri.insert(s.tri.end(), {b + f[0], b + f[2], b + f[1]});
+    else s.tri.insert(s.tri.end(), {b + f[0], b + f[1], b + f[2]});
+  }
+}
+}  // namespace
+
+TEST(TetgenHollow, NestedShellCavityIsKeptEmpty) {
+  for (bool inner_inward : {false, true}) {  // either orientation of the inner shell in the file
+    SurfaceMesh s;
+    add_box(s, 0, 0.03);
+    add_box(s, 0.01, 0.01, inner_inward);
+    ASSERT_NEAR(enclosed_volume(s) > 0 ? 1 : 0, 1, 0);
+    SurfaceMesh oriented = s;
+    check_and_orient_closed_surface(oriented, "hollow");
+    EXPECT_NEAR(enclosed_volume(oriented), 27e-6 - 1e-6, 1e-15);  // the solid's volume
+    const ShellNesting nest = shell_nesting(s);
+    ASSERT_EQ(nest.ncomp, 2);
+    EXPECT_EQ(nest.depth[0], 0);
+    EXPECT_EQ(nest.depth[1], 1);
+    const std::vector<double> holes = cavity_hole_points(s);
+    ASSERT_EQ(holes.size(), 3u);
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(holes[k] > 0.01 && holes[k] < 0.02) << holes[k];
+    TetgenOptions o;
+    const TetMesh m = tetrahedralize_surface(s, o);
+    double vol = 0;
+    int in_cavity = 0;
+    for (int e = 0; e < m.ntet(); ++e) {
+      const int* t = &m.tet[4 * e];
+      vol += std::fabs(tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]));
+      double c[3] = {0, 0, 0};
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 3; ++d) c[d] += m.X[3 * t[k] + d] / 4;
+      if (c[0] > 0.01 && c[0] < 0.02 && c[1] > 0.01 && c[1] < 0.02 && c[2] > 0.01 && c[2] < 0.02) ++in_cavity;
+    }
+    EXPECT_NEAR(vol, 26e-6, 1e-12);  // outer minus inner
+    EXPECT_EQ(in_cavity, 0);
+    // The hollow mesh, read back as a tet file, is one part (no overlap): the cavity's
+    // boundary lies in no other part's solid.
+    EXPECT_NO_THROW(check_tet_boundary_overlap(m, "hollow.mesh"));
+  }
+}
+
+TEST(TetgenHollow, SolidInsideACavityIsMeshedToo) {
+  // Three nested shells: solid, cavity, solid island inside the cavity.
+  SurfaceMesh s;
+  add_box(s, 0, 0.05);
+  add_box(s, 0.01, 0.03);
+  add_box(s, 0.02, 0.01);
+  SurfaceMesh oriented = s;
+  check_and_orient_closed_surface(oriented, "island");
+  EXPECT_NEAR(enclosed_volume(oriented), 125e-6 - 27e-6 + 1e-6, 1e-14);
+  const TetMesh m = tetrahedralize_surface(s, TetgenOptions{});
+  double vol = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    vol += std::fabs(tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]));
+  }
+  EXPECT_NEAR(vol, 99e-6, 1e-11);
+}
+
+TEST(TetgenProbe, CountsSelfIntersections) {
+  SurfaceMesh one;
+  add_box(one, 0, 1);
+  EXPECT_EQ(count_self_intersections(one), 0);
+  SurfaceMesh two = one;
+  add_box(two, 0.5, 1);  // overlapping cubes
+  EXPECT_GT(count_self_intersections(two), 0);
+}
+
+TEST(ObstacleSurface, SelfIntersectingOrNestedShellsAreRefused) {
+  auto error = [](const SurfaceMesh& s) -> std::string {
+    try {
+      check_obstacle_surface(s, "obs.obj");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  SurfaceMesh one;
+  add_box(one, 0, 1);
+  EXPECT_EQ(error(one), "(accepted)");
+  SurfaceMesh apart = one;
+  add_box(apart, 2, 1);  // two separate solids: fine
+  EXPECT_EQ(error(apart), "(accepted)");
+  SurfaceMesh overlapping = one;
+  add_box(overlapping, 0.5, 1);
+  EXPECT_NE(error(overlapping).find("obs.obj: the surface intersects itself"), std::string::npos) << error(overlapping);
+  SurfaceMesh twice = one;
+  add_box(twice, 0, 1);  // the same cube twice, on separate vertices
+  EXPECT_NE(error(twice).find("obs.obj: "), std::string::npos);
+  EXPECT_NE(error(twice), "(accepted)");
+  SurfaceMesh nested = one;
+  add_box(nested, 0.25, 0.5);
+  EXPECT_NE(error(nested).find("obs.obj: shell 2 of 2 (the one with triangle 12) lies inside another shell"), std::string::npos)
+      << error(nested);
+  // The tester's files: overlapping cubes, a cube inside a cube (either orientation).
+  const std::string f = __FILE__;
+  const std::string dir = f.substr(0, f.find_last_of('/')) + "/data/";
+  for (const char* name : {"overlap.obj", "nested_hollow.obj", "nested_same.obj"}) {
+    const std::string path = dir + name;
+    const std::string e = error(load_surface(path));
+    EXPECT_NE(e, "(accepted)") << name;
+    try {
+      check_obstacle_surface(load_surface(path), path);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& x) {
+      EXPECT_EQ(std::string(x.what()).rfind(path + ": ", 0), 0u) << x.what();
+    }
+  }
+  // build_mesh_sdf checks too (InputError, exit 2).
+  EXPECT_THROW(build_mesh_sdf(nested, 16), InputError);
+  EXPECT_NO_THROW(build_mesh_sdf(one, 16));
 }
