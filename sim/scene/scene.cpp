@@ -60,6 +60,13 @@ class Reader {
   }
   bool used(const std::string& key) const { return used_.count(key) > 0; }
 
+  // A quoted key with a dot ("time.duration" = 1) is one key named time.duration, not the
+  // duration key of [time]: no scene key has a dot in its name, so it is unknown.
+  [[noreturn]] void fail_quoted(const std::string& key) const {
+    fail(key, "unknown key: a quoted key containing '.' is one key, not a dotted path "
+              "(write time.duration = ..., not \"time.duration\" = ...)");
+  }
+
   const toml::node* get(const std::string& key) {
     used_.insert(key);
     return root_.at_path(key).node();
@@ -163,11 +170,14 @@ class Reader {
   void reject_unknown() const {
     for (const auto& [k, v] : root_) {
       const std::string key(k.str());
+      if (key.find('.') != std::string::npos) fail_quoted(key);
       if (key == "body") continue;  // read_bodies checks its own tables
       if (auto t = v.as_table()) {
         for (const auto& [k2, v2] : *t) {
           (void)v2;
-          const std::string full = key + "." + std::string(k2.str());
+          const std::string name(k2.str());
+          if (name.find('.') != std::string::npos) fail_quoted(key + ".\"" + name + "\"");
+          const std::string full = key + "." + name;
           if (!used_.count(full)) fail(full, "unknown key (see README, 'Scene format')");
         }
       } else if (!used_.count(key)) {
@@ -182,6 +192,78 @@ class Reader {
   std::string label_;
   std::set<std::string> used_;
 };
+
+// Dotted keys nest one table per part, and toml++ recurses once per part with no limit of
+// its own (its nesting limit counts brackets and braces only): 40000 parts overflow the
+// stack. So the text is scanned first, outside strings and comments, for chains of parts
+// joined by dots ("a.b.c", "\"x\" . y"), and a chain of more than kMaxDottedParts parts is
+// refused, naming the start of the key and its line. A float or time has one dot, a real
+// scene key at most four parts (body.material.E); nothing in a value string is counted.
+constexpr int kMaxDottedParts = 32;
+
+void check_dotted_keys(const std::string& text, const std::string& where) {
+  const std::size_t n = text.size();
+  std::size_t i = 0, line = 1, chain_start = 0, chain_line = 1;
+  int dots = 0;
+  bool in_chain = false;
+  auto reset = [&] { in_chain = false, dots = 0; };
+  auto touch = [&] {
+    if (!in_chain) in_chain = true, dots = 0, chain_start = i, chain_line = line;
+  };
+  auto bare = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+'; };
+  while (i < n) {
+    const char c = text[i];
+    if (c == '#') {  // comment: to the end of the line
+      while (i < n && text[i] != '\n') ++i;
+      reset();
+    } else if (c == '\n') {
+      ++line, ++i;
+      reset();
+    } else if (c == ' ' || c == '\t' || c == '\r') {
+      ++i;
+    } else if (c == '"' || c == '\'') {
+      touch();
+      const bool multi = i + 2 < n && text[i + 1] == c && text[i + 2] == c;
+      i += multi ? 3 : 1;
+      while (i < n) {
+        if (c == '"' && text[i] == '\\') {
+          if (i + 1 < n && text[i + 1] == '\n') ++line;
+          i += 2;
+          continue;
+        }
+        if (text[i] == '\n') {
+          if (!multi) break;  // an unterminated string: toml++ reports it
+          ++line;
+        }
+        if (text[i] == c && (!multi || (i + 2 < n && text[i + 1] == c && text[i + 2] == c))) {
+          i += multi ? 3 : 1;
+          if (multi)
+            while (i < n && text[i] == c) ++i;  // up to two quotes may end the content
+          break;
+        }
+        ++i;
+      }
+      if (multi) reset();  // a multi-line string is a value, never a key part
+    } else if (c == '.') {
+      touch();
+      ++i;
+      if (++dots + 1 > kMaxDottedParts) {
+        std::string shown = text.substr(chain_start, std::min<std::size_t>(40, i - chain_start));
+        for (char& ch : shown)
+          if (!std::isprint(static_cast<unsigned char>(ch))) ch = '?';
+        throw InputError(where + ":" + std::to_string(chain_line) + ": key '" + shown +
+                         "...' has more than " + std::to_string(kMaxDottedParts) +
+                         " dotted parts (scene keys have at most 4)");
+      }
+    } else if (bare(c)) {
+      touch();
+      ++i;
+    } else {
+      ++i;
+      reset();
+    }
+  }
+}
 
 // Scales v to unit length; false for a zero vector. Divides by the largest component first
 // so huge values do not overflow when squared (nor tiny ones underflow).
@@ -206,11 +288,28 @@ std::pair<std::size_t, std::string> split_index(const std::string& kv, const std
   return {std::stoul(idx), rest};
 }
 
+// The scene's tables: --set sets their keys one by one, never a whole table.
+const std::set<std::string> kSections = {"body",    "material", "damping", "gravity", "floor",  "slope", "obstacle",
+                                         "contact", "time",     "solver",  "output",  "mesh",   "fixed"};
+
+// A table or an array holding a table: a value only a section takes.
+bool is_table_value(const toml::node& n) {
+  if (n.is_table()) return true;
+  if (auto a = n.as_array())
+    for (const auto& e : *a)
+      if (is_table_value(e)) return true;
+  return false;
+}
+
 void apply_override(toml::table& root, const std::string& kv, const std::string& source) {
   const auto eq = kv.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
   const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
-  toml::node_view<toml::node> existing;
+  // One value on one line: anything after it (a second key on a new line) is refused,
+  // not silently parsed as more TOML or dropped.
+  if (value.find_first_of("\n\r") != std::string::npos)
+    throw InputError("--set " + key + ": the value must be on one line (one key=value per --set)");
+  check_dotted_keys("v = " + value, "--set " + key);
   // Parse the value as TOML; a bare word that is not TOML becomes a string.
   toml::table parsed;
   try {
@@ -219,11 +318,31 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     parsed = toml::table{};
     parsed.insert("v", value);
   }
+  if (parsed.size() != 1 || !parsed.contains("v"))
+    throw InputError("--set " + key + ": unexpected content after the value (one key=value per --set)");
+  const toml::node& v = *parsed["v"].node();
   const auto dot = key.find('.');
   const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
   std::string leaf = dot == std::string::npos ? key : key.substr(dot + 1);
+  // --set sets leaf keys: a whole section (material={E=5}, obstacle=[{...}], obstacle=[])
+  // would replace or add tables and drop the file's other keys.
+  const std::string one_by_one = ": set its keys one by one (--set " + (section.empty() ? key : section) +
+                                 (section == "body" || section == "obstacle" || key == "body" || key == "obstacle"
+                                      ? ".N.key=value)"
+                                      : ".key=value)");
+  if (section.empty() && kSections.count(key))
+    throw InputError(source + ": --set " + key + ": '" + key + "' is a section, not a key" + one_by_one);
+  if (is_table_value(v))
+    throw InputError(source + ": --set " + key + ": a table value is not accepted" + one_by_one);
   // body.N.key / body.N.material.key: the N-th body (0-based, file order) of [[body]]
-  // tables, or of the one [body] table (N = 0).
+  // tables, or of the one [body] table (N = 0). body.X.key with X not a body key or
+  // "material" is an index, checked here.
+  const std::string first = leaf.substr(0, leaf.find('.'));
+  if (section == "body" && leaf.find('.') != std::string::npos && first != "material") {
+    if (first.empty() || first.size() > 3 || first.find_first_not_of("0123456789") != std::string::npos)
+      throw InputError("--set '" + kv + "': the body index '" + first +
+                       "' is invalid: body keys are 'body.N.key' (N = 0, 1, ... in file order)");
+  }
   if (section == "body" && !leaf.empty() && std::isdigit(static_cast<unsigned char>(leaf[0]))) {
     auto [n, rest] = split_index(kv, leaf, "body keys are 'body.N.key' (N = 0, 1, ... in file order)");
     toml::table* body = nullptr;
@@ -239,10 +358,13 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
       if (!body->contains("material")) body->insert("material", toml::table{});
       body = (*body)["material"].as_table();
       if (!body) throw InputError(source + ": --set " + key + ": 'material' is not a table");
+    } else if (rest == "material") {
+      throw InputError(source + ": --set " + key + ": 'material' is a table, not a key: set its keys one by one (--set " +
+                       key + ".key=value)");
     }
     if (rest.empty() || rest.find('.') != std::string::npos)
       throw InputError("--set '" + kv + "': body keys are 'body.N.key' or 'body.N.material.key'");
-    body->insert_or_assign(rest, *parsed["v"].node());
+    body->insert_or_assign(rest, v);
     return;
   }
   // obstacle.N.key: the N-th [[obstacle]] table (0-based, file order). Obstacles are only
@@ -258,20 +380,23 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     if (!obstacle)
       throw InputError(source + ": --set " + key + ": the scene has no obstacle " + std::to_string(n) + " (it has " +
                        std::to_string(arr->size()) + ", numbered from 0)");
-    obstacle->insert_or_assign(rest, *parsed["v"].node());
+    obstacle->insert_or_assign(rest, v);
     return;
   }
   if (section == "body" && root["body"].as_array())
     throw InputError(source + ": --set " + key + ": the scene has [[body]] tables: use body.N." + leaf);
   if (leaf.empty() || leaf.find('.') != std::string::npos)
     throw InputError("--set '" + kv + "': keys are 'section.key' or 'key'");
+  if (section == "body" && leaf == "material")
+    throw InputError(source + ": --set " + key + ": 'material' is a table, not a key: set its keys one by one (--set " +
+                     key + ".key=value)");
   toml::table* target = &root;
   if (!section.empty()) {
     if (!root.contains(section)) root.insert(section, toml::table{});
     target = root[section].as_table();
     if (!target) throw InputError(source + ": --set " + key + ": '" + section + "' is not a table");
   }
-  target->insert_or_assign(leaf, *parsed["v"].node());
+  target->insert_or_assign(leaf, v);
 }
 
 // [mesh]: the TetGen options, with the ranges of the switch grammar (tetgen_mesher.h),
@@ -468,6 +593,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   for (const auto& [k, v] : t) {
     (void)v;
     const std::string name(k.str());
+    if (name.find('.') != std::string::npos) r.fail_quoted("body.\"" + name + "\"");
     if (!r.used("body." + name)) r.fail("body." + name, "unknown key (see README, 'Scene format')");
   }
 }
@@ -512,6 +638,7 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s) {
 
 Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
   toml::table root;
+  check_dotted_keys(text, source);
   try {
     root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
@@ -536,9 +663,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       const std::string key = "fixed[" + std::to_string(i) + "]";
       if (!t) r.fail(key, "expected a table with box_min/box_max or plane_point/plane_normal");
       auto get3 = [&](const char* name, std::array<double, 3>& out) {
-        auto a = (*t)[name].as_array();
-        if (!a) return false;
-        if (a->size() != 3) r.fail(key + "." + name, "expected 3 numbers");
+        const toml::node* n = (*t)[name].node();
+        if (!n) return false;
+        auto a = n->as_array();
+        if (!a || a->size() != 3) r.fail(key + "." + name, "expected an array of 3 numbers");
         for (int k = 0; k < 3; ++k) {
           auto v = (*a)[k].value<double>();
           if (!v || !std::isfinite(*v)) r.fail(key + "." + name, "expected finite numbers");
@@ -553,11 +681,19 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
         if (name != "box_min" && name != "box_max" && name != "plane_point" && name != "plane_normal")
           r.fail(key + "." + name, "unknown key (use box_min/box_max or plane_point/plane_normal)");
       }
+      // One selector per table: a box and a plane together would silently drop one.
+      const bool box = t->contains("box_min") || t->contains("box_max");
+      const bool plane = t->contains("plane_point") || t->contains("plane_normal");
+      if (box && plane)
+        r.fail(key + "." + (t->contains("plane_point") ? "plane_point" : "plane_normal"),
+               "cannot be combined with box_min/box_max in one [[fixed]] table (use one [[fixed]] table per selector)");
+      if (box && !t->contains("box_min")) r.fail(key + ".box_min", "required with box_max");
+      if (plane && !t->contains("plane_point")) r.fail(key + ".plane_point", "required with plane_normal");
       if (get3("box_min", f.a)) {
-        if (!get3("box_max", f.b)) r.fail(key, "box_min needs box_max");
+        if (!get3("box_max", f.b)) r.fail(key + ".box_max", "required with box_min");
         f.is_box = true;
       } else if (get3("plane_point", f.a)) {
-        if (!get3("plane_normal", f.b)) r.fail(key, "plane_point needs plane_normal");
+        if (!get3("plane_normal", f.b)) r.fail(key + ".plane_normal", "required with plane_point");
         if (!normalize(f.b)) r.fail(key + ".plane_normal", "must be non-zero");
         f.is_box = false;
       } else {
@@ -609,6 +745,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     } else if (dt->as_string() && dt->as_string()->get() == "adaptive") {
       s.dt_auto = false;
       s.dt_adaptive = true;
+    } else if (!dt->is_number()) {
+      std::string got = dt->as_string() ? "'" + dt->as_string()->get() + "'" : std::string("a ") + (dt->is_boolean() ? "boolean" : dt->is_array() ? "array" : dt->is_table() ? "table" : "date or time");
+      r.fail("time.dt", "expected a step in seconds, \"auto\" or \"adaptive\" (lower case), got " + got);
     } else {
       s.dt_auto = false;
       s.dt = r.num("time.dt", 0, 0, INFINITY, true);
@@ -616,8 +755,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   }
   s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
   s.dt_max = r.num("time.dt_max", s.dt_max, 0, INFINITY, true);
+  if (root.at_path("time.dt_max").node() && !s.dt_adaptive)
+    r.fail("time.dt_max", std::string("applies only with time.dt = \"adaptive\" (here time.dt is ") +
+                              (s.dt_auto ? "\"auto\"" : "a fixed step") + ")");
   s.allow_unstable = r.boolean("time.allow_unstable", false);
-  s.duration = r.num("time.duration", s.duration, 0, kMaxDuration);
+  s.duration = r.num("time.duration", s.duration, 0, kMaxDuration, true);  // 0 would run no step
   s.output_every = r.num("time.output_every", s.output_every, 0, INFINITY, true);
 
   s.precision = r.choice("solver.precision", s.precision, kPrecisions);

@@ -267,3 +267,113 @@ TEST(Scene, BadObstacleSetNamesTheKey) {
             std::string::npos);
   EXPECT_NE(error_of(one, {"obstacle.0.size=[1, 1, 1]"}).find("obstacle[0].size: unknown key"), std::string::npos);
 }
+
+// Dotted keys of thousands of parts overflow toml++'s recursion: they are refused by the
+// scanner first, in a file, inside [body], and in a --set value; strings and comments are
+// not keys, and floats or the scene's own keys pass.
+TEST(Scene, DeepDottedKeysAreRefusedBeforeParsing) {
+  auto chain = [](int n) {
+    std::string k = "a";
+    for (int i = 1; i < n; ++i) k += ".a";
+    return k;
+  };
+  const std::string deep = chain(40000);
+  EXPECT_NE(error_of(deep + " = 1\n").find("s.toml:1: key 'a.a.a"), std::string::npos);
+  EXPECT_NE(error_of(deep + " = 1\n").find("has more than 32 dotted parts"), std::string::npos);
+  EXPECT_NE(error_of("[body]\n" + deep + " = 1\n").find("s.toml:2: key 'a.a"), std::string::npos);
+  EXPECT_NE(error_of("[" + deep + "]\n").find("more than 32 dotted parts"), std::string::npos);
+  EXPECT_NE(error_of("\"a\" . " + chain(40) + " = 1\n").find("more than 32 dotted parts"), std::string::npos);
+  EXPECT_NE(error_of("", {"material.E={" + deep + "=1}"}).find("--set material.E:1: key 'a.a"), std::string::npos);
+  // 32 parts reach toml++ (and are then an unknown key); in strings and comments, dots are text.
+  EXPECT_NE(error_of(chain(32) + " = 1\n").find("s.toml: a.a: unknown key"), std::string::npos);
+  const std::string dots(5000, '.');
+  EXPECT_EQ(error_of("# " + dots + "\n[body]\nshape = \"file\"\nfile = \"" + dots + ".obj\"\n"), "");
+  EXPECT_EQ(error_of("[output]\ntrack_points = [[1.5, 2.5, 3.5]] # a.b\n"), "");
+  EXPECT_EQ(error_of("[mesh]\nswitches = '''\n" + dots + "'''\n").find("more than 32"), std::string::npos);
+  EXPECT_EQ(error_of("[mesh]\nswitches = \"\"\"\n\\\"" + dots + "\"\"\"\n").find("more than 32"), std::string::npos);
+}
+
+// A quoted key with a dot is one key of that name: unknown, not the dotted path.
+TEST(Scene, QuotedDottedKeysAreUnknown) {
+  EXPECT_NE(error_of("\"time.duration\" = -5\n").find("s.toml: time.duration: unknown key: a quoted key containing '.'"),
+            std::string::npos);
+  EXPECT_NE(error_of("\"material.E\" = 1e30\n").find("material.E: unknown key: a quoted key"), std::string::npos);
+  EXPECT_NE(error_of("\"floor.enabled\" = \"yes\"\n").find("floor.enabled: unknown key: a quoted key"), std::string::npos);
+  EXPECT_NE(error_of("[time]\n\"a.b\" = 1\n").find("time.\"a.b\": unknown key: a quoted key"), std::string::npos);
+  EXPECT_NE(error_of("[body]\n\"material.E\" = 1e30\n").find("body.\"material.E\": unknown key: a quoted key"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[body]]\n[[body]]\n\"material.E\" = 1e30\n").find("body[1].\"material.E\": unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of("[body.material]\n\"E.x\" = 1\n").find("body.material.E.x: unknown key"), std::string::npos);
+}
+
+// --set sets leaf keys: never a whole section (added, removed or replaced tables).
+TEST(Scene, SetRefusesSectionsAndTrailingContent) {
+  const std::string one = "[[obstacle]]\nshape = \"sphere\"\ncenter = [0, -8, 0]\nradius = 3\n";
+  EXPECT_NE(error_of("", {"obstacle=[{shape=\"sphere\", center=[0,0,0], radius=1}]"})
+                .find("--set obstacle: 'obstacle' is a section, not a key: set its keys one by one (--set obstacle.N.key=value)"),
+            std::string::npos);
+  EXPECT_NE(error_of(one, {"obstacle=[]"}).find("--set obstacle: 'obstacle' is a section"), std::string::npos);
+  EXPECT_NE(error_of("", {"material={E=5}"})
+                .find("--set material: 'material' is a section, not a key: set its keys one by one (--set material.key=value)"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"material=5"}).find("--set material: 'material' is a section"), std::string::npos);
+  EXPECT_NE(error_of("", {"fixed=[]"}).find("--set fixed: 'fixed' is a section"), std::string::npos);
+  EXPECT_NE(error_of("", {"material.E={a=1}"}).find("--set material.E: a table value is not accepted"), std::string::npos);
+  EXPECT_NE(error_of("", {"body.material={E=5}"}).find("--set body.material: a table value is not accepted"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"body.material=5"}).find("--set body.material: 'material' is a table, not a key"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"body.0.material=5"}).find("--set body.0.material: 'material' is a table, not a key"),
+            std::string::npos);
+  // The file's other material keys survive a set one.
+  const Scene s = parse_scene("[material]\nE = 4000\nnu = 0.3\nrho = 900\n", "s.toml", {"material.E=5"});
+  EXPECT_DOUBLE_EQ(s.E, 5);
+  EXPECT_DOUBLE_EQ(s.nu, 0.3);
+  EXPECT_DOUBLE_EQ(s.rho, 900);
+  // Anything after the value.
+  EXPECT_NE(error_of("", {"material.E=3000\nmaterial.nu=0.1"}).find("--set material.E: the value must be on one line"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"material.E=3000\rx"}).find("--set material.E: the value must be on one line"), std::string::npos);
+  EXPECT_DOUBLE_EQ(parse_scene("", "s", {"material.E=3000 # a comment"}).E, 3000);
+  // A bad body index is named as one.
+  EXPECT_NE(error_of("", {"body.-1.position=[0, 0, 0]"}).find("--set 'body.-1.position=[0, 0, 0]': the body index '-1' is invalid"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"body.x.position=[0, 0, 0]"}).find("the body index 'x' is invalid"), std::string::npos);
+}
+
+TEST(Scene, TimeKeysNameTheirProblem) {
+  EXPECT_NE(error_of("", {"time.duration=0"}).find("s.toml: time.duration: value 0 out of range (0, "), std::string::npos);
+  EXPECT_NE(error_of("", {"time.dt=\"Auto\""})
+                .find("time.dt: expected a step in seconds, \"auto\" or \"adaptive\" (lower case), got 'Auto'"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"time.dt=true"}).find("time.dt: expected a step in seconds, \"auto\" or \"adaptive\""),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"time.dt_max=1e-5"}).find("time.dt_max: applies only with time.dt = \"adaptive\" (here time.dt is \"auto\")"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"time.dt=1e-6", "time.dt_max=1e-5"}).find("time.dt_max: applies only with time.dt = \"adaptive\" (here time.dt is a fixed step)"),
+            std::string::npos);
+  const Scene s = parse_scene("", "s", {"time.dt=adaptive", "time.dt_max=1e-5"});
+  EXPECT_TRUE(s.dt_adaptive);
+  EXPECT_DOUBLE_EQ(s.dt_max, 1e-5);
+}
+
+TEST(Scene, FixedSelectorsAreOneKindAndTyped) {
+  const std::string both = "[[fixed]]\nbox_min = [0, 0, 0]\nbox_max = [1, 1, 1]\nplane_point = [0, 0, 0]\nplane_normal = [0, 1, 0]\n";
+  EXPECT_NE(error_of(both).find("s.toml: fixed[0].plane_point: cannot be combined with box_min/box_max"), std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nbox_min = \"x\"\nplane_point = [0, 0, 0]\nplane_normal = [0, 1, 0]\n")
+                .find("fixed[0].plane_point: cannot be combined"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nbox_min = \"x\"\nbox_max = [1, 1, 1]\n").find("fixed[0].box_min: expected an array of 3 numbers"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nplane_point = [0, 0, 0]\nplane_normal = 5\n").find("fixed[0].plane_normal: expected an array of 3"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nbox_max = [1, 1, 1]\n").find("fixed[0].box_min: required with box_max"), std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nbox_min = [1, 1, 1]\n").find("fixed[0].box_max: required with box_min"), std::string::npos);
+  EXPECT_NE(error_of("[[fixed]]\nplane_normal = [0, 1, 0]\n").find("fixed[0].plane_point: required with plane_normal"),
+            std::string::npos);
+  const Scene s = parse_scene("[[fixed]]\nplane_point = [0, 0, 0]\nplane_normal = [0, 2, 0]\n", "s");
+  ASSERT_EQ(s.fixed.size(), 1u);
+  EXPECT_FALSE(s.fixed[0].is_box);
+  EXPECT_DOUBLE_EQ(s.fixed[0].b[1], 1);
+}
