@@ -27,8 +27,7 @@ Command add_plot_command(CLI::App& app) {
   c->add_option("--title", o->title, "prefix of the first panel's title (default: the CSV's file name)");
   return [o]() {
     int w = 0, h = 0;
-    char rest = 0;
-    if (std::sscanf(o->size.c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w < 200 || h < 200 || w > 8192 || h > 8192)
+    if (!parse_wxh_size(o->size, 200, 8192, w, h))
       throw InputError("--size '" + o->size + "': expected WxH between 200 and 8192, e.g. 900x700");
     check_output_file(o->out, "--out");
     const CsvTable table = read_csv_table(o->csv);
@@ -39,19 +38,9 @@ Command add_plot_command(CLI::App& app) {
       throw InputError(o->csv + ": " + e.what());
     }
     const Image im = plot_panels(panels, w, h);
-    const std::string tmp = o->out + ".tmp";  // renamed when complete
-    try {
-      write_png(tmp, im);
-    } catch (const std::exception&) {
-      const int e = errno;
-      std::remove(tmp.c_str());
-      throw ResourceError(o->out + ": cannot write PNG: " + std::strerror(e));
-    }
-    if (std::rename(tmp.c_str(), o->out.c_str()) != 0) {
-      const int e = errno;
-      std::remove(tmp.c_str());
-      throw ResourceError(o->out + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
-    }
+    // OUT.tmp renamed onto OUT when complete; a device or FIFO written in place; every
+    // write checked (ResourceError naming OUT and the OS reason: exit 5).
+    write_png(o->out, im);
     std::printf("%s: %zu rows -> %s (%dx%d)\n", o->csv.c_str(), table.cols[0].size(), o->out.c_str(), w, h);
     return 0;
   };

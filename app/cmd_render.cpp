@@ -11,6 +11,7 @@
 #include "app/cli_support.h"
 #include "app/commands.h"
 #include "app/headless_render.h"
+#include "app/plot_csv.h"
 #include "app/render_handoff.h"
 #include "app/video_encoder.h"
 #include "sim/io/output_file.h"
@@ -20,6 +21,30 @@
 namespace softtled {
 
 namespace {
+std::string number_text(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+// Distinct times must give distinct PNG names (frame_file_name rounds the time): a later
+// frame must not overwrite an earlier one.
+void check_frame_names(const std::vector<double>& times, const std::string& stem) {
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    const std::string a = frame_file_name(stem, times[i - 1]), b = frame_file_name(stem, times[i]);
+    if (a == b)
+      throw InputError("--at: times " + number_text(times[i - 1]) + " and " + number_text(times[i]) + " both give the file name " +
+                       a + " (PNG names keep the time to 0.1 ms); give times further apart");
+  }
+}
+
+// --stem is a file name inside --out, not a path.
+void check_stem(const std::string& stem) {
+  if (stem.empty()) throw InputError("--stem: empty; give a file name stem, e.g. drop");
+  if (stem.find('/') != std::string::npos || stem == "." || stem == "..")
+    throw InputError("--stem '" + stem + "': must be a file name stem without '/' (files go into --out)");
+}
+
 std::vector<double> parse_times(const std::string& s) {
   std::vector<double> t;
   std::stringstream in(s);
@@ -36,14 +61,15 @@ std::vector<double> parse_times(const std::string& s) {
   }
   if (t.empty()) throw InputError("--at: no times given");
   if (t.size() > 100000) throw InputError("--at: at most 100000 times");
-  for (std::size_t i = 1; i < t.size(); ++i)
+  for (std::size_t i = 1; i < t.size(); ++i) {
     if (t[i] < t[i - 1]) throw InputError("--at: times must be in increasing order");
+    if (t[i] == t[i - 1]) throw InputError("--at: time " + number_text(t[i]) + " given twice (each time is one PNG)");
+  }
   return t;
 }
 
 void parse_size(const std::string& s, int& w, int& h) {
-  char rest = 0;
-  if (std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+  if (!parse_wxh_size(s, 16, 8192, w, h))
     throw InputError("--size '" + s + "': expected WxH between 16 and 8192, e.g. 960x720");
 }
 }  // namespace
@@ -105,7 +131,9 @@ Command add_render_command(CLI::App& app) {
     h.zoom = o->zoom;
     h.follow = !o->fixed_camera;
     h.out_dir = o->out;
+    if (c->count("--stem")) check_stem(o->stem);
     h.stem = o->stem.empty() ? std::filesystem::path(o->scene).stem().string() : o->stem;
+    if (!is_video) check_frame_names(h.times, h.stem);
     h.context.backend = o->context;
     if (is_video) {
       // Range and rate before meshing too (the time step is checked once it is known).

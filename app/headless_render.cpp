@@ -140,19 +140,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       if (!o.out_dir.empty()) {
         t0 = Clock::now();
         f.path = o.out_dir + "/" + frame_file_name(o.stem, t);
-        // To PATH.tmp, renamed when complete: no half-written PNG under the frame's name.
-        const std::string tmp = f.path + ".tmp";
-        try {
-          write_png(tmp, f.image);
-        } catch (const std::exception&) {
-          std::remove(tmp.c_str());
-          throw ResourceError(f.path + ": cannot write PNG: " + std::strerror(errno));
-        }
-        if (std::rename(tmp.c_str(), f.path.c_str()) != 0) {
-          const int e = errno;
-          std::remove(tmp.c_str());
-          throw ResourceError(f.path + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
-        }
+        write_png(f.path, f.image);  // atomic (PATH.tmp, renamed): no half-written PNG; a failure is a ResourceError
         f.png_s = seconds_since(t0);
       }
       if (on_frame) on_frame(f);

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <string_view>
 
 #include "sim/core/input_error.h"
+#include "sim/mesh/surface_io.h"
 
 namespace softtled {
 
@@ -17,40 +17,114 @@ const std::vector<double>* CsvTable::column(const std::string& name) const {
   return nullptr;
 }
 
-CsvTable read_csv_table(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path + ": cannot read: " + std::strerror(errno));
+namespace {
+// Decimal number syntax: [+-] digits [. digits] [(e|E) [+-] digits], at least one digit
+// before the exponent. Refuses what strtod would also take: hex, inf, nan, spaces inside.
+bool is_decimal(const std::string& s) {
+  std::size_t i = 0, n = s.size();
+  auto digits = [&] {
+    const std::size_t b = i;
+    while (i < n && s[i] >= '0' && s[i] <= '9') ++i;
+    return i - b;
+  };
+  if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+  std::size_t mant = digits();
+  if (i < n && s[i] == '.') {
+    ++i;
+    mant += digits();
+  }
+  if (mant == 0) return false;
+  if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  return i == n;
+}
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && (s[b] == ' ' || s[b] == '\t')) ++b;
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t')) --e;
+  return s.substr(b, e - b);
+}
+
+std::string shown(const std::string& cell) {  // a cell as quoted in a message
+  std::string r;
+  for (char c : cell.substr(0, 40)) r += (c == '\0' ? std::string("\\0") : std::string(1, c));
+  return cell.size() > 40 ? r + "..." : r;
+}
+}  // namespace
+
+CsvTable parse_csv_table(const std::string& text_in, const std::string& path) {
+  std::string_view text(text_in);
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark
   CsvTable t;
-  std::string line;
   long lineno = 0;
-  while (std::getline(f, line)) {
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string line(text.substr(pos, nl - pos));
+    pos = nl + 1;
     ++lineno;
+    const std::string where = path + ":" + std::to_string(lineno);
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos)
+      throw InputError(where + ": a NUL byte at column " + std::to_string(line.find('\0') + 1) + " (not a text CSV)");
     if (line.empty() || line[0] == '#') continue;
     std::vector<std::string> cells;
-    std::stringstream in(line);
-    std::string cell;
-    while (std::getline(in, cell, ',')) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.push_back("");
+    std::size_t b = 0;
+    for (;;) {
+      const std::size_t c = line.find(',', b);
+      cells.push_back(line.substr(b, c == std::string::npos ? std::string::npos : c - b));
+      if (c == std::string::npos) break;
+      b = c + 1;
+    }
     if (t.names.empty()) {
+      for (std::string& c : cells) c = trim(c);
       t.names = cells;
       t.cols.resize(cells.size());
       continue;
     }
     if (cells.size() != t.names.size())
-      throw InputError(path + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) + " values, the header has " +
-                       std::to_string(t.names.size()));
+      throw InputError(where + ": " + std::to_string(cells.size()) + " values, the header has " + std::to_string(t.names.size()));
+    const std::string row = std::to_string(t.cols[0].size() + 1);
     for (std::size_t c = 0; c < cells.size(); ++c) {
-      const char* s = cells[c].c_str();
-      char* end = nullptr;
-      const double v = std::strtod(s, &end);
-      if (end == s || *end != '\0')
-        throw InputError(path + ":" + std::to_string(lineno) + ": column " + t.names[c] + ": '" + cells[c] + "' is not a number");
+      const std::string cell = trim(cells[c]);
+      const std::string at = where + " (row " + row + "): column " + t.names[c] + ": '" + shown(cells[c]) + "' ";
+      if (!is_decimal(cell)) throw InputError(at + "is not a decimal number");
+      errno = 0;
+      const double v = std::strtod(cell.c_str(), nullptr);
+      if (!std::isfinite(v) || std::fabs(v) > kMaxPlotValue)
+        throw InputError(at + "is not a finite number of magnitude at most 1e30");
       t.cols[c].push_back(v);
     }
   }
   if (t.names.empty()) throw InputError(path + ": empty file (expected a header row: softtled run --csv)");
   return t;
+}
+
+bool parse_wxh_size(const std::string& s, int lo, int hi, int& w, int& h) {
+  const std::size_t x = s.find('x');
+  if (x == std::string::npos) return false;
+  auto side = [&](const std::string& d, int& v) {
+    if (d.empty() || d.size() > 9) return false;  // 9 digits cannot overflow an int
+    for (char c : d)
+      if (c < '0' || c > '9') return false;
+    const long n = std::stol(d);
+    if (n < lo || n > hi) return false;
+    v = int(n);
+    return true;
+  };
+  int a = 0, b = 0;
+  if (!side(s.substr(0, x), a) || !side(s.substr(x + 1), b)) return false;
+  w = a, h = b;
+  return true;
+}
+
+CsvTable read_csv_table(const std::string& path, std::uint64_t max_bytes) {
+  return parse_csv_table(read_input_file(path, max_bytes), path);
 }
 
 std::vector<PlotPanel> run_plot_panels(const CsvTable& table, const std::string& title) {

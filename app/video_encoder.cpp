@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -37,6 +38,36 @@ std::string container_for(const std::string& path) {
   if (ends(".mov")) return "mov";
   if (ends(".mkv")) return "matroska";
   return "";
+}
+
+// "" when the MP4/MOV file's top-level boxes run exactly to its end and include the
+// 'moov' index (written last, as the trailer: a write failure there leaves it out or cut).
+std::string mp4_incomplete(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return std::string("cannot read it back: ") + std::strerror(errno);
+  f.seekg(0, std::ios::end);
+  const std::uint64_t size = std::uint64_t(f.tellg());
+  std::uint64_t pos = 0;
+  bool moov = false;
+  while (pos < size) {
+    unsigned char hd[16];
+    if (size - pos < 8) return "a box header cut at byte " + std::to_string(pos);
+    f.seekg(std::streamoff(pos));
+    if (!f.read(reinterpret_cast<char*>(hd), 8)) return "read error at byte " + std::to_string(pos);
+    std::uint64_t len = (std::uint64_t(hd[0]) << 24) | (std::uint64_t(hd[1]) << 16) | (std::uint64_t(hd[2]) << 8) | hd[3];
+    const std::string type(reinterpret_cast<const char*>(hd + 4), 4);
+    if (len == 1) {
+      if (size - pos < 16 || !f.read(reinterpret_cast<char*>(hd + 8), 8)) return "a box header cut at byte " + std::to_string(pos);
+      len = 0;
+      for (int i = 8; i < 16; ++i) len = (len << 8) | hd[i];
+    } else if (len == 0) {
+      len = size - pos;
+    }
+    if (len < 8 || len > size - pos) return "box '" + type + "' at byte " + std::to_string(pos) + " runs past the end of the file";
+    if (type == "moov") moov = true;
+    pos += len;
+  }
+  return moov ? "" : "no 'moov' index (the trailer was not written)";
 }
 
 std::string number(double v) {
@@ -150,6 +181,15 @@ std::string VideoEncoder::ffmpeg_log() const {
   return text.empty() ? "no message" : text;
 }
 
+bool VideoEncoder::ffmpeg_logged_errors() const {
+  std::ifstream f(log_);
+  std::string line;
+  while (std::getline(f, line))
+    for (char c : line)
+      if (!std::isspace(static_cast<unsigned char>(c))) return true;
+  return false;
+}
+
 void VideoEncoder::fail(const std::string& what) {
   // ffmpeg may still be writing its message: close its input and wait before reading it.
   if (fd_ >= 0) ::close(fd_), fd_ = -1;
@@ -195,6 +235,17 @@ void VideoEncoder::finish() {
   if (!WIFEXITED(st) || WEXITSTATUS(st) != 0)
     fail(WIFEXITED(st) ? "ffmpeg failed with exit code " + std::to_string(WEXITSTATUS(st))
                        : "ffmpeg ended by signal " + std::to_string(WTERMSIG(st)));
+  // ffmpeg exits 0 after some write failures ("Error writing trailer ...: File too large"),
+  // leaving an unplayable file: with -loglevel error every line it logged is an error.
+  if (ffmpeg_logged_errors()) fail("encoding failed although ffmpeg exited 0");
+  struct stat tst {};
+  if (::stat(tmp_.c_str(), &tst) != 0) fail(std::string("ffmpeg wrote no file: ") + std::strerror(errno));
+  if (S_ISREG(tst.st_mode) && tst.st_size == 0) fail("ffmpeg wrote an empty file");
+  const std::string container = container_for(path_);
+  if (S_ISREG(tst.st_mode) && (container == "mp4" || container == "mov")) {
+    const std::string why = mp4_incomplete(tmp_);
+    if (!why.empty()) fail("the video ffmpeg wrote is incomplete: " + why);
+  }
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const int e = errno;
     std::remove(tmp_.c_str());

@@ -36,6 +36,8 @@ class VideoEncoder {
   void write(const Image& frame);
   // Closes the input, waits for ffmpeg and renames PATH.tmp onto PATH; ResourceError (with
   // ffmpeg's message) when encoding failed, and then nothing is left at PATH or PATH.tmp.
+  // Failed also when ffmpeg exits 0 but logged an error (it does so after "Error writing
+  // trailer ...: File too large" on a full disk) or left no or an empty file.
   void finish();
 
   long frames() const { return frames_; }
@@ -47,6 +49,7 @@ class VideoEncoder {
   [[noreturn]] void fail(const std::string& what);
   void abort_child();
   std::string ffmpeg_log() const;  // the last lines ffmpeg wrote to its standard error
+  bool ffmpeg_logged_errors() const;  // ffmpeg (at -loglevel error) wrote any message
   std::string path_, tmp_, log_;
   int w_ = 0, h_ = 0;
   double fps_ = 0;

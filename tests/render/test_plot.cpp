@@ -88,3 +88,58 @@ TEST(Plot, MissingColumnIsAnInputError) {
   EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 2);
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad.png"));
 }
+
+namespace {
+std::string csv_error(const std::string& text) {
+  try {
+    (void)parse_csv_table(text, "x.csv");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Plot, NumbersAreFiniteDecimals) {
+  const std::string head = "t,ke\n0,1\n";
+  for (const char* v : {"nan", "inf", "-inf", "infinity", "0x10", "1e", "+", ".e5", "1 2", "1e999", "-1e31"}) {
+    const std::string msg = csv_error(head + "1," + v + "\n");
+    EXPECT_NE(msg.find("x.csv:3 (row 2): column ke: '" + std::string(v) + "' is not a"), std::string::npos) << v << ": " << msg;
+  }
+  const CsvTable t = parse_csv_table(head + "1,-2.5e-3\n2,+.5\n3,7.\n4,1e30\n", "x.csv");
+  ASSERT_EQ(t.cols[1].size(), 5u);
+  EXPECT_DOUBLE_EQ(t.cols[1][1], -2.5e-3);
+  EXPECT_DOUBLE_EQ(t.cols[1][2], 0.5);
+  EXPECT_DOUBLE_EQ(t.cols[1][3], 7);
+  EXPECT_DOUBLE_EQ(t.cols[1][4], 1e30);
+}
+
+TEST(Plot, ByteOrderMarkAndNulBytes) {
+  const CsvTable t = parse_csv_table("\xEF\xBB\xBFt,cy\r\n0,1\r\n", "x.csv");
+  ASSERT_EQ(t.names.size(), 2u);
+  EXPECT_EQ(t.names[0], "t");
+  ASSERT_NE(t.column("t"), nullptr);
+  EXPECT_NE(csv_error(std::string("t,cy\n0,1\0002\n", 13)).find("x.csv:2: a NUL byte at column 4"), std::string::npos)
+      << csv_error(std::string("t,cy\n0,1\0002\n", 13));
+}
+
+TEST(Plot, SizeDoesNotWrap) {
+  int w = 0, h = 0;
+  EXPECT_TRUE(parse_wxh_size("900x700", 200, 8192, w, h));
+  EXPECT_EQ(w, 900);
+  EXPECT_EQ(h, 700);
+  for (const char* s : {"4294968196x700", "900x4294967996", "-900x700", "900x+700", "900x700x", "900 x700", "x700", "199x700",
+                        "900x8193", "99999999999999999999x700"})
+    EXPECT_FALSE(parse_wxh_size(s, 200, 8192, w, h)) << s;
+}
+
+TEST(Plot, InputMustBeARegularFile) {
+  for (const std::string p : {"/dev/zero", "/tmp"}) {
+    try {
+      (void)read_csv_table(p);
+      ADD_FAILURE() << p << " read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+}

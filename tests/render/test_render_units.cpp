@@ -8,6 +8,7 @@
 
 #include "render/camera.h"
 #include "render/image.h"
+#include "sim/io/output_file.h"
 #include "render/math3d.h"
 #include "render/scene_renderer.h"
 #include "app/viewer_picking.h"
@@ -71,6 +72,27 @@ TEST(ImagePng, RoundTrip) {
 }
 
 TEST(ImagePng, MissingFileThrows) { EXPECT_THROW(read_png("/nonexistent/softtled.png"), std::runtime_error); }
+
+// A failed write is a ResourceError naming the file and the OS reason (stbi_write_png
+// ignored it); a device is written in place, not replaced.
+TEST(ImagePng, WriteErrorsAreResourceErrors) {
+  Image a(64, 48);
+  try {
+    write_png("/dev/full", a);
+    ADD_FAILURE() << "writing /dev/full succeeded";
+  } catch (const ResourceError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full: write failed: No space left on device"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/full"));
+  try {
+    write_png("/nonexistent/dir/x.png", a);
+    ADD_FAILURE() << "writing into a missing directory succeeded";
+  } catch (const ResourceError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write: No such file or directory"), std::string::npos) << e.what();
+  }
+  const std::string png = encode_png(a);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+}
 
 TEST(Math3d, InverseTimesMatrixIsIdentity) {
   Camera c;
