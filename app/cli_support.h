@@ -1,11 +1,14 @@
 #pragma once
 // What the sub-commands share: the exit codes, numeric validators for CLI11 options (the
-// range shows in --help), SIGINT/SIGTERM as a stop request, the backend choice and the
+// range shows in --help), SIGINT/SIGTERM/SIGHUP as a stop request, the backend choice and the
 // bounds on a run's step count.
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
 
+#include <vector>
+
+#include "sim/io/output_file.h"
 #include "sim/scene/simulation.h"
 
 namespace softtled {
@@ -17,6 +20,7 @@ enum ExitCode {
   kExitInternal = 3,   // a bug
   kExitDiverged = 4,   // the watchdog stopped a diverging run
   kExitResource = 5,   // the machine: out of memory, disk full or write error, no display / EGL
+  kExitSighup = 129,   // stopped by SIGHUP (128 + 1), as for SIGTERM
   kExitSigint = 130,   // stopped by SIGINT (128 + 2) after writing what it had
   kExitSigterm = 143,  // stopped by SIGTERM (128 + 15)
 };
@@ -29,10 +33,15 @@ CLI::Validator finite_range(double lo, double hi);
 // An integer option's range, shown in --help (CLI11 refuses values that overflow the type).
 CLI::Validator int_range(long lo, long hi);
 
-// SIGINT and SIGTERM set a flag that long loops poll (stop_requested) to finish the current
+// The files a scene reads: the scene file itself (as `scene_flag`, when it came from a
+// file) and every body's and mesh obstacle's file (relative to the scene's folder), for
+// check_distinct_paths.
+std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag);
+
+// SIGINT, SIGTERM and SIGHUP (a closed terminal) set a flag that long loops poll (stop_requested) to finish the current
 // step, write what they have and return; a second signal ends the program at once.
 void install_stop_signals();
-int stop_signal();  // 0, SIGINT or SIGTERM
+int stop_signal();  // 0, SIGINT, SIGTERM or SIGHUP
 inline bool stop_requested() { return stop_signal() != 0; }
 int exit_code_for_signal(int sig);
 

@@ -8,10 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <vector>
 
 #include "app/cli_support.h"
 #include "app/commands.h"
@@ -62,6 +64,21 @@ std::string duration_text(double s) {
   return b;
 }
 
+// The default scene, as `view` finds it: $SOFTTLED_ASSETS, ./assets, then the source tree.
+std::string default_scene() {
+  std::vector<std::string> roots;
+  if (const char* a = std::getenv("SOFTTLED_ASSETS")) roots.push_back(a);
+  roots.push_back("assets");
+#ifdef SOFTTLED_SOURCE_DIR
+  roots.push_back(std::string(SOFTTLED_SOURCE_DIR) + "/assets");
+#endif
+  for (const auto& r : roots) {
+    const std::string p = r + "/scenes/torus_drop.toml";
+    if (std::filesystem::exists(p)) return p;
+  }
+  throw InputError("no --scene given and assets/scenes/torus_drop.toml not found (set SOFTTLED_ASSETS)");
+}
+
 std::string default_out_dir() {
   const std::time_t now = std::time(nullptr);
   char b[64];
@@ -74,15 +91,16 @@ std::string default_out_dir() {
 
 Command add_accuracy_command(CLI::App& app) {
   struct Opts {
-    std::string scene = "assets/scenes/torus_drop.toml", out, backend = "auto";
+    std::string scene, out, backend = "auto";
     std::string levels = "45x9,91x19,182x38", ref = "273x57", lambdas = "0.1,0.25,0.5,1.0", adaptive_lambdas;
     std::string precisions = "float,double", elements = "T4,T4ANP";
     double t_end = 0.2, ref_lambda = 0.25;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("accuracy", "speed-for-accuracy sweep against a converged reference");
-  c->add_option("--scene", o->scene, "base scene (the torus drop)")->capture_default_str();
-  c->add_option("--out", o->out, "output directory for accuracy.csv and accuracy.md (default: a new ./accuracy-DATE-TIME)");
+  CLI::Option* scene_opt = c->add_option(
+      "--scene", o->scene, "base scene (default: scenes/torus_drop.toml under $SOFTTLED_ASSETS, ./assets or the source tree)");
+  CLI::Option* out_opt = c->add_option("--out", o->out, "output directory for accuracy.csv and accuracy.md (default: a new ./accuracy-DATE-TIME)");
   c->add_option("--backend", o->backend, "cpu, cuda or auto")->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--levels", o->levels, "torus grids to sweep, e.g. 45x9,91x19; NUxNV@qRHO sets TetGen's radius-edge bound")
       ->capture_default_str();
@@ -94,8 +112,11 @@ Command add_accuracy_command(CLI::App& app) {
   c->add_option("--precisions", o->precisions, "float,double")->capture_default_str();
   c->add_option("--elements", o->elements, "T4,T4ANP")->capture_default_str();
   c->add_option("--t-end", o->t_end, "simulated time per run [s]")->check(finite_range(1e-3, 10))->capture_default_str();
-  return [o]() {
+  return [o, scene_opt, out_opt]() {
     // ---- every argument first: the reference run takes hours on a CPU ----
+    if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
+    if (out_opt->count() && o->out.empty()) throw InputError("--out: empty path");
+    if (o->scene.empty()) o->scene = default_scene();
     auto parse_lambdas = [](const std::string& flag, const std::string& list) {
       std::vector<double> out;
       for (const auto& ls : split(list)) {
@@ -136,6 +157,9 @@ Command add_accuracy_command(CLI::App& app) {
     const std::string csv_path = o->out + "/accuracy.csv", md_path = o->out + "/accuracy.md";
     check_output_file(csv_path, "--out");
     check_output_file(md_path, "--out");
+    check_distinct_paths({{o->scene, "--scene"}, {csv_path, "--out", true}, {md_path, "--out", true}});
+    // SIGINT/SIGTERM/SIGHUP: stop after the run in progress, keeping the rows written.
+    install_stop_signals();
 
     const double t1 = std::min(0.05, o->t_end), t2 = std::min(0.1, o->t_end);
     const std::string header =
@@ -213,17 +237,26 @@ Command add_accuracy_command(CLI::App& app) {
       wall_done += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
 
+    auto stopped = [&]() {
+      csv.close();
+      std::fprintf(stderr, "softtled: stopped by signal %d after %zu of %zu runs; wrote %zu rows to %s and %s\n",
+                   stop_signal(), rows.size(), jobs.size(), rows.size(), csv_path.c_str(), md_path.c_str());
+      return exit_code_for_signal(stop_signal());
+    };
+    if (stop_requested()) return stopped();
     auto t0 = begin_job(jobs[0]);
     const AccuracyRun ref = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2);
     end_job(jobs[0], t0);
     const FieldSampler sampler(*ref.mesh);
     emit(ref, compare_runs(ref, ref, sampler, t2));
+    if (stop_requested()) return stopped();
     // The reference's own convergence: T4 on the same grid, and the next level down.
     t0 = begin_job(jobs[1]);
     const AccuracyRun ref_t4 = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2);
     end_job(jobs[1], t0);
     emit(ref_t4, compare_runs(ref_t4, ref, sampler, t2));
     for (std::size_t i = 2; i < jobs.size(); ++i) {
+      if (stop_requested()) return stopped();
       const Job& j = jobs[i];
       t0 = begin_job(j);
       try {
@@ -239,6 +272,7 @@ Command add_accuracy_command(CLI::App& app) {
       }
       end_job(j, t0);
     }
+    if (stop_requested()) return stopped();
     csv.close();
     std::fprintf(stderr, "wrote %s and %s\n", csv_path.c_str(), md_path.c_str());
     return 0;

@@ -241,9 +241,12 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   // Warm-up (module load, graph instantiation, caches), then the chunk size.
   sim.step(3);
   sync();
-  long chunk = 0;
+  // Exactly `steps` timed steps when given (checked >= samples up front): the first
+  // steps % samples samples take one step more than the others.
+  long chunk = 0, extra = 0;
   if (steps > 0) {
-    chunk = std::max(1L, steps / o.samples);
+    chunk = steps / o.samples;
+    extra = steps % o.samples;
     sim.step(std::min(chunk, 500L));
   } else {
     const double est = std::max(1e-3, timed(20) / 20);
@@ -252,11 +255,15 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   sync();
   std::vector<double> per_step;
   const auto w0 = Clock::now();
-  for (int s = 0; s < o.samples; ++s) per_step.push_back(timed(chunk) / double(chunk));
+  for (int s = 0; s < o.samples && !stop_requested(); ++s) {
+    const long n = chunk + (s < extra ? 1 : 0);
+    per_step.push_back(timed(n) / double(n));
+  }
   sync();
-  r.wall_us = std::chrono::duration<double, std::micro>(Clock::now() - w0).count() / double(chunk * o.samples);
-  r.steps = chunk * o.samples;
+  r.steps = chunk * o.samples + extra;
   r.samples = o.samples;
+  if (stop_requested()) return r;  // the caller reports the stop; nothing is written
+  r.wall_us = std::chrono::duration<double, std::micro>(Clock::now() - w0).count() / double(r.steps);
   r.us = stats_of(per_step);
   std::fprintf(stderr, "  %-5s %8d tets: %.3f us/step median (%s, %s)\n", label.c_str(), r.ntet, r.us.median, r.device.c_str(),
                r.mode.c_str());
@@ -402,11 +409,11 @@ std::string json_result(const Result& r, double copy_gbs) {
 Command add_bench_command(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("bench", "time the explicit step (paper's Table II); --sweep over refined tori");
-  c->add_option("--scene", o->scene, "scene file (TOML)")->required();
+  CLI::Option* scene_opt = c->add_option("--scene", o->scene, "scene file (TOML)")->required();
   c->add_option("--backend", o->backend, "cpu, cuda or auto (cuda when a device is usable)")
       ->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
   c->add_option("--steps", o->steps, "timed steps for the scene (paper: 8000)")->check(int_range(1, 1000000000))->capture_default_str();
-  c->add_option("--json", o->json, "write the results as JSON");
+  CLI::Option* json_opt = c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_flag("--no-compare{false}", o->compare_modes, "CUDA: time only the chosen mode, not the others and other lane counts");
   c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
@@ -418,13 +425,29 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(int_range(3, 1000))->capture_default_str();
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  return [o]() {
+  return [o, scene_opt, json_opt]() {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
+    if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
+    if (json_opt->count() && o->json.empty()) throw InputError("--json: empty path");
     if (!o->json.empty()) check_output_file(o->json, "--json");  // before minutes of timing
+    // Exactly --steps timed steps, split over --samples timed chunks of one step at least.
+    if (o->steps < o->samples)
+      throw InputError("--steps " + std::to_string(o->steps) + ": fewer than --samples " + std::to_string(o->samples) +
+                       " (each sample times at least one step); give --steps >= --samples");
     o->backend = resolve_backend(o->backend);
     std::vector<std::string> set = o->set;
     set.push_back("solver.precision=" + o->precision);
     const Scene sc = load_scene(o->scene, set);
+    {  // --json onto the scene or a surface it reads
+      std::vector<PathUse> paths = scene_inputs(sc, "--scene");
+      if (!o->json.empty()) paths.push_back({o->json, "--json", true});
+      check_distinct_paths(paths);
+    }
+    install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop after the current sample, write nothing
+    auto stopped = [&]() {
+      std::fprintf(stderr, "softtled: stopped by signal %d before the benchmark finished; wrote nothing\n", stop_signal());
+      return exit_code_for_signal(stop_signal());
+    };
 #if !defined(SOFTTLED_HAVE_CUDA)
     if (o->backend == "cuda") throw InputError("backend 'cuda': this build has no CUDA backend");
 #endif
@@ -441,12 +464,16 @@ Command add_bench_command(CLI::App& app) {
     }
 #endif
     const Result main = measure(sc, "scene", *o, o->steps, true);
+    if (stop_requested()) return stopped();
     const double paper_iters = 8000;
     std::printf("\n%s: %d tets, %d nodes, dt = %.4g us, %s, %s, %s\n", o->scene.c_str(), main.ntet, main.nnode, main.dt * 1e6,
                 main.device.c_str(), main.precision.c_str(), main.mode.c_str());
     std::printf("  us/step: median %.3f  min %.3f  max %.3f  p10 %.3f  p90 %.3f  (%d samples x %ld steps); wall %.3f us/step\n",
-                main.us.median, main.us.min, main.us.max, main.us.p10, main.us.p90, main.samples, main.steps / main.samples,
-                main.wall_us);
+                main.us.median, main.us.min, main.us.max, main.us.p10, main.us.p90, main.samples,
+                main.steps / main.samples, main.wall_us);
+    if (main.steps % main.samples)
+      std::printf("  (%ld steps timed in all: %ld samples of %ld steps, the others %ld)\n", main.steps,
+                  main.steps % main.samples, main.steps / main.samples + 1, main.steps / main.samples);
     std::printf("  steps/s: %.4g   real-time factor at dt: %.4g   (8000 steps: %.1f ms)\n", 1e6 / main.us.median,
                 main.dt * 1e6 / main.us.median, main.us.median * paper_iters * 1e-3);
     if (main.stages.valid) {
@@ -481,6 +508,7 @@ Command add_bench_command(CLI::App& app) {
         std::vector<std::string> s2 = set;
         s2.insert(s2.end(), l.set.begin(), l.set.end());
         rows.push_back(measure(load_scene(o->scene, s2), l.label, *o, -1, false));
+        if (stop_requested()) return stopped();
       }
       std::printf("\nsweep (%s, %s): bytes each step must move vs %s\n", o->backend.c_str(), o->precision.c_str(),
                   copy_gbs > 0 ? "the measured copy bandwidth" : "(no device bandwidth on the CPU)");

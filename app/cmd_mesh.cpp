@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "app/cli_support.h"
 #include "app/commands.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_geometry.h"
@@ -79,13 +80,17 @@ Command add_mesh_command(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("mesh", "tetrahedralize and print mesh statistics (paper's Table I)");
-  c->add_option("--scene", o->scene, "scene file (TOML)");
-  c->add_option("--surface", o->surface, "surface file (.obj/.off/.stl, lengths in the scene's units)");
+  CLI::Option* scene_opt = c->add_option("--scene", o->scene, "scene file (TOML)");
+  CLI::Option* surface_opt = c->add_option("--surface", o->surface, "surface file (.obj/.off/.stl, lengths in the scene's units)");
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   c->add_flag("--json", o->json, "print JSON instead of a table");
-  c->add_option("--write", o->write, "write BASE.node and BASE.ele");
-  c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file (several bodies: a 'body' cell array)");
-  return [o]() {
+  CLI::Option* write_opt = c->add_option("--write", o->write, "write BASE.node and BASE.ele");
+  CLI::Option* vtu_opt = c->add_option("--vtu", o->vtu, "write the tet mesh as a ParaView .vtu file (several bodies: a 'body' cell array)");
+  return [o, scene_opt, surface_opt, write_opt, vtu_opt]() {
+    // An empty value given is an error, not "no scene" (the default torus) or "no output".
+    for (const auto& [opt, v] : {std::pair<CLI::Option*, const std::string*>{scene_opt, &o->scene}, {surface_opt, &o->surface},
+                                 {write_opt, &o->write}, {vtu_opt, &o->vtu}})
+      if (opt->count() && v->empty()) throw InputError(opt->get_name() + ": empty path");
     // Output paths first: a bad one must fail before minutes of meshing.
     if (!o->write.empty()) {
       check_output_file(o->write + ".node", "--write");
@@ -98,6 +103,17 @@ Command add_mesh_command(CLI::App& app) {
       s.shape = "file";
       s.file = o->surface;
       s.source = "--surface";  // no directory: the path is used as given
+    }
+    {  // no output onto an input or another output
+      std::vector<PathUse> paths =
+          o->surface.empty() ? scene_inputs(s, "--scene") : std::vector<PathUse>{{o->surface, "--surface"}};
+      if (!o->surface.empty() && !o->scene.empty()) paths.push_back({o->scene, "--scene"});
+      if (!o->write.empty()) {
+        paths.push_back({o->write + ".node", "--write", true});
+        paths.push_back({o->write + ".ele", "--write", true});
+      }
+      if (!o->vtu.empty()) paths.push_back({o->vtu, "--vtu", true});
+      check_distinct_paths(paths);
     }
     const TetgenOptions topt = scene_tetgen_options(s);
     // Each body meshed by itself, as the Simulation does, then one mesh of the bodies.

@@ -11,6 +11,7 @@
 
 #include "app/cli_support.h"
 #include "app/commands.h"
+#include "sim/core/input_error.h"
 #include "sim/io/output_file.h"
 #include "sim/io/vtu_writer.h"
 #include "sim/scene/scene.h"
@@ -65,20 +66,30 @@ Command add_run_command(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("run", "run a scene headless and print a summary");
-  c->add_option("--scene", o->scene, "scene file (TOML)")->required();
+  CLI::Option* scene_opt = c->add_option("--scene", o->scene, "scene file (TOML)")->required();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  c->add_option("--csv", o->csv, "write one row per output time to this file ('-': standard output; the summary then goes to stderr)");
+  CLI::Option* csv_opt = c->add_option("--csv", o->csv, "write one row per output time to this file ('-': standard output; the summary then goes to stderr)");
   c->add_option("--backend", o->backend, "cpu, cuda or auto")->check(CLI::IsMember({"cpu", "cuda", "auto"}))->capture_default_str();
-  c->add_option("--vtu", o->vtu, "write a ParaView series (DIR/frame_*.vtu + DIR/series.pvd)");
+  CLI::Option* vtu_opt = c->add_option("--vtu", o->vtu, "write a ParaView series (DIR/frame_*.vtu + DIR/series.pvd)");
   c->add_option("--every", o->every, "with --vtu: one frame per N output times")->check(int_range(1, 1000000000))->capture_default_str();
   c->add_flag("--sync-checks", o->sync_checks,
               "on a GPU, step each output interval only after the last one is checked and written (the same "
               "numbers, slower; by default the device steps the next interval meanwhile)");
-  return [o]() {
-    // Every output path is checked before anything is read, meshed or truncated.
-    if (!o->csv.empty()) check_output_file(o->csv, "--csv", true);
+  return [o, scene_opt, csv_opt, vtu_opt]() {
+    // Every output path is checked before anything is read, meshed or truncated; an empty
+    // one given is an error, not "no output".
+    if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
+    if (csv_opt->count() && o->csv.empty()) throw InputError("--csv: empty path");
+    if (vtu_opt->count() && o->vtu.empty()) throw InputError("--vtu: empty path");
+    if (!o->csv.empty()) check_output_file(o->csv, "--csv", true, true);
     if (!o->vtu.empty()) check_output_dir(o->vtu, "--vtu");
     const Scene s = load_scene(o->scene, o->set);
+    {  // no output onto an input or another output
+      std::vector<PathUse> paths = scene_inputs(s, "--scene");
+      if (!o->csv.empty()) paths.push_back({o->csv, "--csv", true});
+      if (!o->vtu.empty()) paths.push_back({o->vtu, "--vtu", true, true});
+      check_distinct_paths(paths);
+    }
     install_stop_signals();
     const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
     Simulation& sim = *sim_owner;
@@ -98,10 +109,13 @@ Command add_run_command(CLI::App& app) {
     const int t_dec = time_decimals(dt);
     std::unique_ptr<OutputFile> csv;
     long rows = 0;
+    std::string last_row_t;  // the time column of the last row written
     auto write_row = [&](const Diagnostics& d) {
       if (!csv) return;
-      csv->write(csv_row(d, t_dec));
+      const std::string row = csv_row(d, t_dec);
+      csv->write(row);
       csv->flush();  // a stop or a full disk leaves only whole rows, and is seen at once
+      last_row_t = row.substr(0, row.find(','));
       ++rows;
     };
     if (!o->csv.empty()) {
@@ -135,6 +149,26 @@ Command add_run_command(CLI::App& app) {
     double min_gap = d.min_gap, max_ke = d.ke;
     int max_contact = 0;
     bool warned = false;
+    // The long-run warning, once, after 2 s of stepping: from the simulated time covered
+    // so far (checked at every output time, after every chunk of steps and, with the
+    // adaptive step, at every stop check, so a long first interval is no exception).
+    auto check_progress = [&](double t_now) {
+      if (warned) return;
+      const double w = wall_s();
+      if (!(w > 2) || !(t_now > 0) || !(t_now < s.duration)) return;
+      warned = true;
+      const double left = w / t_now * (s.duration - t_now);
+      if (left > kLongRunWarnS)
+        std::fprintf(stderr,
+                     "%swarning: this run will take about %.0f more minutes of wall time (%.1f %% done after %.0f s); "
+                     "Ctrl-C stops it and keeps the output written so far\n",
+                     tty ? "\n" : "", left / 60, 100.0 * t_now / s.duration, w);
+    };
+    // Adaptive step: Simulation's stop check between steps (advance_to, queue_until).
+    sim.set_stop_check([&] {
+      check_progress(sim.time());
+      return stop_requested();
+    });
     // One output time: its frame, row and summary figures, from the state checked there.
     auto output = [&](long done, const Diagnostics& dd, const HostState& st) {
       d = dd;
@@ -143,16 +177,7 @@ Command add_run_command(CLI::App& app) {
       min_gap = std::min(min_gap, d.min_gap);
       max_ke = std::max(max_ke, d.ke);
       max_contact = std::max(max_contact, d.n_contact);
-      const double w = wall_s();
-      if (!warned && w > 2 && done < intervals) {
-        const double left = w / double(done) * double(intervals - done);
-        warned = true;
-        if (left > kLongRunWarnS)
-          std::fprintf(stderr,
-                       "%swarning: this run will take about %.0f more minutes of wall time (%.1f %% done after %.0f s); "
-                       "Ctrl-C stops it and keeps the output written so far\n",
-                       tty ? "\n" : "", left / 60, 100.0 * double(done) / double(intervals), w);
-      }
+      if (done < intervals) check_progress(d.t);
       if (tty) std::fprintf(stderr, "\r t = %.4f s  (%3.0f%%)", d.t, 100.0 * double(done) / double(intervals));
     };
     // The device steps output interval k + 1 while the host checks and writes interval k
@@ -176,6 +201,7 @@ Command add_run_command(CLI::App& app) {
         while (!sizes.empty()) {
           if (queued < intervals && !stop_requested()) queue_next();
           const Simulation::Checkpoint& c = sim.collect();
+          if (c.stopped) break;  // the stop check cut its steps short: not an output time
           if (c.rolled_back) {
             sizes.clear();
             queued = done;
@@ -194,12 +220,14 @@ Command add_run_command(CLI::App& app) {
         // the watchdog checks at the end of each.
         if (adaptive) {
           sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
+          if (sim.stopped_early()) break;  // stopped between steps: no row off the output times
           k = n;
         }
         while (k < n && !stop_requested()) {
           const long m = std::min(kMaxChunkSteps, n - k);
           sim.advance(m, m);
           k += m;
+          check_progress(sim.time());
         }
         done += k;
         if (k < n) break;  // stopped inside an output interval: rows and frames stay on output times
@@ -208,7 +236,9 @@ Command add_run_command(CLI::App& app) {
     } catch (const SimulationDiverged& e) {
       if (tty) std::fprintf(stderr, "\n");
       std::fprintf(stderr, "softtled: %s\n", e.what());
-      write_row(sim.diagnostics());  // the rolled-back, last healthy state
+      // The rolled-back, last healthy state, unless that is the last row already written.
+      const Diagnostics back = sim.diagnostics();
+      if (csv && csv_row(back, t_dec).substr(0, last_row_t.size() + 1) != last_row_t + ",") write_row(back);
       if (csv) csv->close();
       return int(kExitDiverged);
     }

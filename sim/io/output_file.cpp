@@ -23,6 +23,7 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   const std::string& open_path = tmp_.empty() ? path_ : tmp_;
   f_ = std::fopen(open_path.c_str(), "wb");
   if (!f_) throw ResourceError(open_path + ": cannot write: " + std::strerror(errno));
+  if (tmp_.empty() && ::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
 }
 
 OutputFile::~OutputFile() {
@@ -34,15 +35,19 @@ OutputFile::~OutputFile() {
 void OutputFile::fail(const char* what) {
   const int e = errno;
   std::string msg = (f_ == stdout ? std::string("standard output") : path_) + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string());
-  if (f_ && f_ != stdout) std::fclose(f_);
+  if (f_ && f_ != stdout) std::fclose(f_);  // may write more of the buffer: cut back after it
   f_ = nullptr;
   if (!tmp_.empty()) std::remove(tmp_.c_str());
+  if (regular_ && ::truncate(path_.c_str(), off_t(flushed_)) != 0)
+    msg += std::string(" (and it could not be cut back to its last complete record: ") + std::strerror(errno) + ")";
+  regular_ = false;
   throw ResourceError(msg);
 }
 
 void OutputFile::write(const char* data, std::size_t n) {
   if (!f_) throw ResourceError(path_ + ": write after close");
   errno = 0;
+  written_ += (long long)n;
   if (n && std::fwrite(data, 1, n, f_) != n) fail("write failed");
 }
 
@@ -50,6 +55,7 @@ void OutputFile::flush() {
   if (!f_) return;
   errno = 0;
   if (std::fflush(f_) != 0 || std::ferror(f_)) fail("write failed");
+  flushed_ = written_;
 }
 
 void OutputFile::close() {
@@ -92,7 +98,7 @@ std::string parent_of(const std::string& path) {
 }
 }  // namespace
 
-void check_output_file(const std::string& path, const std::string& what, bool allow_stdout) {
+void check_output_file(const std::string& path, const std::string& what, bool allow_stdout, bool in_place) {
   if (path == "-" && allow_stdout) return;
   const std::string where = what + " " + path + ": ";
   if (path.empty()) throw InputError(what + ": empty path");
@@ -101,6 +107,11 @@ void check_output_file(const std::string& path, const std::string& what, bool al
   if (::stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw InputError(where + "is a directory; give a file name");
     if (::access(path.c_str(), W_OK) != 0) throw InputError(where + "cannot write: " + std::strerror(errno));
+    if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its directory
+      const std::string dir = parent_of(path);
+      if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw InputError(where + "cannot replace it: cannot write in directory " + dir + ": " + std::strerror(errno));
+    }
     return;
   }
   if (errno != ENOENT) throw InputError(where + "cannot write: " + std::strerror(errno));
@@ -130,6 +141,66 @@ void check_output_dir(const std::string& path, const std::string& what) {
     if (parent == p) throw InputError(where + "no existing parent directory");
     p = parent;
   }
+}
+
+}  // namespace softtled
+
+namespace softtled {
+namespace {
+// false for "-", empty paths and existing files that are neither regular files nor (for a
+// directory output) directories: those are never compared.
+bool comparable(const PathUse& u) {
+  const std::string& p = u.path;
+  if (p.empty() || p == "-") return false;
+  struct stat st;
+  if (::stat(p.c_str(), &st) == 0) return S_ISREG(st.st_mode) || (u.output_dir && S_ISDIR(st.st_mode));
+  return true;
+}
+std::string absolute_of(const std::string& p) {
+  std::error_code ec;
+  std::filesystem::path a = std::filesystem::weakly_canonical(std::filesystem::absolute(p, ec), ec);
+  if (ec) a = std::filesystem::absolute(p, ec).lexically_normal();
+  std::string s = a.string();
+  while (s.size() > 1 && s.back() == '/') s.pop_back();
+  return s;
+}
+bool same_file(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  const bool ea = ::stat(a.c_str(), &sa) == 0, eb = ::stat(b.c_str(), &sb) == 0;
+  if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  if (ea != eb) return false;
+  return absolute_of(a) == absolute_of(b);
+}
+// A file a directory output writes (series.pvd, frame_*.vtu and their .tmp).
+bool written_in_dir(const std::string& file, const std::string& dir) {
+  const std::filesystem::path f(file);
+  const std::string name = f.filename().string();
+  std::string base = name;
+  if (base.size() > 4 && base.compare(base.size() - 4, 4, ".tmp") == 0) base.resize(base.size() - 4);
+  const bool owned = base == "series.pvd" ||
+                     (base.rfind("frame_", 0) == 0 && base.size() > 4 && base.compare(base.size() - 4, 4, ".vtu") == 0);
+  if (!owned) return false;
+  const std::string parent = f.parent_path().string();
+  return same_file(parent.empty() ? "." : parent, dir);
+}
+}  // namespace
+
+void check_distinct_paths(const std::vector<PathUse>& paths) {
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    for (std::size_t j = 0; j < paths.size(); ++j) {
+      const PathUse &a = paths[i], &b = paths[j];
+      if (i == j || !a.output || (b.output && j < i) || !comparable(a) || !comparable(b)) continue;
+      const std::string both = a.what + " " + a.path + " and " + b.what + " " + b.path;
+      if (same_file(a.path, b.path))
+        throw InputError(both + " are the same file: the " + (b.output ? "second output would overwrite the first"
+                                                                        : "output would overwrite the input"));
+      if (a.output_dir && !b.output_dir && written_in_dir(b.path, a.path))
+        throw InputError(both + ": " + a.what + " writes " + std::filesystem::path(b.path).filename().string() +
+                         " in that directory, overwriting " + (b.output ? "the other output" : "the input"));
+      if (b.output_dir && !a.output_dir && written_in_dir(a.path, b.path))
+        throw InputError(both + ": " + b.what + " writes " + std::filesystem::path(a.path).filename().string() +
+                         " in that directory, overwriting the other output");
+    }
 }
 
 }  // namespace softtled

@@ -4,9 +4,12 @@
 //
 // Every write, flush and close is checked: a full disk or an I/O error is a ResourceError
 // naming the file and the OS reason ("out.csv: write failed: No space left on device").
+// A kDirect regular file that fails is cut back to its size at the last successful
+// flush(): a writer that flushes after each record (run --csv) never leaves a partial one.
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace softtled {
 
@@ -38,6 +41,8 @@ class OutputFile {
   [[noreturn]] void fail(const char* what);
   std::string path_, tmp_;
   std::FILE* f_ = nullptr;
+  bool regular_ = false;  // kDirect onto a regular file: cut back on failure
+  long long written_ = 0, flushed_ = 0;  // bytes handed to write(), and at the last good flush
 };
 
 // Writes a whole file atomically (OutputFile kAtomic).
@@ -45,8 +50,25 @@ void write_file_atomic(const std::string& path, const std::string& content);
 
 // InputError (naming `what`, e.g. "--csv", the path and the OS reason) unless a file can be
 // created or overwritten at path: not a directory, its directory exists and is writable,
-// an existing file is writable. "-" (standard output) passes when allow_stdout.
-void check_output_file(const std::string& path, const std::string& what, bool allow_stdout = false);
+// an existing file is writable. "-" (standard output) passes when allow_stdout. An
+// existing regular file also needs a writable directory (write_file_atomic writes PATH.tmp
+// there) unless in_place (OutputFile kDirect).
+void check_output_file(const std::string& path, const std::string& what, bool allow_stdout = false,
+                       bool in_place = false);
+
+// A path a command reads or writes, for check_distinct_paths: `what` names it in messages
+// ("--csv", "--scene", "body.file"); a directory output (run --vtu) owns the files it
+// writes there (series.pvd, frame_*.vtu).
+struct PathUse {
+  std::string path, what;
+  bool output = false;
+  bool output_dir = false;
+};
+// InputError naming both flags when an output is the same file as an input or as another
+// output (same device and inode, or the same absolute path once symlinks are resolved, for
+// a file not there yet), or is one of the files a directory output writes. "-", empty paths
+// and existing non-regular files (/dev/null, /dev/full, FIFOs) are not compared.
+void check_distinct_paths(const std::vector<PathUse>& paths);
 // InputError unless path is a writable directory or can be created as one (its nearest
 // existing ancestor is a writable directory).
 void check_output_dir(const std::string& path, const std::string& what);

@@ -103,8 +103,10 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
       char buf[400];
       std::snprintf(buf, sizeof buf,
                     "time.dt = %.4g s exceeds the stable step %.4g s (Le/c = %.4g s, 2/omega_max = %.4g s); "
-                    "use time.dt = \"auto\" or at most %.4g s, or set time.allow_unstable = true to run anyway",
-                    requested, ts_.dt_cr, ts_.dt_le, ts_.dt_eigen, ts_.dt_cr);
+                    "use time.dt = \"auto\" or at most %.4g s%s",
+                    requested, ts_.dt_cr, ts_.dt_le, ts_.dt_eigen, ts_.dt_cr,
+                    scene_.allow_unstable ? " (running anyway: time.allow_unstable = true)"
+                                          : ", or set time.allow_unstable = true to run anyway");
       if (!scene_.allow_unstable) throw InputError(scene_.source + ": " + buf);
       std::fprintf(stderr, "warning: %s\n", buf);
       params_.dt = requested;  // the user insisted: run at the requested step
@@ -300,14 +302,31 @@ long Simulation::steps_to_estimate_event() const {
   return std::max(1L, (estimate_pending_ ? estimate_lag_ : estimate_every_) - since_estimate_);
 }
 
-void Simulation::step_to(double t_end) {
-  while (time() < t_end - 0.5 * params_.dt)
-    step(std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event()));
+bool Simulation::step_to(double t_end) {
+  // The stop check sees no more than kStopCheckSteps steps between two calls; the steps
+  // themselves are the same with or without it.
+  long since_check = 0;
+  while (time() < t_end - 0.5 * params_.dt) {
+    if (stop_check_ && since_check >= kStopCheckSteps) {
+      since_check = 0;
+      if (stop_check_()) return false;
+    }
+    // Not split further for the check: step()'s calls (and so lambda's relaxation) stay
+    // the same; with the adaptive step they are at most AdaptiveStep::kEvery steps each.
+    const long n = std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event());
+    step(n);
+    since_check += n;
+  }
+  return true;
 }
 
 void Simulation::advance_to(double t_end) {
+  stopped_early_ = false;
   do {
-    step_to(t_end);
+    if (!step_to(t_end)) {
+      stopped_early_ = true;  // no check: the caller stops here
+      return;
+    }
   } while (check_health());  // rolled back (the adaptive step went on): to t_end again
 }
 
@@ -474,14 +493,15 @@ void Simulation::queue_snapshot(long n, double t_end) {
   const int slot = next_slot_;
   next_slot_ = (next_slot_ + 1) % Solver::kSnapshotSlots;
   const bool overlap = pipelines();
+  bool stopped = false;
   if (overlap) {
     if (n >= 0)
       step(n);
     else
-      step_to(t_end);
+      stopped = !step_to(t_end);
     solver_->begin_snapshot(slot);
   }
-  queued_.push_back({slot, n, t_end, overlap, bookkeeping()});
+  queued_.push_back({slot, n, t_end, overlap, stopped, bookkeeping()});
 }
 
 const Simulation::Checkpoint& Simulation::collect() {
@@ -490,12 +510,15 @@ const Simulation::Checkpoint& Simulation::collect() {
   queued_.erase(queued_.begin());
   Checkpoint& c = checkpoints_[q.slot];
   c.rolled_back = false;
+  c.stopped = q.stopped;
   if (!q.overlap) {  // nothing to overlap: advance now, in the same order
     try {
-      if (q.n >= 0)
+      if (q.n >= 0) {
         advance(q.n, q.n);
-      else
+      } else {
         advance_to(q.t_end);
+        c.stopped = stopped_early_;
+      }
     } catch (...) {
       queued_.clear();  // rolled back (or failed): what was queued after it never runs
       throw;

@@ -3,6 +3,7 @@
 // The one facade of the simulation: the app owns a Simulation, calls step()/advance(),
 // reads the state and diagnostics, edits params() live and asks for render vertices; it
 // never reaches the solver itself.
+#include <functional>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -118,6 +119,9 @@ class Simulation {
     HostState state;
     Diagnostics diag;
     bool rolled_back = false;
+    // queue_until's steps were cut short by the stop check (set_stop_check): the state is
+    // not at the time asked for; the caller stops there.
+    bool stopped = false;
   };
   bool pipelines() const;
   void queue(long n);
@@ -147,6 +151,14 @@ class Simulation {
   // advance(): for a changing step (time.dt = "adaptive"), where a step count is unknown.
   // A trip the adaptive step survives rolls back and steps to t_end again.
   void advance_to(double t_end);
+  // A predicate advance_to and queue_until call between steps (about every
+  // kStopCheckSteps steps, and at least once per call); when it returns true they stop
+  // stepping at once, before reaching t_end (advance_to then skips its check and returns
+  // with time() < t_end; stopped_early() says so). It never changes the steps taken when
+  // it returns false. Empty: none.
+  static constexpr long kStopCheckSteps = 1000;
+  void set_stop_check(std::function<bool()> f) { stop_check_ = std::move(f); }
+  bool stopped_early() const { return stopped_early_; }
   Diagnostics diagnostics();  // of state(), computed once per step count
 
   // Render hand-off (sim/fem/surface_render.h): kRenderFloatsPerVertex floats per boundary
@@ -196,12 +208,16 @@ class Simulation {
   Bookkeeping bookkeeping() const;
   void restore(const Bookkeeping& b);  // params_.dt too; the solver keeps its own
   void queue_snapshot(long n, double t_end);
-  void step_to(double t_end);  // steps until time() reaches t_end, within half a step
+  // Steps until time() reaches t_end, within half a step; false: the stop check ended it early.
+  bool step_to(double t_end);
+  std::function<bool()> stop_check_;
+  bool stopped_early_ = false;
   struct Queued {
     int slot;
     long n;        // its steps, or
     double t_end;  // ... (n < 0) the time it steps to
     bool overlap;  // stepped and snapshotted at queue(); else collect() advances
+    bool stopped;  // overlap: step_to was cut short by the stop check
     Bookkeeping at;  // after its steps (overlap only)
   };
   std::vector<Queued> queued_;  // oldest first

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# output_conflicts.sh EXPECT_EXIT SOFTTLED DATA
+# An output onto an input or onto another output is refused before anything is written
+# (exit 2 naming both flags), and the input is left byte for byte as it was: run --csv
+# onto the scene or its surface (also through a symlink), bench --json and mesh --vtu /
+# --write onto the scene, run --csv onto the series.pvd or a frame of its own --vtu
+# directory, --csv and --vtu the same path. An existing writable file in a read-only
+# directory is refused up front for an atomic (replaced) output.
+set -u
+expect=$1 exe=$2 data=$3
+tmp=$(mktemp -d)
+chmod 755 "$tmp"
+trap 'chmod -R u+w "$tmp"; rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+cp "$data/surface.toml" "$data/tetrahedron.obj" .
+sum0=$(cat surface.toml tetrahedron.obj | md5sum)
+status=0
+t() { bash "$expect" "$@" || status=1; }
+t 2 "--csv surface.toml and --scene surface.toml are the same file" "$exe" run --scene surface.toml --csv surface.toml
+t 2 "--csv tetrahedron.obj and body.file" "$exe" run --scene surface.toml --csv tetrahedron.obj
+ln -s surface.toml link.toml
+t 2 "--csv link.toml and --scene surface.toml are the same file" "$exe" run --scene surface.toml --csv link.toml
+t 2 "--json surface.toml and --scene surface.toml are the same file" "$exe" bench --scene surface.toml --steps 30 --samples 3 --json surface.toml
+t 2 "--vtu surface.toml and --scene surface.toml are the same file" "$exe" mesh --scene surface.toml --vtu surface.toml
+t 2 "--vtu tetrahedron.obj and --surface tetrahedron.obj are the same file" "$exe" mesh --surface tetrahedron.obj --vtu tetrahedron.obj
+t 2 "--write surface.toml.node" "$exe" mesh --scene surface.toml --write surface.toml --vtu surface.toml.node
+t 2 "--csv same.csv and --vtu same.csv are the same file" "$exe" run --scene surface.toml --csv same.csv --vtu same.csv
+[ -e same.csv ] && { echo "FAIL: same.csv created"; status=1; }
+mkdir v1
+t 2 "--csv v1/series.pvd and --vtu v1: --vtu writes series.pvd in that directory" "$exe" run --scene surface.toml --csv v1/series.pvd --vtu v1
+t 2 "--vtu writes frame_00002.vtu in that directory" "$exe" run --scene surface.toml --csv ./v1/frame_00002.vtu --vtu v1/
+[ -z "$(ls v1)" ] || { echo "FAIL: v1 not empty: $(ls v1)"; status=1; }
+[ "$(cat surface.toml tetrahedron.obj | md5sum)" = "$sum0" ] || { echo "FAIL: an input was changed"; status=1; }
+# Controls: distinct outputs run.
+t 0 "simulated" "$exe" run --scene surface.toml --csv out.csv --vtu v1
+[ "$(grep -c '<DataSet' v1/series.pvd)" -ge 2 ] && [ "$(wc -l <out.csv)" -ge 3 ] || { echo "FAIL: control outputs"; status=1; }
+# Read-only directory holding a writable file: the atomic replacement needs the directory.
+# Run as nobody (root may write anywhere); skipped where that is not possible.
+mkdir ro && touch ro/m.vtu ro/b.json && chmod 666 ro/m.vtu ro/b.json && chmod 555 ro
+chmod 644 surface.toml tetrahedron.obj
+asn=() ro_ok=1
+if [ "$(id -u)" -eq 0 ]; then
+  asn=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+  "${asn[@]}" test -x "$exe" 2>/dev/null || { ro_ok=0; echo "note: read-only directory cases skipped (root; $exe not usable as nobody)"; }
+fi
+if [ $ro_ok -eq 1 ]; then
+  t 2 "--vtu ro/m.vtu: cannot replace it: cannot write in directory ro" "${asn[@]}" "$exe" mesh --scene surface.toml --vtu ro/m.vtu
+  t 2 "--json ro/b.json: cannot replace it: cannot write in directory ro" "${asn[@]}" "$exe" bench --scene surface.toml --steps 30 --samples 3 --json ro/b.json
+  # --csv is written in place: a writable file in a read-only directory is fine.
+  touch ro2.csv; mkdir ro2 && mv ro2.csv ro2/r.csv && chmod 666 ro2/r.csv && chmod 555 ro2
+  t 0 "simulated" "${asn[@]}" "$exe" run --scene surface.toml --csv ro2/r.csv
+  [ ! -s ro/m.vtu ] && [ ! -s ro/b.json ] || { echo "FAIL: files in ro/ written"; status=1; }
+fi
+# Empty values are refused, not taken as "no output" or "the default scene".
+t 2 "--csv: empty path" "$exe" run --scene surface.toml --csv ""
+t 2 "--vtu: empty path" "$exe" run --scene surface.toml --vtu ""
+t 2 "--scene: empty path" "$exe" run --scene ""
+t 2 "--write: empty path" "$exe" mesh --scene surface.toml --write ""
+t 2 "--vtu: empty path" "$exe" mesh --scene surface.toml --vtu ""
+t 2 "--scene: empty path" "$exe" mesh --scene ""
+t 2 "--surface: empty path" "$exe" mesh --surface ""
+t 2 "--out: empty path" "$exe" accuracy --out ""
+t 2 "--scene: empty path" "$exe" accuracy --scene ""
+t 2 "--json: empty path" "$exe" bench --scene surface.toml --json ""
+[ $status -eq 0 ] && echo "ok: conflicts, read-only directory and empty paths refused; inputs unchanged"
+exit $status
