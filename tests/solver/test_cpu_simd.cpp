@@ -319,7 +319,7 @@ TEST(CpuSimd, BitwiseIdenticalForOneAndTwoThreadsWithAllOptions) {
     const std::string model = std::string(element) == "T4" ? "stable_neo_hookean" : "neo_hookean";
     const std::vector<std::string> set = {"body.segments=[45,9]", std::string("material.element=") + element,
                                           "material.model=" + model, "damping.beta=2e-6", "contact.mode=coulomb",
-                                          "time.duration=0.0"};
+                                          "time.duration=0.01"};
     Scene s = parse_scene("", "torus", set);
     HostState st[2];
     for (int threads : {1, 2}) {
