@@ -64,7 +64,18 @@ std::string duration_text(double s) {
   return b;
 }
 
-// The default scene, as `view` finds it: $SOFTTLED_ASSETS, ./assets, then the source tree.
+
+std::string default_out_dir() {
+  const std::time_t now = std::time(nullptr);
+  char b[64];
+  std::strftime(b, sizeof b, "accuracy-%Y%m%d-%H%M%S", std::localtime(&now));
+  std::string d = b;
+  for (int k = 2; std::filesystem::exists(d); ++k) d = std::string(b) + "-" + std::to_string(k);
+  return d;
+}
+}  // namespace
+
+// commands.h: $SOFTTLED_ASSETS, ./assets, then the source tree this was built from.
 std::string default_scene() {
   std::vector<std::string> roots;
   if (const char* a = std::getenv("SOFTTLED_ASSETS")) roots.push_back(a);
@@ -78,16 +89,6 @@ std::string default_scene() {
   }
   throw InputError("no --scene given and assets/scenes/torus_drop.toml not found (set SOFTTLED_ASSETS)");
 }
-
-std::string default_out_dir() {
-  const std::time_t now = std::time(nullptr);
-  char b[64];
-  std::strftime(b, sizeof b, "accuracy-%Y%m%d-%H%M%S", std::localtime(&now));
-  std::string d = b;
-  for (int k = 2; std::filesystem::exists(d); ++k) d = std::string(b) + "-" + std::to_string(k);
-  return d;
-}
-}  // namespace
 
 Command add_accuracy_command(CLI::App& app) {
   struct Opts {

@@ -15,22 +15,6 @@
 
 namespace softtled {
 
-namespace {
-// The default scene: $SOFTTLED_ASSETS, ./assets, then the source tree this was built from.
-std::string default_scene() {
-  std::vector<std::string> roots;
-  if (const char* a = std::getenv("SOFTTLED_ASSETS")) roots.push_back(a);
-  roots.push_back("assets");
-#ifdef SOFTTLED_SOURCE_DIR
-  roots.push_back(std::string(SOFTTLED_SOURCE_DIR) + "/assets");
-#endif
-  for (const auto& r : roots) {
-    const std::string p = r + "/scenes/torus_drop.toml";
-    if (std::filesystem::exists(p)) return p;
-  }
-  throw InputError("no --scene given and assets/scenes/torus_drop.toml not found (set SOFTTLED_ASSETS)");
-}
-}  // namespace
 
 Command add_view_command(CLI::App& app) {
   auto o = std::make_shared<ViewerOptions>();
