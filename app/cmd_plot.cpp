@@ -40,7 +40,7 @@ Command add_plot_command(CLI::App& app) {
     const Image im = plot_panels(panels, w, h);
     // OUT.tmp renamed onto OUT when complete; a device or FIFO written in place; every
     // write checked (ResourceError naming OUT and the OS reason: exit 5).
-    write_png(o->out, im);
+    write_file_atomic(o->out, encode_png(im));
     std::printf("%s: %zu rows -> %s (%dx%d)\n", o->csv.c_str(), table.cols[0].size(), o->out.c_str(), w, h);
     return 0;
   };

@@ -140,7 +140,8 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       if (!o.out_dir.empty()) {
         t0 = Clock::now();
         f.path = o.out_dir + "/" + frame_file_name(o.stem, t);
-        write_png(f.path, f.image);  // atomic (PATH.tmp, renamed): no half-written PNG; a failure is a ResourceError
+        // atomic (PATH.tmp, renamed): no half-written PNG; a failure is a ResourceError
+        write_file_atomic(f.path, encode_png(f.image));
         f.png_s = seconds_since(t0);
       }
       if (on_frame) on_frame(f);

@@ -597,7 +597,7 @@ class Viewer {
     std::snprintf(name, sizeof name, "softtled_view_%03d.png", screenshot_count_++);
     const std::string path = (std::filesystem::path(opt_.screenshot_dir) / name).string();
     try {
-      write_png(path, im);
+      write_file_atomic(path, encode_png(im));
       st_.screenshot = path;
       log("screenshot %s", path.c_str());
     } catch (const std::exception& e) {

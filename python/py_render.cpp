@@ -1,9 +1,7 @@
 #include "python/py_render.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
 #include "sim/core/input_error.h"
 #include "sim/io/output_file.h"
@@ -51,18 +49,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   std::vector<HeadlessFrame> frames = render_headless(sim, h, &info);
   if (frames.empty()) throw ResourceError("render_png: no frame was rendered");
   // To PATH.tmp, renamed when complete, as `softtled render` writes its frames.
-  const std::string tmp = path + ".tmp";
-  try {
-    write_png(tmp, frames.front().image);
-  } catch (const std::exception&) {
-    std::remove(tmp.c_str());
-    throw ResourceError(path + ": cannot write PNG: " + std::strerror(errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw ResourceError(path + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
-  }
+  write_file_atomic(path, encode_png(frames.front().image));
   return info.renderer;
 #else
   (void)sim;

@@ -1,20 +1,14 @@
 #include "render/image.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <new>
 #include <stdexcept>
 #include <utility>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
-
-#include "sim/io/output_file.h"
 
 namespace softtled {
 
@@ -35,52 +29,8 @@ std::string encode_png(const Image& im) {
     }
   };
   if (!stbi_write_png_to_func(append, &sink, im.w, im.h, 4, im.rgba.data(), im.w * 4) || sink.failed || sink.out.empty())
-    throw ResourceError("cannot encode PNG (out of memory)");
+    throw std::bad_alloc();
   return std::move(sink.out);
-}
-
-void write_png(const std::string& path, const Image& im) {
-  // Encoded in memory, then written with every write, flush and close checked, so PATH
-  // never holds a truncated PNG (stbi_write_png checks none of them).
-  std::string png;
-  try {
-    png = encode_png(im);
-  } catch (const ResourceError& e) {
-    throw ResourceError(path + ": " + e.what());
-  }
-  // OutputFile's rules (sim/io/output_file.h; softtled_render does not link softtled_mesh,
-  // which holds it): a regular file or a new name is written as PATH.tmp and renamed onto
-  // PATH when complete; a device (/dev/null, /dev/full) or FIFO is written in place.
-  struct stat st;
-  const std::string tmp = (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) ? path + ".tmp" : "";
-  const std::string& open_path = tmp.empty() ? path : tmp;
-  errno = 0;
-  std::FILE* f = std::fopen(open_path.c_str(), "wb");
-  if (!f) {
-    const int e = errno;
-    throw ResourceError(open_path + ": cannot write: " + std::strerror(e));
-  }
-  auto fail = [&](const char* what) {
-    const int e = errno;
-    if (f) std::fclose(f);
-    if (!tmp.empty()) std::remove(tmp.c_str());
-    errno = e;  // callers may name the OS reason from errno
-    throw ResourceError(path + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string()));
-  };
-  errno = 0;
-  if (std::fwrite(png.data(), 1, png.size(), f) != png.size()) fail("write failed");
-  errno = 0;
-  if (std::fflush(f) != 0 || std::ferror(f)) fail("write failed");
-  errno = 0;
-  const int rc = std::fclose(f);
-  f = nullptr;
-  if (rc != 0) fail("write failed");
-  if (!tmp.empty() && std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    errno = e;
-    throw ResourceError(path + ": cannot rename " + tmp + " onto it: " + std::strerror(e));
-  }
 }
 
 Image read_png(const std::string& path) {

@@ -18,12 +18,10 @@ struct Image {
   std::uint8_t* px(int x, int y) { return &rgba[(std::size_t(y) * w + x) * 4]; }
 };
 
-// write_png encodes in memory and writes by OutputFile's kAtomic rules (sim/io/output_file.h):
-// PATH.tmp renamed onto PATH, or a device / FIFO written in place. A failed write, flush or
-// close (disk full, EFBIG, EIO) is a ResourceError naming PATH and the OS reason, and
-// leaves neither a partial PATH nor PATH.tmp. errno keeps the OS reason after a failure.
-void write_png(const std::string& path, const Image& im);
-// The PNG file's bytes (ResourceError when stb cannot allocate).
+// The PNG file's bytes, encoded in memory (std::bad_alloc when stb cannot allocate). The app
+// writes them with its checked output files (write_file_atomic(path, encode_png(im)),
+// sim/io/output_file.h): stbi_write_png checks no write, flush or close, and render/
+// knows no file policy.
 std::string encode_png(const Image& im);
 Image read_png(const std::string& path);
 

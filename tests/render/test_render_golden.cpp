@@ -14,6 +14,7 @@
 #include "app/headless_render.h"
 #include "render/gl_context.h"
 #include "sim/scene/scene.h"
+#include "sim/io/output_file.h"
 #include "sim/scene/simulation.h"
 
 using namespace softtled;
@@ -68,11 +69,11 @@ void run_case(const GoldenCase& c) {
     const std::string name = frame_file_name(c.stem, f.t);
     const std::string golden = golden_dir + "/" + name;
     if (regen) {
-      write_png(golden, f.image);
+      write_file_atomic(golden, encode_png(f.image));
       std::printf("wrote %s\n", golden.c_str());
       continue;
     }
-    write_png(out_dir + "/" + name, f.image);
+    write_file_atomic(out_dir + "/" + name, encode_png(f.image));
     ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing: run scripts/regen_goldens.sh";
     const Image expected = read_png(golden);
     Image diff;
@@ -81,7 +82,7 @@ void run_case(const GoldenCase& c) {
                 d.differing, d.total, kTolerance, 100 * d.fraction(), d.max_channel_diff);
     if (!d.same_size || d.fraction() > kMaxFraction) {
       const std::string diff_path = out_dir + "/" + name.substr(0, name.size() - 4) + "_diff.png";
-      if (d.same_size) write_png(diff_path, diff);
+      if (d.same_size) write_file_atomic(diff_path, encode_png(diff));
       ADD_FAILURE() << name << ": " << 100 * d.fraction() << "% of pixels differ (limit " << 100 * kMaxFraction
                     << "%); actual frame in " << out_dir << "/" << name << ", diff in " << diff_path
                     << "; if the change is intended, run scripts/regen_goldens.sh and look at the new PNGs";

@@ -63,7 +63,7 @@ TEST(ImageCompare, SizeMismatchIsAllDifferent) {
 TEST(ImagePng, RoundTrip) {
   const Image a = gradient(20, 10);
   const std::string path = (std::filesystem::temp_directory_path() / "softtled_png_roundtrip.png").string();
-  write_png(path, a);
+  write_file_atomic(path, encode_png(a));
   const Image b = read_png(path);
   std::remove(path.c_str());
   EXPECT_EQ(b.w, 20);
@@ -73,19 +73,19 @@ TEST(ImagePng, RoundTrip) {
 
 TEST(ImagePng, MissingFileThrows) { EXPECT_THROW(read_png("/nonexistent/softtled.png"), std::runtime_error); }
 
-// A failed write is a ResourceError naming the file and the OS reason (stbi_write_png
-// ignored it); a device is written in place, not replaced.
+// A PNG as the app writes it (write_file_atomic(path, encode_png(im))): a failed write is a
+// ResourceError naming the file and the OS reason; a device is written in place, not replaced.
 TEST(ImagePng, WriteErrorsAreResourceErrors) {
   Image a(64, 48);
   try {
-    write_png("/dev/full", a);
+    write_file_atomic("/dev/full", encode_png(a));
     ADD_FAILURE() << "writing /dev/full succeeded";
   } catch (const ResourceError& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/full: write failed: No space left on device"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(std::filesystem::is_character_file("/dev/full"));
   try {
-    write_png("/nonexistent/dir/x.png", a);
+    write_file_atomic("/nonexistent/dir/x.png", encode_png(a));
     ADD_FAILURE() << "writing into a missing directory succeeded";
   } catch (const ResourceError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot write: No such file or directory"), std::string::npos) << e.what();
