@@ -14,6 +14,12 @@
 // over a sphere of radius R is held up to (tangential step)^2 / 2R off the surface for a
 // step, then falls back under its own forces.
 //
+// Crossing the tangent plane is necessary for touching the obstacle, not sufficient: a
+// step long against the obstacle's size (a fast obstacle flying past) crosses the plane
+// beside it. So a node that starts clear of the obstacle and crosses the plane is
+// projected only when its straight relative step comes within reach of the obstacle
+// (relative_step_reaches); otherwise it is free and its step untouched.
+//
 // A mesh obstacle (obstacle_sdf.h) may be concave, and then the tangent plane at the
 // closest point need not support it. The rule is the same and one plane is used per
 // step: a node sliding along a concave surface of radius R ends up to (tangential
@@ -54,12 +60,41 @@ SIM_HD inline bool has_contacts(const ContactParams<T>& c) {
   return c.nplanes > 0 || c.nobstacles > 0;
 }
 
+// Whether the straight relative step x + s rel, s in [0, 1], of a node at distance d0 > 0
+// comes within reach of the obstacle: within 1e-3 |rel| of it (a mesh: within one grid
+// cell more, the grid's own error, obstacle_sdf.h). Sphere tracing (J. C. Hart, "Sphere
+// tracing: a geometric method for the antialiased ray tracing of implicit surfaces", The
+// Visual Computer 12, 1996): at a point where the distance is phi, no surface is nearer
+// than phi / L along the segment, L the distance's Lipschitz bound (1 for the analytic
+// shapes' exact distances; 2 for a mesh's trilinear grid, whose gradient is at most sqrt(3)
+// where the node values are a distance, plus the offset beyond its box). Undecided after
+// 64 points (a grazing pass, or NaN): reached, i.e. projected as by the tangent plane alone.
+template <class T>
+SIM_HD SIM_NOINLINE bool relative_step_reaches(const Obstacle<T>& o, const T x[3], const T rel[3], T d0) {
+  const T len = contact_sqrt(rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2]);
+  const bool mesh = o.shape == kObstacleMesh;
+  const T margin = mesh ? o.sdf.cell : T(0);
+  const T reach = T(1e-3) * len + margin;
+  const T inv_lip_len = (mesh ? T(0.5) : T(1)) / len;
+  T phi = d0, s = T(0);
+  for (int i = 0; i < 64; ++i) {
+    if (phi <= reach) return true;
+    s += (phi - margin) * inv_lip_len;
+    if (s >= T(1)) return false;
+    const T p[3] = {x[0] + s * rel[0], x[1] + s * rel[1], x[2] + s * rel[2]};
+    phi = obstacle_surface(o, p).dist;
+  }
+  return true;
+}
+
 // x: position at time t; du: predicted step, replaced by the projected one. du is left
 // bit for bit as it was when the node is free (du - d + d need not round back to du).
 template <class T>
 SIM_HD inline std::uint8_t project_to_obstacle(const Obstacle<T>& o, const T x[3], T du[3], int mode, T mu) {
   const SurfacePoint<T> sp = obstacle_surface(o, x);
   T rel[3] = {du[0] - o.d[0], du[1] - o.d[1], du[2] - o.d[2]};
+  const T dn = sp.n[0] * rel[0] + sp.n[1] * rel[1] + sp.n[2] * rel[2];
+  if (sp.dist > T(0) && sp.dist + dn < T(0) && !relative_step_reaches(o, x, rel, sp.dist)) return kFree;
   const std::uint8_t state = project_step(sp.n, sp.dist, rel, mode, mu);
   if (state != kFree)
     for (int k = 0; k < 3; ++k) du[k] = rel[k] + o.d[k];

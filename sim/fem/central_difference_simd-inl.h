@@ -59,7 +59,7 @@ HWY_INLINE M may_touch_planes(D d, const ContactParams<hn::TFromD<D>>& c, const 
 }
 
 // Lanes (among `tested`) whose step du from x may reach one of the obstacles. The scalar
-// project_to_obstacle projects when dist(x) + n . (du - d) < 0, and dist(x) is at least
+// project_to_obstacle projects only when dist(x) + n . (du - d) < 0, and dist(x) is at least
 // |x - cb| - rb for a sphere (cb, rb) holding the obstacle (obstacle_bound), while
 // n . (du - d) >= -|du - d|: so a lane with |x - cb| - rb - |du - d| above a margin of
 // 2^-16 of those magnitudes cannot be projected. Two square roots per lane and obstacle.

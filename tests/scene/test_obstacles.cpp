@@ -5,7 +5,8 @@
 // projection through the box's distance function); a moving box paddle pushes a body at
 // its own speed; and the shipped scenes: torus_on_ball (slides off a frictionless ball,
 // held with static friction) and stairs (a ball bouncing down box steps without going
-// into them).
+// into them); an obstacle much faster than a step (800 m/s) leaves alone a body it passes by
+// and still hits one in its path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,8 @@
 #include "backends.h"
 #include "scene/state_compare.h"
 #include "scene_helpers.h"
+#include "sim/mesh/surface_generators.h"
+#include "sim/mesh/surface_io.h"
 #include "sim/scene/simulation.h"
 
 using namespace softtled;
@@ -232,6 +235,55 @@ TEST_P(Obstacles, BallBouncesDownTheStairsWithoutEnteringThem) {
   EXPECT_GT(t_touch[2], t_touch[1]);
   EXPECT_GT(t_touch[3], t_touch[2]) << "then the floor beyond the last step";
   EXPECT_GT(d.centroid[0], 15e-3 + 4e-3) << "ends beyond the last step";
+}
+
+// A 6 mm cube at rest in zero gravity, and one obstacle of each shape flying past it along
+// x at 800 m/s, 8 mm per step (dt = 10 us). `offset` is the obstacle's centre line's height
+// above the cube's centre [mm]; the obstacle is 4 mm across in y.
+Scene fast_obstacle(const std::string& shape, double offset) {
+  std::string o;
+  if (shape == "sphere") o = "radius = 2.0\ncenter = [-30, " + std::to_string(offset) + ", 0]\n";
+  if (shape == "box") o = "size = [4, 4, 4]\ncenter = [-30, " + std::to_string(offset) + ", 0]\n";
+  if (shape == "capsule")
+    o = "radius = 2.0\na = [-30, " + std::to_string(offset) + ", -2]\nb = [-30, " + std::to_string(offset) + ", 2]\n";
+  if (shape == "mesh") {
+    const std::string path = ::testing::TempDir() + "softtled_fast_obstacle_box.obj";
+    write_obj(make_box(4, 4, 4, 1, 1, 1), path);
+    o = "file = \"" + path + "\"\ncenter = [-30, " + std::to_string(offset) + ", 0]\n";
+  }
+  return parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [2, 2, 2]\n"
+                     "[material]\nE = 20000.0\nnu = 0.3\n[floor]\nenabled = false\n[gravity]\ng = [0, 0, 0]\n"
+                     "[time]\ndt = 1e-5\n[[obstacle]]\nshape = \"" + shape + "\"\n" + o +
+                         "velocity = [800, 0, 0]\n",
+                     "fast " + shape);
+}
+
+TEST_P(Obstacles, FastObstacleLeavesAloneABodyItPassesAndHitsOneInItsPath) {
+  // Passing 2 mm above the cube's top face, the obstacle never touches it: the cube, at
+  // rest with no load, stays exactly at rest (every u bit for bit 0). The straight step of
+  // a top node relative to the obstacle crosses the tangent plane at its closest point
+  // (the obstacle is 30 mm behind, and 8 mm nearer after the step) while passing 4 mm from
+  // its centre: a projection there would kick the cube. Aimed at the cube's centre, the
+  // same obstacle moves through a whole cube width in under two steps and must still push
+  // it along +x in the step it passes.
+  for (const char* shape : {"sphere", "box", "capsule", "mesh"}) {
+    SCOPED_TRACE(shape);
+    Simulation miss(fast_obstacle(shape, 7), backend());
+    miss.step(10);  // the obstacle from x = -30 to +50 mm
+    EXPECT_EQ(max_abs_u(miss), 0.0) << "a body the obstacle never touched moved";
+    EXPECT_EQ(miss.diagnostics().n_contact, 0);
+
+    // The hit: the first step with a contact (after it the cube, hit by the obstacle at
+    // 800 m/s, is torn apart and the watchdog's business).
+    Simulation hit(fast_obstacle(shape, 0), backend());
+    int steps = 0;
+    while (steps < 10 && hit.diagnostics().n_contact == 0) hit.step(1), ++steps;
+    const Diagnostics d = hit.diagnostics();
+    std::printf("fast %s: the missed cube's largest |u| %.3g m; hit at step %d: %d nodes pushed, centroid +%.3f mm in x\n",
+                shape, max_abs_u(miss), steps, d.n_contact, d.centroid[0] * 1e3);
+    EXPECT_GT(d.n_contact, 0) << "the obstacle passed through the cube without touching it";
+    EXPECT_GT(d.centroid[0], 0.1e-3) << "the hit does not push the cube along the obstacle's motion";
+  }
 }
 
 // An obstacle thinner than the elements, through the torus's tube at the start: no node is
