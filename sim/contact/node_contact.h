@@ -70,7 +70,7 @@ SIM_HD inline bool has_contacts(const ContactParams<T>& c) {
 // where the node values are a distance, plus the offset beyond its box). Undecided after
 // 64 points (a grazing pass, or NaN): reached, i.e. projected as by the tangent plane alone.
 template <class T>
-SIM_HD SIM_NOINLINE bool relative_step_reaches(const Obstacle<T>& o, const T x[3], const T rel[3], T d0) {
+SIM_HD inline bool relative_step_reaches(const Obstacle<T>& o, const T x[3], const T rel[3], T d0) {
   const T len = contact_sqrt(rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2]);
   const bool mesh = o.shape == kObstacleMesh;
   const T margin = mesh ? o.sdf.cell : T(0);

@@ -7,11 +7,3 @@
 #else
 #define SIM_HD
 #endif
-
-// A rarely taken branch's function kept out of line on the device, so its registers do not
-// count against the kernel that calls it (the step kernels are latency-bound: bench/NOTES.md).
-#if defined(__CUDACC__)
-#define SIM_NOINLINE __noinline__
-#else
-#define SIM_NOINLINE
-#endif
