@@ -92,6 +92,10 @@ Switches parse_switches(const std::string& text) {
       while (k < text.size() && std::isdigit(static_cast<unsigned char>(text[k]))) ++k;
       if (k == d0) throw InputError(key + ": bad exponent in '" + text.substr(start, k + 1 - start) + "'");
       j = k;
+    } else if (!exponent && j < text.size() && (text[j] == 'e' || text[j] == 'E')) {
+      // TetGen reads q's numbers as plain decimals: "q1e3" would be q1 then an unknown 'e'.
+      throw InputError(key + ": '" + text.substr(start, j + 1 - start) + "...': '" + part_start +
+                       "' takes a plain decimal number, no exponent" + allowed);
     }
     const double v = std::strtod(text.substr(i, j - i).c_str(), nullptr);
     i = j;

@@ -190,7 +190,18 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     warning = buf;
     q.dt = q.lambda * ts_.dt_cr;
   }
-  if (!(q.dt > 0) || !std::isfinite(q.dt)) throw InputError("time step must be positive and finite");
+  // A step outside [1e-15, 1e3] s is no simulation anyone meant: it comes from an absurd
+  // material (E = 1e-300 gave 3e146 s, rho = 1e-300 a zero step) or lambda, so the message
+  // names those rather than the run's duration or step count, which would fail next.
+  if (!(q.dt >= 1e-15 && q.dt <= 1e3)) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "time step dt = %.4g s is outside [1e-15, 1000] s: the stable step is %.4g s for material.E = %.4g Pa, "
+                  "material.rho = %.4g kg/m^3 and the smallest element edge %.4g m, times time.lambda = %.4g%s",
+                  q.dt, ts_.dt_cr, q.E, scene_.rho, ts_.min_Le, q.lambda,
+                  q.dt_auto || q.dt_adaptive ? "" : " (or the time.dt given)");
+    throw InputError(buf);
+  }
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;

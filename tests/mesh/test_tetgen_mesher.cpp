@@ -63,7 +63,7 @@ TEST(TetgenSwitches, OnlyTheDocumentedSubsetIsAccepted) {
       {"pq0.5", "q0.5"},         {"pq1000000", "q1000000"}, {"pq1.5/40", "/40"},      {"pa", "a"},
       {"pa0", "a0"},             {"pa1e999", "a1e999"},     {"pa-1", "a"},           {"pq1..2", "q1.."},
       {"pqq", "'q' given twice"}, {"pq1.2/", "q1.2/"},      {"pa1e-3q2a2", "twice"}, {"p q", "' '"},
-      {"pY2", "Y2"},
+      {"pY2", "Y2"},             {"pq1e3", "no exponent"},  {"pq1.4/2E1", "no exponent"},
   };
   for (const auto& c : numeric)
     expect_input_error([&] { tetgen_switches(with_switches(c.sw)); }, {"mesh.switches", c.fragment}, c.sw);
