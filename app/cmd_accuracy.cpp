@@ -147,7 +147,13 @@ Command add_accuracy_command(CLI::App& app) {
     auto check_scene = [&](const std::string& flag, const std::string& level) {
       std::vector<std::string> set = level_set(flag, level);
       set.push_back("time.dt=\"auto\"");
-      (void)load_scene(o->scene, set);
+      const Scene s = load_scene(o->scene, set);
+      // The levels are torus grids (body.segments): on any other body, or on a scene of
+      // several, every level would be the same mesh and the sweep would measure nothing.
+      if (s.body_count() != 1 || s.shape != "torus")
+        throw InputError(flag + " '" + level + "': the levels set body.segments, a torus's grid; " + o->scene + " has " +
+                         (s.body_count() != 1 ? std::to_string(s.body_count()) + " bodies" : "body.shape = \"" + s.shape + "\"") +
+                         " (the accuracy sweep takes one torus)");
     };
     check_scene("--ref", o->ref);
     for (const auto& l : levels) check_scene("--levels", l);
