@@ -9,22 +9,27 @@
 
 namespace softtled {
 
+namespace {
+// Triangle t's share of the enclosed volume: the signed volume of the tetrahedron it makes
+// with the point o. Relative to the first vertex, not the origin: far from the origin the
+// determinants of absolute coordinates cancel (a 20 mm torus 1 km away lost 15 % of its
+// volume).
+double volume_term(const SurfaceMesh& s, int t, const double o[3]) {
+  double p[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int d = 0; d < 3; ++d) p[k][d] = s.xyz[3 * s.tri[3 * t + k] + d] - o[d];
+  const double* a = p[0];
+  const double* b = p[1];
+  const double* c = p[2];
+  return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+}
+}  // namespace
+
 double enclosed_volume(const SurfaceMesh& s) {
-  // Relative to the first vertex, not the origin: far from the origin the determinants
-  // of absolute coordinates cancel (a 20 mm torus 1 km away lost 15 % of its volume).
   if (s.xyz.size() < 3) return 0;
   const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
   double v = 0;
-  for (int t = 0; t < s.ntri(); ++t) {
-    double p[3][3];
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) p[k][d] = s.xyz[3 * s.tri[3 * t + k] + d] - o[d];
-    const double* a = p[0];
-    const double* b = p[1];
-    const double* c = p[2];
-    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-          a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-  }
+  for (int t = 0; t < s.ntri(); ++t) v += volume_term(s, t, o);
   return v;
 }
 
@@ -102,13 +107,7 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   // Each shell on its own: outwards at even depth, inwards (into the cavity) at odd depth.
   std::vector<double> cvol(nest.ncomp, 0.0);
   const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
-  for (int t = 0; t < s.ntri(); ++t) {
-    double p[3][3];
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) p[k][d] = s.xyz[3 * s.tri[3 * t + k] + d] - o[d];
-    cvol[nest.tri_comp[t]] += (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-                               p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) / 6.0;
-  }
+  for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, o);
   for (int t = 0; t < s.ntri(); ++t) {
     const int c = nest.tri_comp[t];
     const bool want_positive = nest.depth[c] % 2 == 0;

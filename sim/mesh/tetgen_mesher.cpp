@@ -366,10 +366,8 @@ extern "C" void child_crash_handler(int sig) {
     tetgenio* probe = new tetgenio;  // never freed: the child ends with _exit
     char sw_d[] = "pdzQ";
     tetrahedralize(sw_d, &in, probe);
-    if (switches.empty()) {  // the probe alone (count_self_intersections)
-      h.status = TetgenRun::kIntersects;
-      h.count = probe->numberoftrifaces;
-    } else if (probe->numberoftrifaces > 0) {
+    // The probe's answer: always when it runs alone (count_self_intersections, no switches).
+    if (switches.empty() || probe->numberoftrifaces > 0) {
       h.status = TetgenRun::kIntersects;
       h.count = probe->numberoftrifaces;
     } else {
@@ -517,13 +515,12 @@ long count_self_intersections(const SurfaceMesh& s, double time_limit_s) {
 
 std::vector<double> cavity_hole_points(const SurfaceMesh& surface) {
   std::vector<double> holes;
-  {
-    const ShellNesting first = shell_nesting(surface);  // depths do not depend on orientation
-    if (std::none_of(first.depth.begin(), first.depth.end(), [](int d) { return d % 2 == 1; })) return holes;
-  }
+  // Orienting only swaps vertices within triangles: the shells, their first triangles and
+  // their depths (by |winding number|) are the same before and after.
+  const ShellNesting nest = shell_nesting(surface);
+  if (std::none_of(nest.depth.begin(), nest.depth.end(), [](int d) { return d % 2 == 1; })) return holes;
   SurfaceMesh s = surface;
   check_and_orient_closed_surface(s, "surface");  // cavities oriented inwards (into the cavity)
-  const ShellNesting nest = shell_nesting(s);
   for (int c = 0; c < nest.ncomp; ++c) {
     if (nest.depth[c] % 2 == 0) continue;
     bool found = false;

@@ -459,16 +459,12 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
   const double h = 2 * extent / std::max(1, m.ntet());
   if (!(h > 0)) return;
   auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
-  auto key = [](long long x, long long y, long long z) {  // unsigned: wraps, never overflows
-    return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
-           (static_cast<unsigned long long>(z) * 83492791ull);
-  };
   std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
   for (int i : m.surface_nodes) {
     const double* x = &m.X[3 * i];
     bool near = false;
     for (int b = 0; b < nb && !near; ++b) near = b != m.node_body[i] && in_box(x, b);
-    if (near) grid[key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
+    if (near) grid[cell_key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
   }
   if (grid.empty()) return;
   for (int e = 0; e < m.ntet(); ++e) {
@@ -486,7 +482,7 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
     for (long long cx = cell(elo[0]); cx <= cell(ehi[0]); ++cx)
       for (long long cy = cell(elo[1]); cy <= cell(ehi[1]); ++cy)
         for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
-          const auto it = grid.find(key(cx, cy, cz));
+          const auto it = grid.find(cell_key(cx, cy, cz));
           if (it == grid.end()) continue;
           for (int i : it->second) {
             const int b = m.node_body[i];

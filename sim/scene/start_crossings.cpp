@@ -84,10 +84,6 @@ SegmentTriangleHit first_crossing(const std::vector<std::array<double, 6>>& segm
     }
     return n;
   };
-  auto key = [](long long x, long long y, long long z) {
-    return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
-           (static_cast<unsigned long long>(z) * 83492791ull);
-  };
   std::unordered_map<unsigned long long, std::vector<int>> grid;
   std::vector<int> big;  // triangles in too many cells
   for (int t = 0; t < int(triangles.size()); ++t) {
@@ -100,7 +96,7 @@ SegmentTriangleHit first_crossing(const std::vector<std::array<double, 6>>& segm
     }
     for (long long x = c0[0]; x <= c1[0]; ++x)
       for (long long y = c0[1]; y <= c1[1]; ++y)
-        for (long long z = c0[2]; z <= c1[2]; ++z) grid[key(x, y, z)].push_back(t);
+        for (long long z = c0[2]; z <= c1[2]; ++z) grid[cell_key(x, y, z)].push_back(t);
   }
   std::vector<int> seen(triangles.size(), -1);
   auto test = [&](int s, int t) {
@@ -121,7 +117,7 @@ SegmentTriangleHit first_crossing(const std::vector<std::array<double, 6>>& segm
       for (long long x = c0[0]; x <= c1[0] && !found; ++x)
         for (long long y = c0[1]; y <= c1[1] && !found; ++y)
           for (long long z = c0[2]; z <= c1[2] && !found; ++z) {
-            const auto it = grid.find(key(x, y, z));
+            const auto it = grid.find(cell_key(x, y, z));
             if (it == grid.end()) continue;
             for (int t : it->second)
               if (test(s, t)) {

@@ -19,6 +19,13 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
 // search for its minimum over the segment is exact to the search's tolerance.
 bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol);
 
+// The key of grid cell (x, y, z) in the start checks' hash maps (the spatial hash of
+// Teschner et al. 2003; unsigned, so it wraps and never overflows).
+inline unsigned long long cell_key(long long x, long long y, long long z) {
+  return (static_cast<unsigned long long>(x) * 73856093ull) ^ (static_cast<unsigned long long>(y) * 19349663ull) ^
+         (static_cast<unsigned long long>(z) * 83492791ull);
+}
+
 // Segments (p, q) and triangles (a, b, c) in groups (a body, an obstacle); the first
 // segment, in index order, that crosses a triangle of another group, through a uniform
 // grid over the triangles. {-1, -1}: none.

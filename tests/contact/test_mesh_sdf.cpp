@@ -18,6 +18,7 @@
 #include "sim/contact/mesh_sdf.h"
 #include "sim/contact/obstacle_shapes.h"
 #include "sim/mesh/surface_generators.h"
+#include "sim/mesh/surface_mesh.h"
 
 using namespace softtled;
 
@@ -44,30 +45,6 @@ double exact_unsigned(const SurfaceMesh& s, const double p[3]) {
   return best;
 }
 
-// Generalised winding number (Jacobson, Kavan & Sorkine-Hornung, Robust inside-outside
-// segmentation using generalized winding numbers, SIGGRAPH 2013): the triangles' solid
-// angles at p (Van Oosterom & Strackee 1983) over 4 pi; 1 inside a closed outward mesh, 0
-// outside. Independent of the grid's ray parity.
-double winding_number(const SurfaceMesh& s, const double p[3]) {
-  double w = 0;
-  for (int t = 0; t < s.ntri(); ++t) {
-    double a[3], b[3], c[3];
-    for (int k = 0; k < 3; ++k) {
-      a[k] = s.xyz[3 * s.tri[3 * t] + k] - p[k];
-      b[k] = s.xyz[3 * s.tri[3 * t + 1] + k] - p[k];
-      c[k] = s.xyz[3 * s.tri[3 * t + 2] + k] - p[k];
-    }
-    const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-    const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2], bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2],
-                 ca = c[0] * a[0] + c[1] * a[1] + c[2] * a[2];
-    w += 2 * std::atan2(det, la * lb * lc + ab * lc + bc * la + ca * lb);
-  }
-  return w / (4 * M_PI);
-}
-
 void node(const SdfGrid& g, int i, int j, int k, double p[3]) {
   p[0] = g.origin[0] + i * g.cell, p[1] = g.origin[1] + j * g.cell, p[2] = g.origin[2] + k * g.cell;
 }
@@ -91,7 +68,8 @@ TEST(MeshSdf, GridNodesAreExactDistancesWithTheWindingNumbersSign) {
         const double d = exact_unsigned(s, p);
         worst = std::max(worst, std::fabs(std::fabs(v) - d));
         if (d < 1e-3 * g.cell) continue;  // on the surface: either sign
-        const bool in = winding_number(s, p) > 0.5;
+        // generalized_winding_number (surface_mesh.h): independent of the grid's ray parity
+        const bool in = generalized_winding_number(s, p) > 0.5;
         inside += in;
         wrong_sign += in != (v < 0);
       }

@@ -237,6 +237,8 @@ TEST_P(Obstacles, BallBouncesDownTheStairsWithoutEnteringThem) {
   EXPECT_GT(d.centroid[0], 15e-3 + 4e-3) << "ends beyond the last step";
 }
 
+namespace {
+
 // A 6 mm cube at rest in zero gravity, and one obstacle of each shape flying past it along
 // x at 800 m/s, 8 mm per step (dt = 10 us). `offset` is the obstacle's centre line's height
 // above the cube's centre [mm]; the obstacle is 4 mm across in y.
@@ -257,6 +259,8 @@ Scene fast_obstacle(const std::string& shape, double offset) {
                          "velocity = [800, 0, 0]\n",
                      "fast " + shape);
 }
+
+}  // namespace
 
 TEST_P(Obstacles, FastObstacleLeavesAloneABodyItPassesAndHitsOneInItsPath) {
   // Passing 2 mm above the cube's top face, the obstacle never touches it: the cube, at
