@@ -144,16 +144,19 @@ Command add_accuracy_command(CLI::App& app) {
     for (const auto& e : elements)
       if (e != "T4" && e != "T4ANP") throw InputError("--elements: '" + e + "' is not T4 or T4ANP");
     // The scene with each level's overrides (parse only: unknown keys, ranges, the mesh.* grammar).
+    const Scene base = load_scene(o->scene);
     auto check_scene = [&](const std::string& flag, const std::string& level) {
-      std::vector<std::string> set = level_set(flag, level);
-      set.push_back("time.dt=\"auto\"");
-      const Scene s = load_scene(o->scene, set);
       // The levels are torus grids (body.segments): on any other body, or on a scene of
       // several, every level would be the same mesh and the sweep would measure nothing.
+      // (Asked of the scene as it is: with the level's body.segments it would not load.)
+      const Scene& s = base;
       if (s.body_count() != 1 || s.shape != "torus")
         throw InputError(flag + " '" + level + "': the levels set body.segments, a torus's grid; " + o->scene + " has " +
                          (s.body_count() != 1 ? std::to_string(s.body_count()) + " bodies" : "body.shape = \"" + s.shape + "\"") +
                          " (the accuracy sweep takes one torus)");
+      std::vector<std::string> set = level_set(flag, level);
+      set.push_back("time.dt=\"auto\"");
+      load_scene(o->scene, set);
     };
     check_scene("--ref", o->ref);
     for (const auto& l : levels) check_scene("--levels", l);

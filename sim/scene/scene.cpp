@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <toml++/toml.h>
 
@@ -301,7 +303,11 @@ bool is_table_value(const toml::node& n) {
   return false;
 }
 
-void apply_override(toml::table& root, const std::string& kv, const std::string& source) {
+// Body keys given with --set: (body index, key), so that read_body can refuse one the
+// body's shape does not use rather than ignore what was asked for.
+using BodySets = std::set<std::pair<std::size_t, std::string>>;
+
+void apply_override(toml::table& root, const std::string& kv, const std::string& source, BodySets& body_sets) {
   const auto eq = kv.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
   const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
@@ -365,6 +371,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     if (rest.empty() || rest.find('.') != std::string::npos)
       throw InputError("--set '" + kv + "': body keys are 'body.N.key' or 'body.N.material.key'");
     body->insert_or_assign(rest, v);
+    body_sets.insert({n, rest});
     return;
   }
   // obstacle.N.key: the N-th [[obstacle]] table (0-based, file order). Obstacles are only
@@ -397,6 +404,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     if (!target) throw InputError(source + ": --set " + key + ": '" + section + "' is not a table");
   }
   target->insert_or_assign(leaf, v);
+  if (section == "body") body_sets.insert({0, leaf});
 }
 
 // [mesh]: the TetGen options, with the ranges of the switch grammar (tetgen_mesher.h),
@@ -549,8 +557,21 @@ void read_obstacles(Reader& r, Scene& s) {
 }
 
 
-// One body's keys (body.* in table t, under the name label), into b.
-void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b) {
+// The body keys that only some shapes use, and those each shape uses (the others apply to
+// every shape).
+const std::set<std::string> kShapeKeys = {"major_radius", "tube_radius", "segments", "size", "divisions",
+                                          "radius",       "subdivisions", "file",   "scale"};
+std::set<std::string> shape_keys(const std::string& shape) {
+  if (shape == "torus") return {"major_radius", "tube_radius", "segments"};
+  if (shape == "box") return {"size", "divisions"};
+  if (shape == "sphere") return {"radius", "subdivisions"};
+  return {"file", "scale"};  // file, tet_file
+}
+
+// One body's keys (body.* in table t, under the name label), into b. set_here: the keys
+// --set gave this body.
+void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b,
+               const std::set<std::string>& set_here) {
   toml::table root;
   root.insert("body", t);
   Reader r(root, source, label == "body" ? "" : label);
@@ -596,11 +617,23 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
     if (name.find('.') != std::string::npos) r.fail_quoted("body.\"" + name + "\"");
     if (!r.used("body." + name)) r.fail("body." + name, "unknown key (see README, 'Scene format')");
   }
+  // A key of another shape does nothing. Asked for with --set it is refused; in the file
+  // (say, left over when --set changed the shape) it is reported and left.
+  const std::set<std::string> own = shape_keys(b.shape);
+  for (const std::string& name : kShapeKeys) {
+    if (!t.contains(name) || own.count(name)) continue;
+    std::string uses;
+    for (const std::string& k : own) uses += (uses.empty() ? "" : ", ") + k;
+    const std::string why = "not used by a " + b.shape + " body (its shape keys: " + uses + ")";
+    if (set_here.count(name)) r.fail("body." + name, why);
+    std::fprintf(stderr, "warning: %s: %s.%s is %s; ignored\n", source.c_str(), label.c_str(), name.c_str(),
+                 why.c_str());
+  }
 }
 
 // [body] (one body) or [[body]] tables (at most kMaxBodies), each with body.* keys and
 // optionally [body.material]. Body 0 goes into the Scene's own BodyDesc.
-void read_bodies(Reader& r, const toml::table& root, Scene& s) {
+void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& body_sets) {
   const toml::node* node = r.get("body");
   std::vector<const toml::table*> tables;
   bool array = false;
@@ -625,11 +658,14 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s) {
   (void)root;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string label = array ? "body[" + std::to_string(i) + "]" : "body";
+    std::set<std::string> set_here;
+    for (const auto& [n, key] : body_sets)
+      if (n == i) set_here.insert(key);
     if (i == 0) {
-      read_body(*tables[i], s.source, label, s);
+      read_body(*tables[i], s.source, label, s, set_here);
     } else {
       BodyDesc b;
-      read_body(*tables[i], s.source, label, b);
+      read_body(*tables[i], s.source, label, b, set_here);
       s.more_bodies.push_back(b);
     }
   }
@@ -646,14 +682,15 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     o << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
     throw InputError(o.str());
   }
-  for (const auto& kv : overrides) apply_override(root, kv, source);
+  BodySets body_sets;
+  for (const auto& kv : overrides) apply_override(root, kv, source, body_sets);
   Reader r(root, source);
   Scene s;
   s.source = source;
   const std::string units = r.str("units", "mm", {"m", "mm"});
   s.length_unit = units == "mm" ? 1e-3 : 1.0;
 
-  read_bodies(r, root, s);
+  read_bodies(r, root, s, body_sets);
   read_mesh_keys(r, s);
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
@@ -718,6 +755,20 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     if (s.body_element(i) == kT4ANP && s.body_model(i) != kTaylorNeoHookean)
       r.fail(b.own_law() ? b.key + ".material" : "material.element",
              "T4ANP is implemented for the neo_hookean model only");
+  }
+  // One body: its [body.material] overrides [material], and no other body keeps [material],
+  // so the body's values become the scene's. The stable step, the solver and the panel's
+  // live material all read those (the per-body scales exist only for several bodies, so
+  // the one body's own values were otherwise left unused).
+  if (s.body_count() == 1) {
+    if (s.own_E > 0) s.E = s.own_E;
+    if (s.own_rho > 0) s.rho = s.own_rho;
+    if (s.own_nu > -2) s.nu = s.own_nu;
+    if (s.own_model >= 0) s.material_model = MaterialModel(s.own_model);
+    if (s.own_element >= 0) s.element = ElementType(s.own_element);
+    s.own_E = s.own_rho = -1;
+    s.own_nu = -2;
+    s.own_model = s.own_element = -1;
   }
   s.alpha = r.num("damping.alpha", s.alpha, 0, kMaxAlpha);
   s.beta = r.num("damping.beta", s.beta, 0, kMaxBeta);

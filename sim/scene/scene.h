@@ -33,7 +33,8 @@ struct BodyDesc {
   std::array<double, 3> rotation_deg = {0, 0, 0};  // about x, then y, then z
   std::array<double, 3> velocity = {0, 0, 0};    // [m/s]
   // [body.material]: this body's own E, rho, nu, model and element; unset (E, rho < 0,
-  // nu < -1, model or element < 0): the scene's [material], live.
+  // nu < -1, model or element < 0): the scene's [material], live. In a one-body scene
+  // parse_scene makes them the scene's [material] and leaves these unset.
   double own_E = -1, own_rho = -1, own_nu = -2;
   int own_model = -1;    // MaterialModel
   int own_element = -1;  // ElementType

@@ -147,12 +147,26 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // With per-body materials the fastest body's wave speed with the smallest element
   // anywhere: conservative. 2/omega_max below sees every body's own material (the rest
   // state's scales and the laws).
-  ts_.c = 0;
-  for (int b = 0; b < std::max<int>(1, int(E_scale_.size())); ++b)
-    ts_.c = std::max(ts_.c, dilatational_wave_speed(q.E * (E_scale_.empty() ? 1.0 : E_scale_[b]),
-                                                    laws.empty() ? q.nu : laws[b].nu,
-                                                    scene_.rho * (rho_scale_.empty() ? 1.0 : rho_scale_[b])));
   if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
+  ts_.c = 0;
+  for (int b = 0; b < std::max<int>(1, int(E_scale_.size())); ++b) {
+    const double Eb = q.E * (E_scale_.empty() ? 1.0 : E_scale_[b]);
+    const double rho_b = scene_.rho * (rho_scale_.empty() ? 1.0 : rho_scale_[b]);
+    const double cb = dilatational_wave_speed(Eb, laws.empty() ? q.nu : laws[b].nu, rho_b);
+    ts_.c = std::max(ts_.c, cb);
+    // A body whose own material alone gives a step outside the range checked below is as
+    // absurd as a scene that does (its own E = 1e-320 passed as a body of no stiffness).
+    const double dt_b = q.lambda * ts_.min_Le / cb;
+    const bool own = !E_scale_.empty() && (scene_.body(b).own_E > 0 || scene_.body(b).own_rho > 0);
+    if (own && !(dt_b >= 1e-15 && dt_b <= 1e3)) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "%s: its own stable step %.4g s (E = %.4g Pa, rho = %.4g kg/m^3, smallest element edge %.4g m, "
+                    "time.lambda = %.4g) is outside [1e-15, 1000] s: check %s.material.E and .rho",
+                    scene_.body(b).key.c_str(), dt_b, Eb, rho_b, ts_.min_Le, q.lambda, scene_.body(b).key.c_str());
+      throw InputError(buf);
+    }
+  }
   ts_.dt_le = ts_.min_Le / ts_.c;
   if (q.nu != eigen_nu_ || q.material_model != eigen_model_ || laws != eigen_laws_) {
     eigen_scale_ = rest_eigen_scale(mesh_, q.nu, q.material_model, laws);

@@ -131,6 +131,39 @@ TEST(BodyLaws, LiveSceneNuLeavesABodysOwnNu) {
   }
 }
 
+// A scene of one body: its [body.material] is its material, so the run is the run of the
+// same scene with those values in [material], step for step and bit for bit (the one
+// body's own values had been left unused: the scene's E and element ran instead). The
+// same through --set body.0.material.*.
+TEST(BodyLaws, OneBodysOwnMaterialIsItsMaterial) {
+  const BodyCase ball{0, "", ""};
+  const std::string own = "E = 20000\nrho = 1500\nnu = 0.45\nelement = \"T4ANP\"\n";
+  std::string with_own = body_table(ball, false) + "[body.material]\n" + own;
+  for (const char* array : {"[body]", "[[body]]"}) {
+    SCOPED_TRACE(array);
+    std::string t = with_own;
+    t.replace(0, 6, array);
+    Simulation a(parse_scene(t + rest_of_scene(kSceneLaw, "\"auto\""), "own.toml"), "cpu");
+    std::string scene_law = rest_of_scene("", "\"auto\"");
+    scene_law.replace(scene_law.find("E = 3000\nrho = 1000\n"), 20, own);
+    Simulation b(parse_scene(body_table(ball, false) + scene_law, "scene.toml"), "cpu");
+    Simulation c(parse_scene(body_table(ball, false) + rest_of_scene(kSceneLaw, "\"auto\""), "plain.toml",
+                             {"body.0.material.E=20000", "body.0.material.rho=1500", "body.0.material.nu=0.45",
+                              "body.0.material.element=\"T4ANP\""}),
+                 "cpu");
+    Simulation plain(parse_scene(body_table(ball, false) + rest_of_scene(kSceneLaw, "\"auto\""), "plain.toml"),
+                     "cpu");
+    ASSERT_EQ(a.params().dt, b.params().dt);
+    ASSERT_EQ(c.params().dt, b.params().dt);
+    EXPECT_EQ(a.params().element, kT4ANP);
+    EXPECT_NE(plain.params().dt, b.params().dt);  // the material matters
+    const long steps = std::lround(0.004 / b.params().dt);
+    for (Simulation* s : {&a, &b, &c}) s->advance(steps, steps);
+    EXPECT_EQ(a.state().u, b.state().u);
+    EXPECT_EQ(c.state().u, b.state().u);
+  }
+}
+
 // Per-body laws on the GPU: the fused step's kernels with the law table (the scene above
 // runs them) and the two-kernel step's give the same bits, and so does multi, which
 // falls back to the fused step there; the CPU agrees to double rounding.
