@@ -409,10 +409,11 @@ class CudaSolver final : public CudaSolverApi {
     to_host_state(u.data(), du.data(), c.data(), overflow, s);
   }
 
-  // Snapshots (solver.h): the strain energy's kernels, the state check and one kernel
-  // writing state, energy and record into pinned buffers (launch_snapshot), queued behind
-  // the steps, with an event that end_snapshot waits for; the next steps queued after them
-  // cannot touch the state before the snapshot kernel is done (stream order).
+  // Snapshots (solver.h): the strain energy's kernels with the state check, then one kernel
+  // writing state, energy, record and overflow word into pinned buffers (launch_snapshot:
+  // PDL launches), queued behind the steps, with an event that end_snapshot waits for; the
+  // next steps queued after them cannot touch the state before the snapshot kernel is done
+  // (stream order).
   bool async_snapshots() const override { return true; }
   void begin_snapshot(int slot) override {
     Snapshot& sn = snaps_.at(std::size_t(slot));
@@ -421,14 +422,14 @@ class CudaSolver final : public CudaSolverApi {
       sn.u = std::make_unique<PinnedBuffer<T>>(n3);
       sn.du = std::make_unique<PinnedBuffer<T>>(n3);
       sn.contact = std::make_unique<PinnedBuffer<std::uint8_t>>(std::size_t(std::max(n_, 1)));
-      sn.se.resize(1);
     }
-    contact_.download_overflow(sn.overflow.data(), stream_);
-    enqueue_strain_energy(sn.se.data());
-    enqueue_state_check();
-    SOFTTLED_CUDA_CHECK(launch_snapshot<T>(stream_, shape_for(3 * n_, nsm_, false), n_, live_.u.data(), live_.du.data(),
-                                           live_.contact.data(), sn.se.data(), health_.data(), sn.u->data(),
-                                           sn.du->data(), sn.contact->data(), sn.energy.data(), sn.health.data()));
+    const SnapshotTarget<T> dst{sn.u->data(),      sn.du->data(),     sn.contact->data(),
+                                sn.energy.data(), sn.health.data(), sn.overflow.data()};
+    SOFTTLED_CUDA_CHECK(launch_snapshot<T>(stream_, nsm_, rest_.view, cfg_.mat, cfg_.element == kT4ANP,
+                                           live_.u.data(), live_.du.data(), live_.contact.data(),
+                                           du2_bound(cfg_.step.dt), health_.data(),
+                                           contact_.ready() ? contact_.view().overflow : nullptr, energy_vol_.data(),
+                                           energy_.data(), partials_.data(), dst));
     SOFTTLED_CUDA_CHECK(cudaEventRecord(sn.done.get(), stream_));
   }
   void end_snapshot(int slot, HostState& s, double& strain_energy, StepHealth& health) override {
@@ -1035,7 +1036,6 @@ class CudaSolver final : public CudaSolverApi {
   struct Snapshot {
     std::unique_ptr<PinnedBuffer<T>> u, du;
     std::unique_ptr<PinnedBuffer<std::uint8_t>> contact;
-    DeviceBuffer<double> se;
     PinnedBuffer<double> energy{1};
     PinnedBuffer<unsigned> overflow{1};
     PinnedBuffer<DeviceHealth> health{1};

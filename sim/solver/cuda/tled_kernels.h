@@ -285,13 +285,28 @@ template <class T>
 cudaError_t launch_state_check(cudaStream_t s, const LaunchShape& ls, const TetMeshView<T>& m, const NeoHookean<T>& mat,
                                const T* u, const T* du, T du2_bound, DeviceHealth* h);
 
-// A snapshot (CudaSolver::begin_snapshot), after the strain energy's sum (se) and the state
-// check: u, du (3n each), contact (n), *se and *health into host memory the device can
-// write (pinned: mapped under unified addressing), then *health cleared.
+// Where a snapshot goes: host memory the device can write (pinned: mapped under unified
+// addressing). u, du: 3n; contact: n; one word each for the rest.
 template <class T>
-cudaError_t launch_snapshot(cudaStream_t s, const LaunchShape& ls, int n, const T* u, const T* du,
-                            const std::uint8_t* contact, const double* se, DeviceHealth* health, T* hu, T* hdu,
-                            std::uint8_t* hcontact, double* henergy, DeviceHealth* hhealth);
+struct SnapshotTarget {
+  T* u;
+  T* du;
+  std::uint8_t* contact;
+  double* energy;
+  DeviceHealth* health;
+  unsigned* overflow;
+};
+// A snapshot (CudaSolver::begin_snapshot) as one chain of PDL launches queued behind the
+// steps: the strain energy's terms with the state check (launch_strain_energy_terms and
+// launch_state_check in one kernel; vol, terms: their scratch), the T4ANP node terms, the
+// partial sums (launch_sum's first kernel, into partials), then one kernel that totals them
+// as launch_sum does and writes u, du, contact, the total, *health and *overflow (the
+// body-contact word; null: none) to dst, and clears *health.
+template <class T>
+cudaError_t launch_snapshot(cudaStream_t s, int nsm, const TetMeshView<T>& m, const NeoHookean<T>& mat, bool anp,
+                            const T* u, const T* du, const std::uint8_t* contact, T du2_bound, DeviceHealth* health,
+                            const unsigned* overflow, T* vol, double* terms, double* partials,
+                            const SnapshotTarget<T>& dst);
 
 // Deterministic sum of n doubles: a fixed number of blocks each reduce a fixed range in a
 // fixed tree order into partials (kSumBlocks of them), then one block reduces those.
