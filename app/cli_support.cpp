@@ -63,20 +63,6 @@ void install_stop_signals() {
   sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: stop as for SIGTERM
 }
 
-std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag) {
-  std::vector<PathUse> in;
-  if (!s.source.empty() && s.source[0] != '(' && s.source != "--surface") in.push_back({s.source, scene_flag});
-  const auto slash = s.source.find_last_of('/');
-  auto rel = [&](const std::string& f) {
-    return !f.empty() && f[0] != '/' && slash != std::string::npos ? s.source.substr(0, slash + 1) + f : f;
-  };
-  for (int b = 0; b < s.body_count(); ++b)
-    if (!s.body(b).file.empty()) in.push_back({rel(s.body(b).file), s.body(b).key + ".file"});
-  for (std::size_t i = 0; i < s.obstacles.size(); ++i)
-    if (!s.obstacles[i].file.empty()) in.push_back({rel(s.obstacles[i].file), "obstacle[" + std::to_string(i) + "].file"});
-  return in;
-}
-
 int stop_signal() { return int(g_stop); }
 
 int exit_code_for_signal(int sig) {

@@ -33,10 +33,6 @@ CLI::Validator finite_range(double lo, double hi);
 // An integer option's range, shown in --help (CLI11 refuses values that overflow the type).
 CLI::Validator int_range(long lo, long hi);
 
-// The files a scene reads: the scene file itself (as `scene_flag`, when it came from a
-// file) and every body's and mesh obstacle's file (relative to the scene's folder), for
-// check_distinct_paths.
-std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag);
 
 // SIGINT, SIGTERM and SIGHUP (a closed terminal) set a flag that long loops poll (stop_requested) to finish the current
 // step, write what they have and return; a second signal ends the program at once.

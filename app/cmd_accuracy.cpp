@@ -167,7 +167,10 @@ Command add_accuracy_command(CLI::App& app) {
     const std::string csv_path = o->out + "/accuracy.csv", md_path = o->out + "/accuracy.md";
     check_output_file(csv_path, "--out");
     check_output_file(md_path, "--out");
-    check_distinct_paths({{o->scene, "--scene"}, {csv_path, "--out", true}, {md_path, "--out", true}});
+    std::vector<PathUse> paths = scene_inputs(base, "--scene");
+    paths.push_back({csv_path, "--out", true});
+    paths.push_back({md_path, "--out", true});
+    check_distinct_paths(paths);
     // SIGINT/SIGTERM/SIGHUP: stop after the run in progress, keeping the rows written.
     install_stop_signals();
 

@@ -30,6 +30,7 @@ Command add_plot_command(CLI::App& app) {
     if (!parse_wxh_size(o->size, 200, 8192, w, h))
       throw InputError("--size '" + o->size + "': expected WxH between 200 and 8192, e.g. 900x700");
     check_output_file(o->out, "--out");
+    check_distinct_paths({{o->csv, "csv"}, {o->out, "--out", true}});
     const CsvTable table = read_csv_table(o->csv);
     std::vector<PlotPanel> panels;
     try {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <sstream>
 
 #include "app/cli_support.h"
@@ -145,6 +146,18 @@ Command add_render_command(CLI::App& app) {
       check_output_dir(h.out_dir, "--out");  // before meshing
     }
     const Scene s = load_scene(o->scene, o->set);
+    if (is_video) {  // the video, or a frame, onto the scene or a file it reads
+      std::vector<PathUse> paths = scene_inputs(s, "--scene");
+      paths.push_back({o->video, "--video", true});
+      check_distinct_paths(paths);
+    } else {  // an input named as a frame is: is it that frame, in --out?
+      std::set<std::string> names;
+      for (double t : h.times) names.insert(frame_file_name(h.stem, t));
+      for (const PathUse& in : scene_inputs(s, "--scene")) {
+        const std::string name = std::filesystem::path(in.path).filename().string();
+        if (names.count(name)) check_distinct_paths({in, {h.out_dir + "/" + name, "--out", true}});
+      }
+    }
     if (!is_video) {
       std::error_code ec;
       std::filesystem::create_directories(h.out_dir, ec);

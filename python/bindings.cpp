@@ -413,6 +413,9 @@ PYBIND11_MODULE(_softtled, m) {
       .def(
           "write_vtu", [](PySimulation& s, const std::string& path) {
             check_output_file(path, "write_vtu");
+            std::vector<PathUse> paths = scene_inputs(s.scene(), "the scene");
+            paths.push_back({path, "write_vtu", true});
+            check_distinct_paths(paths);
             Simulation& sim = s.sim();
             write_vtu(path, sim.mesh(), &sim.state(), sim.time_step().dt, sim.materials());
           },

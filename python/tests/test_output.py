@@ -61,3 +61,20 @@ def test_render_png_bad_options(tmp_path):
         sim.render_png(str(tmp_path / "x.png"), color="plaid")
     with pytest.raises(softtled.InputError, match="size 8x8"):
         sim.render_png(str(tmp_path / "x.png"), width=8, height=8)
+
+
+def test_outputs_never_overwrite_the_scene_or_its_files(tmp_path):
+    """write_vtu and render_png onto the scene file or a file it reads are refused (as
+    the CLI refuses it, naming both), and those files are left byte for byte."""
+    src = open(scene("torus_on_mesh.toml")).read()
+    mesh = os.path.join(os.path.dirname(scene("torus_on_mesh.toml")), "..", "meshes", "bowl.obj")
+    (tmp_path / "bowl.obj").write_bytes(open(mesh, "rb").read())
+    (tmp_path / "s.toml").write_text(src.replace("../meshes/bowl.obj", "bowl.obj"))
+    sim = softtled.Simulation(str(tmp_path / "s.toml"), backend="cpu")
+    before = {p: (tmp_path / p).read_bytes() for p in ("s.toml", "bowl.obj")}
+    for target in ("s.toml", "bowl.obj"):
+        with pytest.raises(softtled.InputError, match="the same file"):
+            sim.write_vtu(str(tmp_path / target))
+        with pytest.raises(softtled.InputError, match="the same file"):
+            sim.render_png(str(tmp_path / target), width=64, height=48)
+    assert {p: (tmp_path / p).read_bytes() for p in before} == before

@@ -252,6 +252,13 @@ bool is_tet_file_extension(const std::string& path) {
   return e == "msh" || e == "vtu" || e == "node" || e == "ele" || e == "mesh";
 }
 
+std::vector<std::string> tet_file_paths(const std::string& path) {
+  const std::string ext = lower_ext(path);
+  if (ext != "node" && ext != "ele") return {path};
+  const std::string base = path.substr(0, path.size() - ext.size() - 1);
+  return {base + ".node", base + ".ele"};
+}
+
 TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetImportReport* report) {
   const std::string ext = lower_ext(path);
   const long max_tets = std::min(limits.max_tets, kMaxTetFileCount);

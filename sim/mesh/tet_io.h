@@ -61,6 +61,8 @@ TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits = {},
 
 // Whether load_tet_mesh knows the extension of this path.
 bool is_tet_file_extension(const std::string& path);
+// The files load_tet_mesh reads for path: a TetGen .node or .ele path reads both.
+std::vector<std::string> tet_file_paths(const std::string& path);
 
 TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* report = nullptr);
 

@@ -847,6 +847,27 @@ const char* contact_mode_name(ContactMode m) { return name_of(kContactModes, m);
 const char* precision_name(Precision p) { return name_of(kPrecisions, p); }
 const char* obstacle_shape_name(ObstacleShape s) { return name_of(kObstacleShapes, s); }
 
+std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag) {
+  std::vector<PathUse> in;
+  if (!s.source.empty() && s.source[0] != '(' && s.source != "--surface") in.push_back({s.source, scene_flag});
+  const auto slash = s.source.find_last_of('/');
+  auto rel = [&](const std::string& f) {
+    return !f.empty() && f[0] != '/' && slash != std::string::npos ? s.source.substr(0, slash + 1) + f : f;
+  };
+  for (int b = 0; b < s.body_count(); ++b) {
+    const BodyDesc& d = s.body(b);
+    if (d.file.empty()) continue;
+    if (d.shape != "tet_file") {
+      in.push_back({rel(d.file), d.key + ".file"});
+      continue;
+    }
+    for (const std::string& f : tet_file_paths(rel(d.file))) in.push_back({f, d.key + ".file"});
+  }
+  for (std::size_t i = 0; i < s.obstacles.size(); ++i)
+    if (!s.obstacles[i].file.empty()) in.push_back({rel(s.obstacles[i].file), "obstacle[" + std::to_string(i) + "].file"});
+  return in;
+}
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   // Regular files only, size-capped (a directory or FIFO is refused before it is opened).
   std::string text;

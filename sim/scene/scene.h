@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/io/output_file.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/solver/solver.h"
 
@@ -144,6 +145,12 @@ constexpr std::uint64_t kMaxSceneBytes = 4ull << 20;
 // Reads a regular file of at most kMaxSceneBytes (read_input_file); errors name the path
 // and the OS reason ("scene file PATH: cannot open file: No such file or directory").
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// The files a scene reads, for check_distinct_paths (no output may overwrite one): the
+// scene file itself (as `scene_flag`, when it came from a file), every body's file
+// (relative to the scene's folder; a TetGen .node/.ele body both halves) and every mesh
+// obstacle's file.
+std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag);
 
 // The scene file's names of the modes.
 const char* material_model_name(MaterialModel m);

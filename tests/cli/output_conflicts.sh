@@ -34,6 +34,22 @@ t 2 "--vtu writes frame_00002.vtu in that directory" "$exe" run --scene surface.
 # Controls: distinct outputs run.
 t 0 "simulated" "$exe" run --scene surface.toml --csv out.csv --vtu v1
 [ "$(grep -c '<DataSet' v1/series.pvd)" -ge 2 ] && [ "$(wc -l <out.csv)" -ge 3 ] || { echo "FAIL: control outputs"; status=1; }
+# The other inputs and commands: the second half of a TetGen .node/.ele body, the CSV that
+# plot reads, the scene under render's --video or under one of its PNG frames.
+t 0 "Mesh tetrahedra" "$exe" mesh --surface tetrahedron.obj --write tt
+printf 'units = "mm"\n[body]\nshape = "tet_file"\nfile = "tt.node"\nposition = [0, -10, 0]\n[time]\nduration = 0.002\n' > tfs.toml
+sum1=$(cat tt.node tt.ele out.csv | md5sum)
+t 2 "--csv tt.ele and body.file tt.ele are the same file" "$exe" run --scene tfs.toml --csv tt.ele
+t 2 "--vtu tt.ele and body.file tt.ele are the same file" "$exe" mesh --scene tfs.toml --vtu tt.ele
+t 2 "--out out.csv and csv out.csv are the same file" "$exe" plot out.csv --out out.csv
+[ "$(cat tt.node tt.ele out.csv | md5sum)" = "$sum1" ] || { echo "FAIL: a .node/.ele or the plotted CSV was changed"; status=1; }
+mkdir rs && cp surface.toml rs/x_t0.0000.png && cp tetrahedron.obj rs/ && cp surface.toml sc.mkv
+sum2=$(cat rs/x_t0.0000.png sc.mkv | md5sum)
+t 2 "--out rs/x_t0.0000.png" "$exe" render --scene rs/x_t0.0000.png --out rs --stem x --at 0 --backend cpu
+if command -v ffmpeg >/dev/null; then
+  t 2 "--video sc.mkv and --scene sc.mkv are the same file" "$exe" render --scene sc.mkv --video sc.mkv --to 0.05 --backend cpu
+fi
+[ "$(cat rs/x_t0.0000.png sc.mkv | md5sum)" = "$sum2" ] || { echo "FAIL: render overwrote its scene"; status=1; }
 # Read-only directory holding a writable file: the atomic replacement needs the directory.
 # Run as nobody (root may write anywhere); skipped where that is not possible.
 mkdir ro && touch ro/m.vtu ro/b.json && chmod 666 ro/m.vtu ro/b.json && chmod 555 ro
