@@ -117,6 +117,26 @@ void run_steps(PySimulation& s, long n) {
   if (stopped) throw py::error_already_set();
 }
 
+// The adaptive step to time t_end, Ctrl-C answered about every kStopCheckSteps steps.
+void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
+  bool stopped = false;
+  try {
+    stopped = s.advance_to_adaptive(t_end, what, [] { return PyErr_CheckSignals() != 0; });
+  } catch (...) {
+    s.refresh();
+    throw;
+  }
+  s.refresh();
+  if (stopped) throw py::error_already_set();
+}
+
+// A number as %.10g (not std::to_string's %f: 1e-9 is not 0.000000, 1e300 not 301 digits).
+std::string number_text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
 ParamValue param_value(const std::string& key, const py::handle& v) {
   ParamValue p;
   if (py::isinstance<py::bool_>(v)) {
@@ -248,6 +268,20 @@ PYBIND11_MODULE(_softtled, m) {
                     const std::vector<std::string>&>(),
            py::arg("path"), py::arg("text"), py::arg("source"), py::arg("backend"), py::arg("overrides"),
            "Low level: a scene file (path) or TOML text (text, named source); use softtled.Simulation.")
+      // An instance made by __new__ alone has no PySimulation: pybind11 would hand its
+      // methods uninitialised memory (a crash). Every attribute but the dunders (__init__
+      // among them) is refused until __init__ has run.
+      .def("__getattribute__",
+           [](py::handle self, const py::str& name) {
+             const std::string n = name;
+             auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
+             if (n.rfind("__", 0) != 0 && !inst->get_value_and_holder().holder_constructed())
+               throw py::type_error("Simulation." + n + ": this Simulation was never initialised (create it with "
+                                    "softtled.Simulation(scene), not __new__ alone)");
+             PyObject* r = PyObject_GenericGetAttr(self.ptr(), name.ptr());
+             if (!r) throw py::error_already_set();
+             return py::reinterpret_steal<py::object>(r);
+           })
       // ---- stepping ----
       .def(
           "step", [](PySimulation& s, long n) {
@@ -260,34 +294,22 @@ PYBIND11_MODULE(_softtled, m) {
       .def(
           "advance", [](PySimulation& s, double seconds) {
             if (!(seconds >= 0) || !std::isfinite(seconds)) throw InputError("advance: seconds must be finite and >= 0");
-            if (s.sim().params().dt_adaptive) {
-              try {
-                s.advance_to_adaptive(s.sim().time() + seconds);
-              } catch (...) {
-                s.refresh();
-                throw;
-              }
-              s.refresh();
-            } else {
-              run_steps(s, s.steps_for(seconds));
-            }
+            const std::string what = "advance(" + number_text(seconds) + ")";
+            if (s.sim().params().dt_adaptive)
+              run_adaptive(s, s.sim().time() + seconds, what);
+            else
+              run_steps(s, s.steps_for(seconds, what));
           },
           py::arg("seconds"),
           "Simulated seconds: round(seconds / dt) steps as step(); with time.dt = \"adaptive\" to time + seconds.")
       .def(
           "advance_to", [](PySimulation& s, double t) {
             if (!std::isfinite(t)) throw InputError("advance_to: t must be finite");
-            if (s.sim().params().dt_adaptive) {
-              try {
-                s.advance_to_adaptive(t);
-              } catch (...) {
-                s.refresh();
-                throw;
-              }
-              s.refresh();
-            } else if (t > s.sim().time()) {
-              run_steps(s, s.steps_for(t - s.sim().time()));
-            }
+            const std::string what = "advance_to(" + number_text(t) + ")";
+            if (s.sim().params().dt_adaptive)
+              run_adaptive(s, t, what);
+            else if (t > s.sim().time())
+              run_steps(s, s.steps_for(t - s.sim().time(), what));
           },
           py::arg("t"), "To simulated time t (as `softtled run` reaches its output times).")
       .def(

@@ -30,8 +30,13 @@ PySimulation::PySimulation(const std::string& path, const std::string& text, con
   slope_deg_ = scene_.slope_angle_deg;
 }
 
-long PySimulation::steps_for(double seconds) const {
-  return checked_step_count(seconds, sim_->params().dt, "advance(" + std::to_string(seconds) + ")");
+long PySimulation::steps_for(double seconds, const std::string& what) const {
+  return checked_step_count(seconds, sim_->params().dt, what);
+}
+
+void PySimulation::check_reach(double t_end, const std::string& what) const {
+  const double ahead = t_end - sim_->time();
+  if (ahead >= sim_->params().dt) (void)checked_step_count(ahead, sim_->params().dt, what);  // its upper limit
 }
 
 const std::vector<std::string>& PySimulation::param_names() {

@@ -41,10 +41,14 @@ class PySimulation {
   template <class Interrupted>
   bool step(long n, Interrupted interrupted);
   // The step count `seconds` takes at the current dt (checked_step_count: rounded, an
-  // InputError when it overflows or rounds to zero for a positive time).
-  long steps_for(double seconds) const;
-  // time.dt = "adaptive": Simulation::advance_to (cmd_run's call for such a scene).
-  void advance_to_adaptive(double t_end) { sim_->advance_to(t_end); }
+  // InputError naming `what` when it overflows or rounds to zero for a positive time).
+  long steps_for(double seconds, const std::string& what) const;
+  // time.dt = "adaptive": Simulation::advance_to (cmd_run's call for such a scene), with
+  // Ctrl-C answered about every Simulation::kStopCheckSteps steps (true: stopped there) and
+  // the fixed step's limit on the step count, taken at the step now (InputError naming what).
+  template <class Interrupted>
+  bool advance_to_adaptive(double t_end, const std::string& what, Interrupted interrupted);
+  void check_reach(double t_end, const std::string& what) const;
 
   // ---- live parameters (the viewer's panel, app/viewer_app.cpp apply_params) ----
   // Keys: E, nu, alpha, beta, mu, contact_mode ("sliding" | "static" | "coulomb"),
@@ -86,6 +90,20 @@ bool PySimulation::step(long n, Interrupted interrupted) {
     k += m;
   }
   return false;
+}
+
+template <class Interrupted>
+bool PySimulation::advance_to_adaptive(double t_end, const std::string& what, Interrupted interrupted) {
+  check_reach(t_end, what);
+  sim_->set_stop_check(interrupted);
+  try {
+    sim_->advance_to(t_end);
+  } catch (...) {
+    sim_->set_stop_check({});
+    throw;
+  }
+  sim_->set_stop_check({});
+  return sim_->stopped_early();
 }
 
 }  // namespace softtled

@@ -109,3 +109,37 @@ def test_ctrl_c_stops_between_chunks():
         signal.signal(signal.SIGALRM, old)
     assert 0 < sim.steps < 10**7 and sim.steps % softtled.CHUNK_STEPS == 0  # at a chunk's end
     assert sim.diagnostics()["t"] == sim.time
+
+
+def test_adaptive_advance_answers_ctrl_c_and_refuses_endless_runs():
+    """With time.dt = "adaptive" (no step count known in advance) advance and advance_to
+    stop on Ctrl-C within kStopCheckSteps steps, and a target beyond the fixed step's limit
+    of 1e11 steps (at the step now) is refused, as step() and the fixed-step advance do."""
+    import signal
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=["time.dt=adaptive"])
+    for call in (lambda: sim.advance(1e12), lambda: sim.advance_to(1e300)):
+        with pytest.raises(softtled.InputError, match="above the limit"):
+            call()
+    assert sim.steps == 0
+    old = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with pytest.raises(KeyboardInterrupt):
+            sim.advance(1000.0)  # some 2.5e7 steps
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    assert 0 < sim.time < 1000.0 and sim.diagnostics()["t"] == sim.time
+
+
+def test_an_instance_never_initialised_is_refused_not_crashed():
+    """Simulation.__new__ alone gives an object without its C++ state: every method and
+    property is refused with a TypeError (it crashed the interpreter)."""
+    sim = softtled.Simulation.__new__(softtled.Simulation)
+    for name in ("time", "step", "displacements", "diagnostics", "write_vtu"):
+        with pytest.raises(TypeError, match="never initialised"):
+            getattr(sim, name)
