@@ -162,7 +162,11 @@ Command add_accuracy_command(CLI::App& app) {
     for (const auto& l : levels) check_scene("--levels", l);
     if (o->out.empty()) o->out = default_out_dir();  // never the committed bench/accuracy
     check_output_dir(o->out, "--out");
-    std::filesystem::create_directories(o->out);
+    {
+      std::error_code ec;  // e.g. under /sys or /proc, which check_output_dir cannot tell
+      std::filesystem::create_directories(o->out, ec);
+      if (ec) throw InputError("--out " + o->out + ": cannot create directory: " + ec.message());
+    }
     const std::string backend = resolve_backend(o->backend);
     const std::string csv_path = o->out + "/accuracy.csv", md_path = o->out + "/accuracy.md";
     check_output_file(csv_path, "--out");

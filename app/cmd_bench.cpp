@@ -416,7 +416,8 @@ Command add_bench_command(CLI::App& app) {
   CLI::Option* json_opt = c->add_option("--json", o->json, "write the results as JSON");
   c->add_flag("--sweep", o->sweep, "also time refined tori of about 7k, 28k, 100k and 1M tets");
   c->add_flag("--no-compare{false}", o->compare_modes, "CUDA: time only the chosen mode, not the others and other lane counts");
-  c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
+  CLI::Option* prec_opt =
+      c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
   c->add_option("--mode", o->mode, "CUDA execution: auto, multi, fused, halo, graph-pdl, graph")
       ->check(CLI::IsMember({"auto", "multi", "fused", "halo", "graph-pdl", "graph"}))->capture_default_str();
   c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
@@ -425,7 +426,7 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(int_range(3, 1000))->capture_default_str();
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  return [o, scene_opt, json_opt]() {
+  return [o, c, scene_opt, json_opt, prec_opt]() {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
     if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
     if (json_opt->count() && o->json.empty()) throw InputError("--json: empty path");
@@ -435,8 +436,17 @@ Command add_bench_command(CLI::App& app) {
       throw InputError("--steps " + std::to_string(o->steps) + ": fewer than --samples " + std::to_string(o->samples) +
                        " (each sample times at least one step); give --steps >= --samples");
     o->backend = resolve_backend(o->backend);
+    if (o->backend == "cpu")  // CUDA's execution modes: nothing to choose or compare on the CPU
+      for (const char* flag : {"--mode", "--no-compare"})
+        if (c->count(flag)) throw InputError(std::string(flag) + " is for the CUDA backend (here: cpu)");
     std::vector<std::string> set = o->set;
-    set.push_back("solver.precision=" + o->precision);
+    // --precision (default float) unless --set gives solver.precision; both: which one?
+    const bool set_precision = std::any_of(set.begin(), set.end(), [](const std::string& kv) {
+      return kv.rfind("solver.precision=", 0) == 0;
+    });
+    if (set_precision && prec_opt->count())
+      throw InputError("--precision and --set solver.precision both given: give one");
+    if (!set_precision) set.push_back("solver.precision=" + o->precision);
     const Scene sc = load_scene(o->scene, set);
     {  // --json onto the scene or a surface it reads
       std::vector<PathUse> paths = scene_inputs(sc, "--scene");
@@ -510,7 +520,7 @@ Command add_bench_command(CLI::App& app) {
         rows.push_back(measure(load_scene(o->scene, s2), l.label, *o, -1, false));
         if (stop_requested()) return stopped();
       }
-      std::printf("\nsweep (%s, %s): bytes each step must move vs %s\n", o->backend.c_str(), o->precision.c_str(),
+      std::printf("\nsweep (%s, %s): bytes each step must move vs %s\n", o->backend.c_str(), precision_name(sc.precision),
                   copy_gbs > 0 ? "the measured copy bandwidth" : "(no device bandwidth on the CPU)");
       std::printf("  %-5s %9s %8s %11s %10s %10s %10s %9s %9s\n", "mesh", "tets", "nodes", "us/step", "steps/s", "MB/step",
                   "GB/s", "roofline", "RT factor");

@@ -120,6 +120,9 @@ Command add_render_command(CLI::App& app) {
       for (const char* flag : {"--fps", "--from", "--to", "--speed"})
         if (c->count(flag)) throw InputError(std::string(flag) + " is for --video");
     if (is_video && !c->count("--to")) throw InputError("--video needs --to: the end of the simulated range [s]");
+    if (is_video)
+      for (const char* flag : {"--out", "--stem", "--at"})
+        if (c->count(flag)) throw InputError(std::string(flag) + " is for PNG frames (--at); --video writes one file");
     if (!is_video) h.times = parse_times(o->at);
     parse_size(o->size, h.width, h.height);
     h.legend = !o->no_legend;

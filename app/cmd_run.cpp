@@ -75,12 +75,13 @@ Command add_run_command(CLI::App& app) {
   c->add_flag("--sync-checks", o->sync_checks,
               "on a GPU, step each output interval only after the last one is checked and written (the same "
               "numbers, slower; by default the device steps the next interval meanwhile)");
-  return [o, scene_opt, csv_opt, vtu_opt]() {
+  return [o, c, scene_opt, csv_opt, vtu_opt]() {
     // Every output path is checked before anything is read, meshed or truncated; an empty
     // one given is an error, not "no output".
     if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
     if (csv_opt->count() && o->csv.empty()) throw InputError("--csv: empty path");
     if (vtu_opt->count() && o->vtu.empty()) throw InputError("--vtu: empty path");
+    if (o->vtu.empty() && c->count("--every")) throw InputError("--every thins --vtu frames: give --vtu DIR too");
     if (!o->csv.empty()) check_output_file(o->csv, "--csv", true, true);
     if (!o->vtu.empty()) check_output_dir(o->vtu, "--vtu");
     const Scene s = load_scene(o->scene, o->set);

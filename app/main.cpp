@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
+#include <filesystem>
 #include <cstring>
 #include <exception>
 #include <map>
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "softtled: error: %s\n", e.what());
     return kExitInput;
   } catch (const ResourceError& e) {
+    std::fprintf(stderr, "softtled: error: %s\n", e.what());
+    return kExitResource;
+  } catch (const std::filesystem::filesystem_error& e) {  // a path the OS refused (checks catch most before)
     std::fprintf(stderr, "softtled: error: %s\n", e.what());
     return kExitResource;
   } catch (const std::bad_alloc&) {

@@ -130,13 +130,6 @@ void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
   if (stopped) throw py::error_already_set();
 }
 
-// A number as %.10g (not std::to_string's %f: 1e-9 is not 0.000000, 1e300 not 301 digits).
-std::string number_text(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
-
 ParamValue param_value(const std::string& key, const py::handle& v) {
   ParamValue p;
   if (py::isinstance<py::bool_>(v)) {

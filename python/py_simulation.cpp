@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "app/cli_support.h"
@@ -39,6 +40,12 @@ void PySimulation::check_reach(double t_end, const std::string& what) const {
   if (ahead >= sim_->params().dt) (void)checked_step_count(ahead, sim_->params().dt, what);  // its upper limit
 }
 
+std::string number_text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
 const std::vector<std::string>& PySimulation::param_names() {
   static const std::vector<std::string> names = {"E",      "nu",      "alpha",           "beta",     "mu",
                                                  "contact_mode", "body_contact", "self_contact", "dt", "dt_auto",
@@ -73,8 +80,8 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
     if (v.kind != ParamValue::kNumber) throw std::invalid_argument("set_params: " + key + " takes a number");
     const double x = v.number;
     if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo))
-      throw InputError("set_params: " + key + " = " + std::to_string(x) + ": must be finite and in " +
-                       (lo_open ? "(" : "[") + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw InputError("set_params: " + key + " = " + number_text(x) + ": must be finite and in " +
+                       (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + "]");
     return x;
   };
   auto flag = [](const std::string& key, const ParamValue& v) {
@@ -130,6 +137,10 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
     }
   }
   if (p.dt_auto && changes.count("dt")) throw InputError("set_params: dt and dt_auto = True together");
+  // As the scene's time.dt_max: a cap of the adaptive step only (a fixed step ignores it).
+  if (changes.count("dt_max") && !p.dt_adaptive)
+    throw InputError("set_params: dt_max applies only with time.dt = \"adaptive\" (this run's step is " +
+                     std::string(p.dt_auto ? "\"auto\"" : "fixed") + ")");
   if (!planes) return sim_->set_params(p);
   // The planes as the viewer sets them (request_planes): at once when the new ones do not
   // cut into the body; otherwise the slope turns towards its angle as a kinematic plane

@@ -81,6 +81,10 @@ class PySimulation {
   double slope_deg_ = 0;
 };
 
+// A number in messages as %.10g (not std::to_string's %f: 1e-9 is not 0.000000, and 1e300
+// not 301 digits).
+std::string number_text(double v);
+
 template <class Interrupted>
 bool PySimulation::step(long n, Interrupted interrupted) {
   for (long k = 0; k < n;) {

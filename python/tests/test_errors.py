@@ -143,3 +143,15 @@ def test_an_instance_never_initialised_is_refused_not_crashed():
     for name in ("time", "step", "displacements", "diagnostics", "write_vtu"):
         with pytest.raises(TypeError, match="never initialised"):
             getattr(sim, name)
+
+
+def test_set_params_refuses_what_would_be_ignored_and_names_values_as_given():
+    """dt_max caps only the adaptive step: on a fixed-step run it is refused (as the scene's
+    time.dt_max is), not stored and ignored. Range messages print the value given, not
+    %f's rounding (-1e-9 is not -0.000000)."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    with pytest.raises(softtled.InputError, match="dt_max applies only with time.dt"):
+        sim.set_params(dt_max=1e-9)
+    assert sim.params()["dt_max"] == softtled.Simulation(scene("torus_coarse.toml"), backend="cpu").params()["dt_max"]
+    with pytest.raises(softtled.InputError, match=r"E = -1e-09: must be finite and in \(0, 1e\+300\]"):
+        sim.set_params(E=-1e-9)

@@ -106,6 +106,13 @@ void check_output_file(const std::string& path, const std::string& what, bool al
   struct stat st;
   if (::stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw InputError(where + "is a directory; give a file name");
+    // The file or pipe standard output already goes to (--csv /dev/stdout, or --csv f > f):
+    // the command's messages and this output would overwrite or interleave. A device
+    // (/dev/null, a terminal) takes both.
+    struct stat so;
+    if (!S_ISCHR(st.st_mode) && ::fstat(STDOUT_FILENO, &so) == 0 && so.st_dev == st.st_dev && so.st_ino == st.st_ino)
+      throw InputError(where + "is where standard output goes, and the messages would mix with it" +
+                       (allow_stdout ? " (give - to write it to standard output)" : ""));
     if (::access(path.c_str(), W_OK) != 0) throw InputError(where + "cannot write: " + std::strerror(errno));
     if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its directory
       const std::string dir = parent_of(path);

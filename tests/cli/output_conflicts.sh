@@ -50,6 +50,11 @@ if command -v ffmpeg >/dev/null; then
   t 2 "--video sc.mkv and --scene sc.mkv are the same file" "$exe" render --scene sc.mkv --video sc.mkv --to 0.05 --backend cpu
 fi
 [ "$(cat rs/x_t0.0000.png sc.mkv | md5sum)" = "$sum2" ] || { echo "FAIL: render overwrote its scene"; status=1; }
+# Onto the file or pipe standard output goes to: the summary would mix with the output.
+"$exe" run --scene surface.toml --csv so.txt > so.txt 2> so.err
+rc=$?; { [ $rc -eq 2 ] && grep -q "is where standard output goes" so.err; } || { echo "FAIL: --csv onto stdout's file (exit $rc)"; status=1; }
+out=$("$exe" run --scene surface.toml --csv /dev/stdout 2>&1 | cat)
+grep -q "is where standard output goes" <<<"$out" || { echo "FAIL: --csv /dev/stdout into a pipe: $out"; status=1; }
 # Read-only directory holding a writable file: the atomic replacement needs the directory.
 # Run as nobody (root may write anywhere); skipped where that is not possible.
 mkdir ro && touch ro/m.vtu ro/b.json && chmod 666 ro/m.vtu ro/b.json && chmod 555 ro
