@@ -160,6 +160,17 @@ Command add_accuracy_command(CLI::App& app) {
     };
     check_scene("--ref", o->ref);
     for (const auto& l : levels) check_scene("--levels", l);
+    // The reference is the finest mesh: a level finer in either direction would be measured
+    // against a coarser answer than itself.
+    auto grid = [](const std::string& level) {
+      unsigned nu = 0, nv = 0;
+      std::sscanf(level.c_str(), "%ux%u", &nu, &nv);
+      return std::make_pair(nu, nv);
+    };
+    for (const auto& l : levels)
+      if (grid(l).first > grid(o->ref).first || grid(l).second > grid(o->ref).second)
+        throw InputError("--ref '" + o->ref + "' is coarser than --levels '" + l +
+                         "': the reference must be at least as fine as every level in both directions");
     if (o->out.empty()) o->out = default_out_dir();  // never the committed bench/accuracy
     check_output_dir(o->out, "--out");
     {

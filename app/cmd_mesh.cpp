@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -93,6 +94,9 @@ Command add_mesh_command(CLI::App& app) {
       if (opt->count() && v->empty()) throw InputError(opt->get_name() + ": empty path");
     // Output paths first: a bad one must fail before minutes of meshing.
     if (!o->write.empty()) {
+      const std::string name = std::filesystem::path(o->write).filename().string();
+      if (name.empty() || name == "." || name == "..")
+        throw InputError("--write " + o->write + ": give a base name (BASE.node, BASE.ele), not a directory");
       check_output_file(o->write + ".node", "--write");
       check_output_file(o->write + ".ele", "--write");
     }

@@ -247,7 +247,13 @@ PYBIND11_MODULE(_softtled, m) {
       .def_property_readonly("__cuda_array_interface__", &cuda_array_interface)
       .def_property_readonly("rows", [](const DeviceArray& a) { return a.rows; }, "mesh node of each row")
       .def_property_readonly("shape", [](const DeviceArray& a) { return py::make_tuple(a.nnode, 3); });
-  m.def("time_decimals", &time_decimals, py::arg("dt"),
+  m.def(
+      "time_decimals",
+      [](double dt) {
+        if (!(dt > 0) || !std::isfinite(dt)) throw InputError("time_decimals: dt = " + number_text(dt) + ": must be finite and > 0");
+        return time_decimals(dt);
+      },
+      py::arg("dt"),
         "Decimals of `softtled run`'s CSV column t: 3 significant digits of dt, at least 6.");
   m.def(
       "step_count", [](double duration, double dt) { return checked_step_count(duration, dt, "step_count"); },

@@ -90,11 +90,11 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
   };
   constexpr double kBig = 1e300;
   for (const auto& [key, v] : changes) {
-    if (key == "E") p.E = number(key, v, 0, kBig, true);
+    if (key == "E") p.E = number(key, v, 0, kMaxYoungsModulus, true);  // the scene file's ranges
     else if (key == "nu") p.nu = number(key, v, -1, 0.4999, true);  // the panel's cap
-    else if (key == "alpha") p.alpha = number(key, v, 0, kBig, false);
-    else if (key == "beta") p.beta = number(key, v, 0, kBig, false);
-    else if (key == "mu") p.mu = number(key, v, 0, kBig, false);
+    else if (key == "alpha") p.alpha = number(key, v, 0, kMaxAlpha, false);
+    else if (key == "beta") p.beta = number(key, v, 0, kMaxBeta, false);
+    else if (key == "mu") p.mu = number(key, v, 0, kMaxMu, false);
     else if (key == "dt") {
       p.dt = number(key, v, 0, kBig, true);
       p.dt_auto = false;
@@ -127,7 +127,9 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
     } else if (key == "g") {
       if (v.kind != ParamValue::kVector || v.vec.size() != 3) throw std::invalid_argument("set_params: g takes 3 numbers");
       for (int k = 0; k < 3; ++k) {
-        if (!std::isfinite(v.vec[k])) throw InputError("set_params: g: must be finite");
+        if (!(std::fabs(v.vec[k]) <= kMaxGravity))
+          throw InputError("set_params: g: element " + std::to_string(k) + " = " + number_text(v.vec[k]) +
+                           ": must be finite and within +-" + number_text(kMaxGravity) + " m/s^2");
         p.g[k] = v.vec[k];
       }
     } else {

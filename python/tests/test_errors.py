@@ -153,5 +153,25 @@ def test_set_params_refuses_what_would_be_ignored_and_names_values_as_given():
     with pytest.raises(softtled.InputError, match="dt_max applies only with time.dt"):
         sim.set_params(dt_max=1e-9)
     assert sim.params()["dt_max"] == softtled.Simulation(scene("torus_coarse.toml"), backend="cpu").params()["dt_max"]
-    with pytest.raises(softtled.InputError, match=r"E = -1e-09: must be finite and in \(0, 1e\+300\]"):
+    with pytest.raises(softtled.InputError, match=r"E = -1e-09: must be finite and in \(0, 1e\+12\]"):
         sim.set_params(E=-1e-9)
+
+
+def test_live_ranges_and_paths_as_the_scene_file_has_them(tmp_path):
+    """The live parameters take the scene file's ranges (beta <= 1 s, E <= 1e12 Pa, ...);
+    a path holding a NUL byte is refused (the OS would read another file: the part before
+    it); time_decimals takes a positive finite step only."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    for kw, text in ((dict(beta=2.0), r"beta = 2: must be finite and in \[0, 1\]"),
+                     (dict(E=1e13), r"E = 1e\+13"), (dict(alpha=1e7), "alpha = 10000000"),
+                     (dict(mu=1e4), "mu = 10000"), (dict(g=(0, -1e7, 0)), "g: element 1 = -10000000")):
+        with pytest.raises(softtled.InputError, match=text):
+            sim.set_params(**kw)
+    with pytest.raises(softtled.InputError, match="NUL byte"):
+        softtled.Simulation(scene("torus_coarse.toml") + "\0junk", backend="cpu")
+    with pytest.raises(softtled.InputError, match="NUL byte"):
+        sim.write_vtu(str(tmp_path / "n.vtu") + "\0.junk")
+    assert not (tmp_path / "n.vtu").exists()
+    for dt in (float("nan"), float("inf"), -1e-5, 0.0):
+        with pytest.raises(softtled.InputError, match="time_decimals"):
+            softtled.time_decimals(dt)

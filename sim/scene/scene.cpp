@@ -29,18 +29,6 @@ const Names<Precision> kPrecisions = {{"float", Precision::kFloat}, {"double", P
 const Names<ObstacleShape> kObstacleShapes = {
     {"sphere", kObstacleSphere}, {"box", kObstacleBox}, {"capsule", kObstacleCapsule}, {"mesh", kObstacleMesh}};
 
-// Physical ranges of the material, motion and contact keys. Each is far outside any soft
-// body a user can mean, and inside what the step and its float32 state can represent;
-// a value past one is a typo or a unit slip, refused with the key's name rather than run
-// into a frozen body, a NaN or a silently meaningless answer.
-constexpr double kMaxYoungsModulus = 1e12;  // Pa: diamond is 1.2e12
-constexpr double kMaxDensity = 1e5;         // kg/m^3: osmium is 2.3e4
-constexpr double kMaxAlpha = 1e6;           // 1/s: alpha dt > 2 already over-damps a 2 us step
-constexpr double kMaxBeta = 1.0;            // s: beta >= dt_cr shrinks the step below dt_cr / 2
-constexpr double kMaxGravity = 1e6;         // m/s^2 per component: 1e5 g (the crush test uses 2000 g)
-constexpr double kMaxSpeed = 1e4;           // m/s per component: 30x the speed of sound in air
-constexpr double kMaxMu = 1e3;              // friction coefficient: above ~10 Coulomb is static anyway
-constexpr double kMaxDuration = 1e7;        // s of simulated time
 
 template <class E>
 const char* name_of(const Names<E>& names, E value) {

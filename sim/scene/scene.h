@@ -43,6 +43,20 @@ struct BodyDesc {
   bool own_law() const { return own_nu > -2 || own_model >= 0 || own_element >= 0; }
 };
 
+// Physical ranges of the material, motion and contact keys (scene file and live
+// changes alike). Each is far outside any soft
+// body a user can mean, and inside what the step and its float32 state can represent;
+// a value past one is a typo or a unit slip, refused with the key's name rather than run
+// into a frozen body, a NaN or a silently meaningless answer.
+constexpr double kMaxYoungsModulus = 1e12;  // Pa: diamond is 1.2e12
+constexpr double kMaxDensity = 1e5;         // kg/m^3: osmium is 2.3e4
+constexpr double kMaxAlpha = 1e6;           // 1/s: alpha dt > 2 already over-damps a 2 us step
+constexpr double kMaxBeta = 1.0;            // s: beta >= dt_cr shrinks the step below dt_cr / 2
+constexpr double kMaxGravity = 1e6;         // m/s^2 per component: 1e5 g (the crush test uses 2000 g)
+constexpr double kMaxSpeed = 1e4;           // m/s per component: 30x the speed of sound in air
+constexpr double kMaxMu = 1e3;              // friction coefficient: above ~10 Coulomb is static anyway
+constexpr double kMaxDuration = 1e7;        // s of simulated time
+
 // Body 0's keys are the Scene's own (a one-body scene reads and edits them as before);
 // bodies 1.. are in more_bodies.
 struct Scene : BodyDesc {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <limits>
 
@@ -208,11 +209,16 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // material (E = 1e-300 gave 3e146 s, rho = 1e-300 a zero step) or lambda, so the message
   // names those rather than the run's duration or step count, which would fail next.
   if (!(q.dt >= 1e-15 && q.dt <= 1e3)) {
-    char buf[400];
+    char buf[500], extra[160] = "";
+    // What else shortens or caps it: Rayleigh damping's beta, the adaptive step's cap.
+    if (q.beta > 0) std::snprintf(extra, sizeof extra, ", shortened by damping.beta = %.4g s", q.beta);
+    if (q.dt_adaptive && q.dt_max < ts_.dt_cr)
+      std::snprintf(extra + std::strlen(extra), sizeof extra - std::strlen(extra), ", capped by time.dt_max = %.4g s",
+                    q.dt_max);
     std::snprintf(buf, sizeof buf,
                   "time step dt = %.4g s is outside [1e-15, 1000] s: the stable step is %.4g s for material.E = %.4g Pa, "
-                  "material.rho = %.4g kg/m^3 and the smallest element edge %.4g m, times time.lambda = %.4g%s",
-                  q.dt, ts_.dt_cr, q.E, scene_.rho, ts_.min_Le, q.lambda,
+                  "material.rho = %.4g kg/m^3 and the smallest element edge %.4g m%s, times time.lambda = %.4g%s",
+                  q.dt, ts_.dt_cr, q.E, scene_.rho, ts_.min_Le, extra, q.lambda,
                   q.dt_auto || q.dt_adaptive ? "" : " (or the time.dt given)");
     throw InputError(buf);
   }
