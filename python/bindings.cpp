@@ -130,7 +130,7 @@ void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
   if (stopped) throw py::error_already_set();
 }
 
-ParamValue param_value(const std::string& key, const py::handle& v) {
+ParamValue param_value_cast(const std::string& key, const py::handle& v) {
   ParamValue p;
   if (py::isinstance<py::bool_>(v)) {
     p.kind = ParamValue::kBool;
@@ -153,6 +153,17 @@ ParamValue param_value(const std::string& key, const py::handle& v) {
     throw py::type_error("set_params: " + key + ": unsupported value type " + std::string(py::str(v.get_type())));
   }
   return p;
+}
+
+ParamValue param_value(const std::string& key, const py::handle& v) {
+  try {
+    return param_value_cast(key, v);
+  } catch (const py::cast_error&) {  // '0' in a vector, an int beyond double: a type error, as documented
+    std::string got = py::repr(v);
+    if (got.size() > 60) got = got.substr(0, 57) + "...";
+    throw py::type_error("set_params: " + key + ": expected a number (within a double's range) or a sequence of numbers, "
+                         "got " + got);
+  }
 }
 
 py::dict diagnostics_dict(Simulation& sim) {
@@ -270,11 +281,15 @@ PYBIND11_MODULE(_softtled, m) {
       // An instance made by __new__ alone has no PySimulation: pybind11 would hand its
       // methods uninitialised memory (a crash). Every attribute but the dunders (__init__
       // among them) is refused until __init__ has run.
+      .def_static("_is_initialised",
+                  [](py::handle self) {
+                    return reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed();
+                  })
       .def("__getattribute__",
            [](py::handle self, const py::str& name) {
              const std::string n = name;
              auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
-             if (n.rfind("__", 0) != 0 && !inst->get_value_and_holder().holder_constructed())
+             if (n.rfind("__", 0) != 0 && n != "_is_initialised" && !inst->get_value_and_holder().holder_constructed())
                throw py::type_error("Simulation." + n + ": this Simulation was never initialised (create it with "
                                     "softtled.Simulation(scene), not __new__ alone)");
              PyObject* r = PyObject_GenericGetAttr(self.ptr(), name.ptr());

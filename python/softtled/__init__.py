@@ -42,6 +42,8 @@ class Simulation(_softtled.Simulation):
     """
 
     def __init__(self, scene, backend="auto", set=None, source="<dict>"):
+        if _softtled.Simulation._is_initialised(self):  # pybind11 would keep the old state silently
+            raise RuntimeError("Simulation.__init__: this Simulation is already initialised; create a new one")
         if isinstance(scene, dict):
             _softtled.Simulation.__init__(self, "", scene_to_toml(scene), source, backend, _overrides(set))
         elif isinstance(scene, (str, os.PathLike)):

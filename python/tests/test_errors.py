@@ -175,3 +175,15 @@ def test_live_ranges_and_paths_as_the_scene_file_has_them(tmp_path):
     for dt in (float("nan"), float("inf"), -1e-5, 0.0):
         with pytest.raises(softtled.InputError, match="time_decimals"):
             softtled.time_decimals(dt)
+
+
+def test_wrong_types_are_type_errors_and_init_runs_once():
+    """Values of the wrong type are TypeErrors naming the key (they were RuntimeErrors from
+    the binding's cast); a second __init__ is refused (the object kept its old state)."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    for kw in (dict(g=("0", "-1", "0")), dict(E=10**400)):
+        with pytest.raises(TypeError, match="set_params: " + next(iter(kw))):
+            sim.set_params(**kw)
+    with pytest.raises(RuntimeError, match="already initialised"):
+        sim.__init__(scene("cube_rest.toml"), backend="cpu")
+    assert sim.source == scene("torus_coarse.toml")
