@@ -98,12 +98,17 @@ std::string parent_of(const std::string& path) {
 }
 }  // namespace
 
+void check_no_nul(const std::string& path, const std::string& what) {
+  const auto nul = path.find('\0');
+  if (nul != std::string::npos)
+    throw InputError((what.empty() ? "" : what + " ") + path.substr(0, nul) + "...: the path holds a NUL byte");
+}
+
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout, bool in_place) {
   if (path == "-" && allow_stdout) return;
   const std::string where = what + " " + path + ": ";
   if (path.empty()) throw InputError(what + ": empty path");
-  if (path.find('\0') != std::string::npos)  // the OS would stop at it: another file
-    throw InputError(what + " " + path.substr(0, path.find('\0')) + "...: the path holds a NUL byte");
+  check_no_nul(path, what);
   if (path.back() == '/') throw InputError(where + "is a directory name; give a file name");
   struct stat st;
   if (::stat(path.c_str(), &st) == 0) {
@@ -135,8 +140,7 @@ void check_output_file(const std::string& path, const std::string& what, bool al
 void check_output_dir(const std::string& path, const std::string& what) {
   const std::string where = what + " " + path + ": ";
   if (path.empty()) throw InputError(what + ": empty path");
-  if (path.find('\0') != std::string::npos)
-    throw InputError(what + " " + path.substr(0, path.find('\0')) + "...: the path holds a NUL byte");
+  check_no_nul(path, what);
   std::string p = path;
   while (p.size() > 1 && p.back() == '/') p.pop_back();
   for (;;) {

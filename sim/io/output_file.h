@@ -48,6 +48,10 @@ class OutputFile {
 // Writes a whole file atomically (OutputFile kAtomic).
 void write_file_atomic(const std::string& path, const std::string& content);
 
+// InputError when path holds a NUL byte (a Python string may): the OS would take the part
+// before it, another file. what: the flag or call, or empty for an input path.
+void check_no_nul(const std::string& path, const std::string& what);
+
 // InputError (naming `what`, e.g. "--csv", the path and the OS reason) unless a file can be
 // created or overwritten at path: not a directory, its directory exists and is writable,
 // an existing file is writable. "-" (standard output) passes when allow_stdout. An

@@ -422,8 +422,7 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
 }
 
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only) {
-  // The OS would read the path only up to a NUL byte (Python strings may hold one): another file.
-  if (path.find('\0') != std::string::npos) throw InputError(path.substr(0, path.find('\0')) + "...: the path holds a NUL byte");
+  check_no_nul(path, "");
   auto os_error = [&](const char* what) { return InputError(path + ": " + what + ": " + std::strerror(errno)); };
   auto kind = [](mode_t m) {
     return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
