@@ -129,7 +129,14 @@ std::vector<NeoHookean<double>> Simulation::materials() const {
 }
 
 std::string Simulation::set_params(const PhysicsParams& p) {
-  drop_estimate();  // of the old parameters
+  // An adaptive run whose stiffness and step bounds stay as they are (a change of g, alpha,
+  // mu, planes or contact, or none at all) keeps its step, rung and estimate in flight:
+  // such a call leaves the run as it would be without it.
+  const bool same_step = params_.dt > 0 && params_.dt_adaptive && p.dt_adaptive && p.E == params_.E &&
+                         p.nu == params_.nu && p.material_model == params_.material_model &&
+                         p.element == params_.element && p.body_laws == params_.body_laws &&
+                         p.lambda == params_.lambda && p.beta == params_.beta && p.dt_max == params_.dt_max;
+  if (!same_step) drop_estimate();  // of the old parameters
   PhysicsParams q = p;
   // Body-body contact: only between several bodies.
   if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
@@ -190,6 +197,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     if (!(dt_old > 0)) {
       rung_ = ladder_rung(std::min(q.lambda * rayleigh_stable_step(ts_.dt_eigen, q.beta), q.dt_max));
       q.dt = ladder(rung_);
+    } else if (same_step) {
+      q.dt = dt_old;
     } else {
       q.dt = std::min(dt_old, q.dt_max);
       rung_ = ladder_rung(q.dt);
@@ -198,7 +207,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     ts_.dt_cr = rayleigh_stable_step(ts_.dt_eigen, q.beta);
   } else if (q.dt_auto) {
     q.dt = q.lambda * ts_.dt_cr;
-  } else if (q.dt > ts_.dt_cr) {
+  } else if (q.dt > ts_.dt_cr && !(scene_.allow_unstable && q.dt == dt_old)) {
+    // (time.allow_unstable: the step the user insisted on stays through other live changes.)
     char buf[200];
     std::snprintf(buf, sizeof buf, "dt = %.3g s exceeds the stable step %.3g s: clamped to %.3g s (lambda = %.2f)", q.dt,
                   ts_.dt_cr, q.lambda * ts_.dt_cr, q.lambda);
@@ -226,6 +236,22 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     t_offset_ = time();
     nsteps_ = 0;
   }
+  // A plane switched on or moved live (not one kept where it is, as a turning slope's
+  // pose) must not cut into the body: its projection would throw the nodes across the
+  // depth in one step and the run blows up (a scene file's planes are refused so at the
+  // start; the slope turns towards such an angle instead, PlaneMotion).
+  std::vector<PlaneSpec> changed;
+  for (std::size_t i = 0; i < q.planes.size(); ++i)
+    if (i >= params_.planes.size() || !same_pose(q.planes[i], params_.planes[i])) changed.push_back(q.planes[i]);
+  if (dt_old > 0 && !changed.empty()) {
+    const double gap = gap_to(changed);
+    if (gap < -1e-7) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "the new floor or slope plane cuts %.4g mm into the body: "
+                    "switch it on or move it while the body is on its free side", -gap * 1e3);
+      throw InputError(buf);
+    }
+  }
   std::vector<PlaneMotion> motion(q.planes.size());
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
     if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
@@ -242,6 +268,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (energy_changed) {
     watchdog_.rebase();
     disarm_speed_test();
+  } else if (!changed.empty() || q.planes.size() != params_.planes.size()) {
+    disarm_speed_test();  // armed for the planes of its time (a floor stopping the fall): re-armed at the next reset or rollback
   }
   params_ = q;
   ts_.dt = q.dt;
@@ -399,6 +427,19 @@ void Simulation::apply_initial_state() {
   }
   solver_->set_state(s);
   state_changed();
+  // A slope still turning towards its angle is at that angle for the body dropped again
+  // (the parameters as set now), unless that pose cuts into the body at the start.
+  bool turned = false;
+  for (std::size_t p = 0; p < plane_motion_.size(); ++p) {
+    const PlaneMotion& m = plane_motion_[p];
+    if (!m.moving() || !std::isfinite(m.duration)) continue;
+    const PlaneSpec end = moved(params_.planes[p], m, m.duration);
+    if (gap_to({end}) < -1e-7) continue;
+    params_.planes[p] = end;
+    plane_motion_[p] = PlaneMotion{};
+    turned = true;
+  }
+  if (turned) solver_->set_params(params_);
   nsteps_ = 0;
   t_offset_ = 0;
   total_steps_ = last_good_total_ = 0;
@@ -406,6 +447,7 @@ void Simulation::apply_initial_state() {
   since_estimate_ = 0;
   estimate_every_ = AdaptiveStep::kEvery;
   last_good_ = s;
+  keep_good_planes();
   last_good_time_ = 0;
   last_good_dt_ = params_.dt;
   work_ = last_good_work_ = 0;
@@ -453,6 +495,7 @@ void Simulation::set_state(const HostState& s) {
   solver_->set_state(s);
   state_changed();
   last_good_ = s;
+  keep_good_planes();
   last_good_time_ = time();
   last_good_dt_ = params_.dt;
   last_good_total_ = total_steps_;
@@ -469,7 +512,11 @@ void Simulation::advance(long n, long check_every) {
     const long k = std::min(check_every, n - done);
     step(k);
     done += k;
-    check_health();
+    const long at = total_steps_;
+    // A trip the adaptive step survives rolled back (and went on at a smaller step): the
+    // steps it dropped are taken again, so that n steps are kept, as advance_to reaches
+    // its time again.
+    if (check_health()) done = std::max(0L, done - (at - total_steps_));
   }
 }
 
@@ -607,10 +654,17 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
     total_steps_ = last_good_total_;
     work_ = last_good_work_;
     work_u_ = last_good_.u;
-    if (obstacles_moving()) {  // back where they were at the restored time
-      pose_obstacles();
-      solver_->set_params(params_);
-    }
+    bool posed = obstacles_moving();
+    if (posed) pose_obstacles();  // back where they were at the restored time
+    // A plane that was turning at that check goes back to its pose and motion then (planes
+    // the user changed since keep theirs).
+    for (std::size_t p = 0; p < std::min(params_.planes.size(), last_good_planes_.size()); ++p)
+      if (p < last_good_motion_.size() && last_good_motion_[p].moving()) {
+        params_.planes[p] = last_good_planes_[p];
+        plane_motion_[p] = last_good_motion_[p];
+        posed = true;
+      }
+    if (posed) solver_->set_params(params_);
     const std::string msg = watchdog_message(*f, t_bad, time(), params_.dt, ts_.dt_cr);
     if (params_.dt_adaptive && failures_ < AdaptiveStep::kMaxFailures) {
       // Last line of defence of the adaptive step: halve lambda for a while and go on
@@ -628,6 +682,7 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
     throw e;
   }
   last_good_ = s;
+  keep_good_planes();
   last_good_time_ = time();
   last_good_dt_ = params_.dt;
   last_good_total_ = total_steps_;

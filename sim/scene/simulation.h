@@ -97,7 +97,8 @@ class Simulation {
   // n steps with the watchdog checking every check_every steps (watchdog.h): NaN/Inf,
   // inverted elements (Taylor model only), energy gained from nowhere (net of the work of
   // the user's forces). On failure the state is rolled back to the last good check and
-  // SimulationDiverged is thrown.
+  // SimulationDiverged is thrown; a trip the adaptive step survives rolls back and takes
+  // the dropped steps again.
   void advance(long n, long check_every);
 
   // ---- pipelined stepping (softtled run) ----
@@ -272,6 +273,10 @@ class Simulation {
   HostState last_good_;
   double last_good_time_ = 0, last_good_dt_ = 0;
   double last_good_work_ = 0;
+  // The planes and their motions then: a turning plane's pose goes back with the state.
+  std::vector<PlaneSpec> last_good_planes_;
+  std::vector<PlaneMotion> last_good_motion_;
+  void keep_good_planes() { last_good_planes_ = params_.planes, last_good_motion_ = plane_motion_; }
   bool planes_moved_ = false;      // a kinematic plane moved since the last check
   double node_energy_max_ = std::numeric_limits<double>::infinity();  // arm_speed_test
   // Work of the user's forces, for the watchdog's energy balance: fext_ as last set,
