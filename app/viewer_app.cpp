@@ -258,6 +258,7 @@ class Viewer {
     set_.slope = s.slope;
     set_.slope_deg = float(s.slope_angle_deg);
     slope_was_on_ = set_.slope;
+    floor_was_on_ = set_.floor;
     st_.slope_now = set_.slope_deg;
     set_.lambda = float(s.dt_auto ? s.lambda : sim_->time_step().dt / sim_->time_step().dt_cr);
     set_.lock_lambda = s.dt_auto;
@@ -327,7 +328,9 @@ class Viewer {
     constexpr double kSlopeRate = 300;  // [deg per simulated second]
     const std::vector<PlaneSpec> target = planes_for(set_.slope_deg);
     if (!set_.slope || sim_->gap_to(target) >= -1e-7) {
-      apply_params(&target);
+      // Refused (a floor switched on inside the body; the panel shows why): the toggles
+      // go back to the planes the simulation keeps.
+      if (!apply_params(&target)) set_.floor = floor_was_on_, set_.slope = slope_was_on_;
     } else {
       const double from = slope_was_on_ ? st_.slope_now : 0.0;  // read_slope, last frame
       const std::vector<PlaneSpec> now = planes_for(from);
@@ -339,6 +342,7 @@ class Viewer {
       }
     }
     slope_was_on_ = set_.slope;
+    floor_was_on_ = set_.floor;
     read_slope();
   }
 
@@ -711,7 +715,7 @@ class Viewer {
   bool dirty_ = true;
   Vec3 last_centroid_;        // for the camera following the body
   bool have_centroid_ = false;
-  bool slope_was_on_ = false;
+  bool slope_was_on_ = false, floor_was_on_ = false;
   int logged_mode_ = -1;
   int screenshot_count_ = 0;
   std::unique_ptr<VideoEncoder> rec_;  // the video being recorded
