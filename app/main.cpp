@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
+#include <csignal>
 #include <filesystem>
 #include <cstring>
 #include <exception>
@@ -22,6 +23,10 @@
 
 int main(int argc, char** argv) {
   using namespace softtled;
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the checked writers
+  // report (exit 5, the CSV cut back to its last row) instead of SIGXFSZ killing the program
+  // with half-written files.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"SoftTLED: real-time soft-body simulation (TLED, Neo-Hookean, plane contact)\n"
                "Exit codes: 0 success, 2 bad input or usage, 3 internal error, 4 the watchdog stopped a diverging run,\n"
                "5 resource (out of memory, disk full or write error, no display/EGL), 130/143 stopped by SIGINT/SIGTERM."};

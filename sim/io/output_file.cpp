@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
@@ -88,6 +89,24 @@ void write_file_atomic(const std::string& path, const std::string& content) {
   OutputFile f(path, OutputFile::kAtomic);
   f.write(content);
   f.close();
+}
+
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> tmp;
+  try {
+    for (const auto& [path, content] : files) {
+      tmp.push_back(path + ".tmp");
+      OutputFile f(tmp.back(), OutputFile::kDirect);
+      f.write(content);
+      f.close();
+    }
+  } catch (...) {
+    for (const std::string& t : tmp) std::remove(t.c_str());
+    throw;
+  }
+  for (std::size_t i = 0; i < files.size(); ++i)
+    if (std::rename(tmp[i].c_str(), files[i].first.c_str()) != 0)
+      throw ResourceError(files[i].first + ": cannot replace it: " + std::strerror(errno));
 }
 
 namespace {

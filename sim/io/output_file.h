@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softtled {
@@ -47,6 +48,9 @@ class OutputFile {
 
 // Writes a whole file atomically (OutputFile kAtomic).
 void write_file_atomic(const std::string& path, const std::string& content);
+// Writes files that belong together (a TetGen .node/.ele pair): every PATH.tmp first, and
+// only when all are complete renamed onto their paths, so a failure keeps the old set.
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 // InputError when path holds a NUL byte (a Python string may): the OS would take the part
 // before it, another file. what: the flag or call, or empty for an input path.

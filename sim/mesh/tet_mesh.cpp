@@ -184,8 +184,8 @@ void write_tetgen_files(const TetMesh& m, const std::string& base) {
   el << m.ntet() << " 4 0\n";
   for (int e = 0; e < m.ntet(); ++e)
     el << e << ' ' << m.tet[4 * e] << ' ' << m.tet[4 * e + 1] << ' ' << m.tet[4 * e + 2] << ' ' << m.tet[4 * e + 3] << '\n';
-  write_file_atomic(base + ".node", nd.str());  // checked; ResourceError naming the file
-  write_file_atomic(base + ".ele", el.str());
+  // Both or neither: a new .node beside the old .ele would read as another mesh.
+  write_files_atomic({{base + ".node", nd.str()}, {base + ".ele", el.str()}});  // checked; ResourceError naming the file
 }
 
 }  // namespace softtled

@@ -17,6 +17,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -414,6 +415,10 @@ TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double 
     throw ResourceError(std::string("cannot start TetGen: fork: ") + std::strerror(e));
   }
   if (pid == 0) {
+    // The child dies with its parent (a `kill` of the parent's pid alone, a second Ctrl-C
+    // that ends it at once): otherwise TetGen went on meshing as an orphan at full CPU.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() == 1) ::_exit(1);  // the parent died before prctl
     // TetGen prints warnings on stdout, which may be the program's data stream (--csv -):
     // discard them. Its stderr goes to the parent (non-blocking: dropped when full).
     const int null = ::open("/dev/null", O_WRONLY);

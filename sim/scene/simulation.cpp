@@ -215,6 +215,22 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     warning = buf;
     q.dt = q.lambda * ts_.dt_cr;
   }
+  // A plane switched on or moved live (not one kept where it is, as a turning slope's
+  // pose) must not cut into the body: its projection would throw the nodes across the
+  // depth in one step and the run blows up (a scene file's planes are refused so at the
+  // start; the slope turns towards such an angle instead, PlaneMotion).
+  std::vector<PlaneSpec> changed;
+  for (std::size_t i = 0; i < q.planes.size(); ++i)
+    if (i >= params_.planes.size() || !same_pose(q.planes[i], params_.planes[i])) changed.push_back(q.planes[i]);
+  if (dt_old > 0 && !changed.empty()) {
+    const double gap = gap_to(changed);
+    if (gap < -1e-7) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "the new floor or slope plane cuts %.4g mm into the body: "
+                    "switch it on or move it while the body is on its free side", -gap * 1e3);
+      throw InputError(buf);
+    }
+  }
   // A step outside [1e-15, 1e3] s is no simulation anyone meant: it comes from an absurd
   // material (E = 1e-300 gave 3e146 s, rho = 1e-300 a zero step) or lambda, so the message
   // names those rather than the run's duration or step count, which would fail next.
@@ -235,22 +251,6 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;
-  }
-  // A plane switched on or moved live (not one kept where it is, as a turning slope's
-  // pose) must not cut into the body: its projection would throw the nodes across the
-  // depth in one step and the run blows up (a scene file's planes are refused so at the
-  // start; the slope turns towards such an angle instead, PlaneMotion).
-  std::vector<PlaneSpec> changed;
-  for (std::size_t i = 0; i < q.planes.size(); ++i)
-    if (i >= params_.planes.size() || !same_pose(q.planes[i], params_.planes[i])) changed.push_back(q.planes[i]);
-  if (dt_old > 0 && !changed.empty()) {
-    const double gap = gap_to(changed);
-    if (gap < -1e-7) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "the new floor or slope plane cuts %.4g mm into the body: "
-                    "switch it on or move it while the body is on its free side", -gap * 1e3);
-      throw InputError(buf);
-    }
   }
   std::vector<PlaneMotion> motion(q.planes.size());
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)

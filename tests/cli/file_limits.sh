@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# file_limits.sh EXPECT SOFTTLED DATA
+# Writes that fail part-way leave no broken output:
+# - past a file-size limit (ulimit -f) a write fails like one on a full disk (exit 5
+#   naming the file, the CSV cut back to its last complete row, no PATH.tmp left), where
+#   SIGXFSZ had killed the program mid-row;
+# - a TetGen .node/.ele pair is replaced both or neither: the second file failing keeps
+#   the old pair (a new .node had been left beside the old .ele).
+set -u
+expect=$1 exe=$2 data=$3
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+status=0
+(ulimit -f 8; bash "$expect" 5 "fc.csv" "$exe" run --scene "$data/surface.toml" --backend cpu --csv fc.csv --set time.duration=0.2) || status=1
+[ -s fc.csv ] && [ -z "$(tail -c1 fc.csv)" ] || { echo "FAIL: fc.csv is empty or ends mid-row"; status=1; }
+echo old > m.vtu
+(ulimit -f 4; bash "$expect" 5 "m.vtu" "$exe" mesh --scene "$data/surface.toml" --vtu m.vtu --set "body.shape=sphere" --set body.radius=3) || status=1
+[ "$(cat m.vtu)" = old ] && [ ! -e m.vtu.tmp ] || { echo "FAIL: m.vtu replaced or m.vtu.tmp left"; status=1; }
+bash "$expect" 0 "Mesh tetrahedra" "$exe" mesh --surface "$data/tetrahedron.obj" --write m || status=1
+sum=$(cat m.node m.ele | md5sum)
+mkdir m.ele.tmp  # the second file cannot be written
+bash "$expect" 5 "m.ele" "$exe" mesh --scene "$data/surface.toml" --write m --set "body.shape=sphere" --set body.radius=3 || status=1
+[ "$(cat m.node m.ele | md5sum)" = "$sum" ] && [ ! -e m.node.tmp ] || { echo "FAIL: the .node/.ele pair changed or m.node.tmp left"; status=1; }
+[ $status -eq 0 ] && echo "ok: file-size limit and a failing pair leave no broken output"
+exit $status
