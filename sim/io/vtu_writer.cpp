@@ -105,7 +105,15 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
       o << "file=\"" << f.files[p] << "\"/>\n";
     }
   o << "</Collection>\n</VTKFile>\n";
-  write_file_atomic(dir_ + "/series.pvd", o.str());  // always a complete index of complete frames
+  try {
+    write_file_atomic(dir_ + "/series.pvd", o.str());  // always a complete index of complete frames
+  } catch (...) {
+    // The index kept is the last one: the frame it does not list goes, so that the
+    // directory holds exactly the frames series.pvd names.
+    for (const auto& f : frames_.back().files) std::remove((dir_ + "/" + f).c_str());
+    frames_.pop_back();
+    throw;
+  }
 }
 
 }  // namespace softtled

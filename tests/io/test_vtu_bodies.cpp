@@ -195,6 +195,21 @@ TEST(VtuBodies, AFrameThatFailsPartWayIsNeverListed) {
   EXPECT_EQ(pvd.find("frame_00001"), std::string::npos) << pvd;
 }
 
+// The index failing after a frame's files are written: the frame goes too, so the
+// directory holds exactly the frames series.pvd names (the frame was left, unlisted).
+TEST(VtuBodies, AFrameWhoseIndexFailsIsRemoved) {
+  Simulation sim(two_boxes(), "cpu");
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_pvd_fail";
+  std::filesystem::remove_all(dir);
+  VtuSeries series(dir);
+  series.add(0.0, sim.mesh(), sim.state(), sim.time_step().dt, sim.materials());
+  std::filesystem::create_directories(dir + "/series.pvd.tmp");  // the index cannot be rewritten
+  EXPECT_THROW(series.add(0.001, sim.mesh(), sim.state(), sim.time_step().dt, sim.materials()), ResourceError);
+  EXPECT_EQ(series.size(), 1u);
+  for (int b = 0; b < 2; ++b) EXPECT_FALSE(std::filesystem::exists(frame_file(dir, 1, b))) << "body " << b;
+  EXPECT_TRUE(std::filesystem::exists(frame_file(dir, 0, 1)));
+}
+
 TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {
   Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
   const BodyRange r = body_range(sim.mesh(), 0);
