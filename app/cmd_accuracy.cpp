@@ -149,10 +149,9 @@ Command add_accuracy_command(CLI::App& app) {
       // The levels are torus grids (body.segments): on any other body, or on a scene of
       // several, every level would be the same mesh and the sweep would measure nothing.
       // (Asked of the scene as it is: with the level's body.segments it would not load.)
-      const Scene& s = base;
-      if (s.body_count() != 1 || s.shape != "torus")
+      if (base.body_count() != 1 || base.shape != "torus")
         throw InputError(flag + " '" + level + "': the levels set body.segments, a torus's grid; " + o->scene + " has " +
-                         (s.body_count() != 1 ? std::to_string(s.body_count()) + " bodies" : "body.shape = \"" + s.shape + "\"") +
+                         (base.body_count() != 1 ? std::to_string(base.body_count()) + " bodies" : "body.shape = \"" + base.shape + "\"") +
                          " (the accuracy sweep takes one torus)");
       std::vector<std::string> set = level_set(flag, level);
       set.push_back("time.dt=\"auto\"");

@@ -448,11 +448,7 @@ Command add_bench_command(CLI::App& app) {
       throw InputError("--precision and --set solver.precision both given: give one");
     if (!set_precision) set.push_back("solver.precision=" + o->precision);
     const Scene sc = load_scene(o->scene, set);
-    {  // --json onto the scene or a surface it reads
-      std::vector<PathUse> paths = scene_inputs(sc, "--scene");
-      if (!o->json.empty()) paths.push_back({o->json, "--json", true});
-      check_distinct_paths(paths);
-    }
+    if (!o->json.empty()) check_not_scene_input(sc, "--scene", {o->json, "--json", true});
     install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop after the current sample, write nothing
     auto stopped = [&]() {
       std::fprintf(stderr, "softtled: stopped by signal %d before the benchmark finished; wrote nothing\n", stop_signal());

@@ -150,9 +150,7 @@ Command add_render_command(CLI::App& app) {
     }
     const Scene s = load_scene(o->scene, o->set);
     if (is_video) {  // the video, or a frame, onto the scene or a file it reads
-      std::vector<PathUse> paths = scene_inputs(s, "--scene");
-      paths.push_back({o->video, "--video", true});
-      check_distinct_paths(paths);
+      check_not_scene_input(s, "--scene", {o->video, "--video", true});
     } else {  // an input named as a frame is: is it that frame, in --out?
       std::set<std::string> names;
       for (double t : h.times) names.insert(frame_file_name(h.stem, t));

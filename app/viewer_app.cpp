@@ -43,11 +43,7 @@ class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : opt_(o) {
     scene_ = load_scene(o.scene, o.set);
-    if (!o.record.empty()) {  // the recording onto the scene or a file it reads
-      std::vector<PathUse> paths = scene_inputs(scene_, "--scene");
-      paths.push_back({o.record, "--record", true});
-      check_distinct_paths(paths);
-    }
+    if (!o.record.empty()) check_not_scene_input(scene_, "--scene", {o.record, "--record", true});
     sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend));
     settings_from_scene();
     set_.paused = o.paused;

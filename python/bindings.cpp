@@ -103,12 +103,14 @@ py::dict cuda_array_interface(const DeviceArray& a) {
   return d;
 }
 
-// Steps with Python's Ctrl-C answered between chunks; the host copy refreshed afterwards
-// (also after a watchdog stop, which rolled the state back).
-void run_steps(PySimulation& s, long n) {
+// go(interrupted) steps, polling Python's Ctrl-C through interrupted and returning true
+// when it stopped for it (KeyboardInterrupt raised here); the host copy refreshed
+// afterwards (also after a watchdog stop, which rolled the state back).
+template <class Go>
+void run_interruptible(PySimulation& s, Go go) {
   bool stopped = false;
   try {
-    stopped = s.step(n, [] { return PyErr_CheckSignals() != 0; });
+    stopped = go([] { return PyErr_CheckSignals() != 0; });
   } catch (...) {
     s.refresh();
     throw;
@@ -117,17 +119,14 @@ void run_steps(PySimulation& s, long n) {
   if (stopped) throw py::error_already_set();
 }
 
+// n steps, Ctrl-C answered between chunks.
+void run_steps(PySimulation& s, long n) {
+  run_interruptible(s, [&](auto interrupted) { return s.step(n, interrupted); });
+}
+
 // The adaptive step to time t_end, Ctrl-C answered about every kStopCheckSteps steps.
 void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
-  bool stopped = false;
-  try {
-    stopped = s.advance_to_adaptive(t_end, what, [] { return PyErr_CheckSignals() != 0; });
-  } catch (...) {
-    s.refresh();
-    throw;
-  }
-  s.refresh();
-  if (stopped) throw py::error_already_set();
+  run_interruptible(s, [&](auto interrupted) { return s.advance_to_adaptive(t_end, what, interrupted); });
 }
 
 ParamValue param_value_cast(const std::string& key, const py::handle& v) {
@@ -449,9 +448,7 @@ PYBIND11_MODULE(_softtled, m) {
       .def(
           "write_vtu", [](PySimulation& s, const std::string& path) {
             check_output_file(path, "write_vtu");
-            std::vector<PathUse> paths = scene_inputs(s.scene(), "the scene");
-            paths.push_back({path, "write_vtu", true});
-            check_distinct_paths(paths);
+            check_not_scene_input(s.scene(), "the scene", {path, "write_vtu", true});
             Simulation& sim = s.sim();
             write_vtu(path, sim.mesh(), &sim.state(), sim.time_step().dt, sim.materials());
           },

@@ -33,9 +33,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
   if (o.color != "shaded" && o.color != "displacement" && o.color != "contact" && o.color != "von_mises")
     throw InputError("render_png: color '" + o.color + "': use shaded, displacement, contact or von_mises");
   check_output_file(path, "render_png");
-  std::vector<PathUse> paths = scene_inputs(sim.scene(), "the scene");
-  paths.push_back({path, "render_png", true});
-  check_distinct_paths(paths);
+  check_not_scene_input(sim.scene(), "the scene", {path, "render_png", true});
 #ifdef SOFTTLED_PY_RENDER
   HeadlessOptions h;
   h.times = {sim.time()};  // the current state: render_headless takes no step for it

@@ -842,18 +842,18 @@ std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag)
   auto rel = [&](const std::string& f) {
     return !f.empty() && f[0] != '/' && slash != std::string::npos ? s.source.substr(0, slash + 1) + f : f;
   };
-  for (int b = 0; b < s.body_count(); ++b) {
-    const BodyDesc& d = s.body(b);
-    if (d.file.empty()) continue;
-    if (d.shape != "tet_file") {
-      in.push_back({rel(d.file), d.key + ".file"});
-      continue;
-    }
-    for (const std::string& f : tet_file_paths(rel(d.file))) in.push_back({f, d.key + ".file"});
-  }
+  for (int b = 0; b < s.body_count(); ++b)  // (tet_file_paths: any other file is itself alone)
+    if (!s.body(b).file.empty())
+      for (const std::string& f : tet_file_paths(rel(s.body(b).file))) in.push_back({f, s.body(b).key + ".file"});
   for (std::size_t i = 0; i < s.obstacles.size(); ++i)
     if (!s.obstacles[i].file.empty()) in.push_back({rel(s.obstacles[i].file), "obstacle[" + std::to_string(i) + "].file"});
   return in;
+}
+
+void check_not_scene_input(const Scene& s, const std::string& scene_flag, const PathUse& output) {
+  std::vector<PathUse> paths = scene_inputs(s, scene_flag);
+  paths.push_back(output);
+  check_distinct_paths(paths);
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {

@@ -43,11 +43,10 @@ struct BodyDesc {
   bool own_law() const { return own_nu > -2 || own_model >= 0 || own_element >= 0; }
 };
 
-// Physical ranges of the material, motion and contact keys (scene file and live
-// changes alike). Each is far outside any soft
-// body a user can mean, and inside what the step and its float32 state can represent;
-// a value past one is a typo or a unit slip, refused with the key's name rather than run
-// into a frozen body, a NaN or a silently meaningless answer.
+// Physical ranges of the material, motion and contact keys (scene file and live changes
+// alike). Each is far outside any soft body a user can mean, and inside what the step and
+// its float32 state can represent; a value past one is a typo or a unit slip, refused with
+// the key's name rather than run into a frozen body, a NaN or a silently meaningless answer.
 constexpr double kMaxYoungsModulus = 1e12;  // Pa: diamond is 1.2e12
 constexpr double kMaxDensity = 1e5;         // kg/m^3: osmium is 2.3e4
 constexpr double kMaxAlpha = 1e6;           // 1/s: alpha dt > 2 already over-damps a 2 us step
@@ -165,6 +164,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 // (relative to the scene's folder; a TetGen .node/.ele body both halves) and every mesh
 // obstacle's file.
 std::vector<PathUse> scene_inputs(const Scene& s, const std::string& scene_flag);
+// check_distinct_paths of one output against scene_inputs(s, scene_flag).
+void check_not_scene_input(const Scene& s, const std::string& scene_flag, const PathUse& output);
 
 // The scene file's names of the modes.
 const char* material_model_name(MaterialModel m);
