@@ -48,8 +48,9 @@ std::string csv_row(const Diagnostics& d, int t_decimals) {
   return row + '\n';
 }
 
-// Steps per advance() call at most, so that a signal is answered within one such chunk
-// even when time.output_every spans millions of steps.
+// Steps per advance() call at most: the watchdog checks at least this often even when
+// time.output_every spans millions of steps (a signal is answered between steps, by the
+// stop check, within Simulation::kStopCheckSteps).
 constexpr long kMaxChunkSteps = 20000;
 // Warn when the run is estimated to take longer than this [s] of wall time.
 constexpr double kLongRunWarnS = 300;
@@ -165,7 +166,7 @@ Command add_run_command(CLI::App& app) {
                      "Ctrl-C stops it and keeps the output written so far\n",
                      tty ? "\n" : "", left / 60, 100.0 * t_now / s.duration, w);
     };
-    // Adaptive step: Simulation's stop check between steps (advance_to, queue_until).
+    // Simulation's stop check between steps (about every kStopCheckSteps).
     sim.set_stop_check([&] {
       check_progress(sim.time());
       return stop_requested();
@@ -217,8 +218,7 @@ Command add_run_command(CLI::App& app) {
       for (long done = 0; !pipelined && done < intervals && !stop_requested();) {
         const long n = std::min(per_interval, intervals - done);
         long k = 0;
-        // The output interval in chunks, so that a signal is answered within one chunk;
-        // the watchdog checks at the end of each.
+        // The output interval in chunks; the watchdog checks at the end of each.
         if (adaptive) {
           sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
           if (sim.stopped_early()) break;  // stopped between steps: no row off the output times
@@ -227,6 +227,7 @@ Command add_run_command(CLI::App& app) {
         while (k < n && !stop_requested()) {
           const long m = std::min(kMaxChunkSteps, n - k);
           sim.advance(m, m);
+          if (sim.stopped_early()) break;  // between steps: no row off the output times
           k += m;
           check_progress(sim.time());
         }

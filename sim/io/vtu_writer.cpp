@@ -5,7 +5,9 @@
 #include "sim/io/body_split.h"
 #include "sim/io/output_file.h"
 
+#include <algorithm>
 #include <cmath>
+#include <regex>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -69,6 +71,12 @@ VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw InputError(dir_ + ": cannot create directory (" + ec.message() + ")");
+  // The earlier index's frames, by the names this class writes: never a path (a hand-edited
+  // index naming ../x.vtu) or another file.
+  std::ifstream in(dir_ + "/series.pvd");
+  const std::regex entry("file=\"(frame_[0-9]{5}(_b[0-9]+)?\\.vtu)\"");
+  for (std::string line; std::getline(in, line);)
+    for (std::sregex_iterator it(line.begin(), line.end(), entry), end; it != end; ++it) earlier_.push_back((*it)[1]);
 }
 
 void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
@@ -114,6 +122,11 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     frames_.pop_back();
     throw;
   }
+  // The new index is on disk: the earlier series' frames that this one has not rewritten go.
+  for (const std::string& f : earlier_)
+    if (std::find(frames_.back().files.begin(), frames_.back().files.end(), f) == frames_.back().files.end())
+      std::remove((dir_ + "/" + f).c_str());
+  earlier_.clear();
 }
 
 }  // namespace softtled

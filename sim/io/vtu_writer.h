@@ -25,7 +25,10 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* state
 // in the .pvd with part="K" and the frame's time step. Every file is
 // written to NAME.tmp and renamed when complete (output_file.h), so after any stop the
 // directory holds whole frames and a .pvd that lists exactly those; write errors are
-// ResourceErrors naming the file.
+// ResourceErrors naming the file. A directory that holds an earlier series: the frames its
+// series.pvd lists (names of the frame_NNNNN[_bK].vtu form only) are removed once the new
+// series' first frame and index are written, so a shorter run leaves no stale frames and a
+// run that fails before its first frame leaves the earlier series whole.
 class VtuSeries {
  public:
   explicit VtuSeries(std::string dir);
@@ -41,6 +44,7 @@ class VtuSeries {
     std::vector<std::string> files;  // one, or one per body in body order
   };
   std::vector<Frame> frames_;
+  std::vector<std::string> earlier_;  // the frames an earlier series.pvd in dir_ listed
 };
 
 }  // namespace softtled

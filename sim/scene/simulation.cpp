@@ -364,7 +364,7 @@ long Simulation::steps_to_estimate_event() const {
 bool Simulation::step_to(double t_end) {
   // The stop check sees no more than kStopCheckSteps steps between two calls; the steps
   // themselves are the same with or without it.
-  long since_check = 0;
+  long since_check = kStopCheckSteps;  // checked before the first step too
   while (time() < t_end - 0.5 * params_.dt) {
     if (stop_check_ && since_check >= kStopCheckSteps) {
       since_check = 0;
@@ -375,6 +375,20 @@ bool Simulation::step_to(double t_end) {
     const long n = std::min(std::max(1L, std::lround((t_end - time()) / params_.dt)), steps_to_estimate_event());
     step(n);
     since_check += n;
+  }
+  return true;
+}
+
+bool Simulation::step_unless_stopped(long n) {
+  if (!stop_check_) {
+    step(n);
+    return true;
+  }
+  for (long done = 0; done < n;) {  // the same steps as step(n): its own calls split further
+    if (stop_check_()) return false;
+    const long k = std::min(kStopCheckSteps, n - done);
+    step(k);
+    done += k;
   }
   return true;
 }
@@ -508,9 +522,13 @@ void Simulation::set_state(const HostState& s) {
 
 void Simulation::advance(long n, long check_every) {
   if (check_every <= 0) check_every = n;
+  stopped_early_ = false;
   for (long done = 0; done < n;) {
     const long k = std::min(check_every, n - done);
-    step(k);
+    if (!step_unless_stopped(k)) {
+      stopped_early_ = true;  // no check: the caller stops here
+      return;
+    }
     done += k;
     const long at = total_steps_;
     // A trip the adaptive step survives rolled back (and went on at a smaller step): the
@@ -573,10 +591,7 @@ void Simulation::queue_snapshot(long n, double t_end) {
   const bool overlap = pipelines();
   bool stopped = false;
   if (overlap) {
-    if (n >= 0)
-      step(n);
-    else
-      stopped = !step_to(t_end);
+    stopped = n >= 0 ? !step_unless_stopped(n) : !step_to(t_end);
     solver_->begin_snapshot(slot);
   }
   queued_.push_back({slot, n, t_end, overlap, stopped, bookkeeping()});
@@ -591,12 +606,11 @@ const Simulation::Checkpoint& Simulation::collect() {
   c.stopped = q.stopped;
   if (!q.overlap) {  // nothing to overlap: advance now, in the same order
     try {
-      if (q.n >= 0) {
+      if (q.n >= 0)
         advance(q.n, q.n);
-      } else {
+      else
         advance_to(q.t_end);
-        c.stopped = stopped_early_;
-      }
+      c.stopped = stopped_early_;
     } catch (...) {
       queued_.clear();  // rolled back (or failed): what was queued after it never runs
       throw;

@@ -98,7 +98,7 @@ class Simulation {
   // inverted elements (Taylor model only), energy gained from nowhere (net of the work of
   // the user's forces). On failure the state is rolled back to the last good check and
   // SimulationDiverged is thrown; a trip the adaptive step survives rolls back and takes
-  // the dropped steps again.
+  // the dropped steps again. The stop check (set_stop_check) ends it early, unchecked.
   void advance(long n, long check_every);
 
   // ---- pipelined stepping (softtled run) ----
@@ -120,7 +120,7 @@ class Simulation {
     HostState state;
     Diagnostics diag;
     bool rolled_back = false;
-    // queue_until's steps were cut short by the stop check (set_stop_check): the state is
+    // The queued steps were cut short by the stop check (set_stop_check): the state is
     // not at the time asked for; the caller stops there.
     bool stopped = false;
   };
@@ -152,11 +152,11 @@ class Simulation {
   // advance(): for a changing step (time.dt = "adaptive"), where a step count is unknown.
   // A trip the adaptive step survives rolls back and steps to t_end again.
   void advance_to(double t_end);
-  // A predicate advance_to and queue_until call between steps (about every
-  // kStopCheckSteps steps, and at least once per call); when it returns true they stop
-  // stepping at once, before reaching t_end (advance_to then skips its check and returns
-  // with time() < t_end; stopped_early() says so). It never changes the steps taken when
-  // it returns false. Empty: none.
+  // A predicate advance, advance_to, queue and queue_until call between steps (before the
+  // first, then every kStopCheckSteps steps); when it returns true they stop stepping at
+  // once, short of their steps or t_end (advance and advance_to then skip their check and
+  // return; stopped_early() says so; a checkpoint says `stopped`). It never changes the
+  // steps taken when it returns false. Empty: none.
   static constexpr long kStopCheckSteps = 1000;
   void set_stop_check(std::function<bool()> f) { stop_check_ = std::move(f); }
   bool stopped_early() const { return stopped_early_; }
@@ -211,6 +211,8 @@ class Simulation {
   void queue_snapshot(long n, double t_end);
   // Steps until time() reaches t_end, within half a step; false: the stop check ended it early.
   bool step_to(double t_end);
+  // step(n), unless the stop check ends it early (false).
+  bool step_unless_stopped(long n);
   std::function<bool()> stop_check_;
   bool stopped_early_ = false;
   struct Queued {

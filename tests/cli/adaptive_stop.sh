@@ -5,7 +5,7 @@
 # within a few seconds (pipelined and --sync-checks loops) with exit 143 / 130 / 129, the
 # "stopped by signal" message and only complete CSV rows at output times. The long-run
 # warning comes within the first interval (adaptive, and a fixed step of ~1e-11 s from
-# material.rho = 1e-9). bench and accuracy stop on SIGINT / SIGHUP with the message.
+# material.rho = 1e-9). A fixed step stops between steps inside a long output interval. bench and accuracy stop on SIGINT / SIGHUP with the message.
 set -u
 exe=$1 data=$2 assets=$3
 tmp=$(mktemp -d)
@@ -66,6 +66,22 @@ done
 start "$exe" run --scene "$data/surface.toml" --set material.rho=1e-9 time.duration=1 --csv "$tmp/out.csv"
 wait_for "warning: this run will take about" 30 || fail "fixed tiny dt: no long-run warning"
 stop TERM 143 5
+# A fixed step whose output interval is 17,977 steps (the paper's torus, 0.1 s on the CPU):
+# the signal is answered between steps (every Simulation::kStopCheckSteps = 1000), inside
+# the interval, not at its end; the CSV keeps only the rows at output times.
+start "$exe" run --scene "$assets/scenes/torus_drop.toml" --backend cpu --set time.output_every=0.1 time.duration=10 --csv "$tmp/out.csv"
+wait_for "backend cpu" 120 || fail "fixed step: no start line"; sleep 2
+stop TERM 143 60
+t=$(sed -n 's/.*stopped by signal 15 at t = \([0-9.]*\) s.*/\1/p' "$tmp/err.txt")
+python3 - "$t" "$tmp/out.csv" <<'PY' || fail "fixed step: not stopped between steps inside an output interval"
+import sys
+t, dt, every = float(sys.argv[1]), 5.56267e-6, 0.1
+steps = t / dt
+assert abs(steps / 1000 - round(steps / 1000)) < 1e-3, f"t = {t}: {steps} steps, not a multiple of 1000"
+assert abs(t / every - round(t / every)) > 1e-3, f"t = {t}: at an output time (stopped at the interval's end)"
+rows = open(sys.argv[2]).read().splitlines()[1:]
+assert len(rows) == 1 + int(t / every), f"{len(rows)} rows at t = {t}"
+PY
 # bench and accuracy: the handler is installed, the usual message, 130 / 129.
 start "$exe" bench --scene "$data/surface.toml" --steps 1000000000 --samples 1000
 sleep 2; stop INT 130 20

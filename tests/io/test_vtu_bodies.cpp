@@ -210,6 +210,31 @@ TEST(VtuBodies, AFrameWhoseIndexFailsIsRemoved) {
   EXPECT_TRUE(std::filesystem::exists(frame_file(dir, 0, 1)));
 }
 
+// A second, shorter series into the same directory (one body where the first had two):
+// the first series' frames go once the new first frame is indexed, so the directory holds
+// exactly what series.pvd names; files the earlier index did not list stay. Before the
+// new first frame the earlier series is whole.
+TEST(VtuBodies, ASeriesReplacesTheEarlierSeriesInItsDirectory) {
+  Simulation two(two_boxes(), "cpu");
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_replace";
+  std::filesystem::remove_all(dir);
+  {
+    VtuSeries first(dir);
+    for (int f = 0; f < 3; ++f) first.add(0.001 * f, two.mesh(), two.state(), two.time_step().dt, two.materials());
+  }
+  write_file_atomic(dir + "/notes.txt", "mine");
+  write_file_atomic(dir + "/frame_00007.vtu", "not listed");
+  Simulation one(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
+  VtuSeries second(dir);
+  EXPECT_TRUE(std::filesystem::exists(frame_file(dir, 2, 1))) << "nothing removed before the first new frame";
+  second.add(0.0, one.mesh(), one.state(), one.time_step().dt, one.materials());
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame_00000.vtu", "frame_00007.vtu", "notes.txt", "series.pvd"}));
+  EXPECT_EQ(read_text(dir + "/notes.txt"), "mine");
+}
+
 TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {
   Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
   const BodyRange r = body_range(sim.mesh(), 0);

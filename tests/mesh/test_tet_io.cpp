@@ -313,6 +313,8 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
       {"overlap.mesh", with_tets({{1, 2, 3, 5}, {2, 3, 5, 8}, {1, 2, 3, 6}}), "overlap: they lie on the same side"},
       // Two tets sharing only the edge 1-2: that edge is on four boundary faces.
       {"nonmanifold.mesh", medit(two, {{1, 2, 3, 4}, {1, 2, 6, 7}}), "non-manifold boundary: the edge between nodes 0 and 1"},
+      // Two tets sharing only node 1: each edge on two faces, but two fans around the node.
+      {"pinched.mesh", medit(two, {{1, 2, 3, 4}, {1, 5, 6, 7}}), "parts of the mesh touch at node 0 (0-based, file order) only"},
       {"bad_number.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 zero 0\n", "'zero' is not a number"},
       {"huge_count.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 100000000 1 100000000\n", "cannot fit in the"},
       {"v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "MSH version '3.0' is not supported"},
@@ -381,6 +383,19 @@ TEST(TetIo, SceneKeysForTetFile) {
     ADD_FAILURE() << "a 10 km puck was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("body.file/body.scale: the mesh is"), std::string::npos) << e.what();
+  }
+  // One stray node 1e15 mm below the cube (a tet on its bottom face): the size is what is
+  // wrong, not the cube's tets, which the stray tet's volume dwarfs.
+  std::vector<std::array<double, 3>> X = kCube;
+  X.push_back({0.5, 0.3, -1e15});
+  std::vector<std::array<int, 4>> T = kKuhn;
+  T.push_back({1, 2, 4, 9});
+  write_file(tmp_dir() + "/stray.mesh", medit(X, T));
+  try {
+    scene_tet_file_mesh(parse_scene("units = \"mm\"\n[body]\nshape = \"tet_file\"\nfile = \"" + tmp_dir() + "/stray.mesh\"\n", "s.toml"));
+    ADD_FAILURE() << "a mesh 1e12 m across was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body.file/body.scale: the mesh is 1e+12 m across"), std::string::npos) << e.what();
   }
 }
 
