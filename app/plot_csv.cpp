@@ -13,7 +13,10 @@ namespace softtled {
 
 const std::vector<double>* CsvTable::column(const std::string& name) const {
   for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return &cols[i];
+    if (names[i] == name) {
+      if (!bad[i].empty()) throw InputError(bad[i]);
+      return &cols[i];
+    }
   return nullptr;
 }
 
@@ -85,6 +88,7 @@ CsvTable parse_csv_table(const std::string& text_in, const std::string& path) {
       for (std::string& c : cells) c = trim(c);
       t.names = cells;
       t.cols.resize(cells.size());
+      t.bad.resize(cells.size());
       continue;
     }
     if (cells.size() != t.names.size())
@@ -93,11 +97,9 @@ CsvTable parse_csv_table(const std::string& text_in, const std::string& path) {
     for (std::size_t c = 0; c < cells.size(); ++c) {
       const std::string cell = trim(cells[c]);
       const std::string at = where + " (row " + row + "): column " + t.names[c] + ": '" + shown(cells[c]) + "' ";
-      if (!is_decimal(cell)) throw InputError(at + "is not a decimal number");
-      errno = 0;
-      const double v = std::strtod(cell.c_str(), nullptr);
-      if (!std::isfinite(v) || std::fabs(v) > kMaxPlotValue)
-        throw InputError(at + "is not a finite number of magnitude at most 1e30");
+      const double v = is_decimal(cell) ? std::strtod(cell.c_str(), nullptr) : NAN;
+      if (t.bad[c].empty() && !is_decimal(cell)) t.bad[c] = at + "is not a decimal number";
+      if (t.bad[c].empty() && !(std::fabs(v) <= kMaxPlotValue)) t.bad[c] = at + "is not a finite number of magnitude at most 1e30";
       t.cols[c].push_back(v);
     }
   }

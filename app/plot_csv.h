@@ -14,7 +14,12 @@ namespace softtled {
 struct CsvTable {
   std::vector<std::string> names;          // header
   std::vector<std::vector<double>> cols;   // one vector per column, one value per row
-  const std::vector<double>* column(const std::string& name) const;  // nullptr when absent
+  // Per column, the message for its first cell that is not a number (below), "" if none:
+  // raised only where the column is used, so `run`'s min_gap of "inf" (no contact pair)
+  // does not stop a plot of the other columns.
+  std::vector<std::string> bad;
+  // The column's values; nullptr when absent; InputError naming its first bad cell.
+  const std::vector<double>* column(const std::string& name) const;
 };
 
 // Largest CSV `softtled plot` reads.
@@ -26,7 +31,7 @@ constexpr double kMaxPlotValue = 1e30;
 // max_bytes: a directory, device or FIFO is refused, never read). Numbers are decimal
 // (-1.5, 2e-3; no hex, inf, nan), finite and at most kMaxPlotValue in magnitude; a UTF-8
 // byte order mark before the header is skipped; a NUL byte is refused. InputError naming
-// the file, line and column otherwise.
+// the file, line and column otherwise (for a bad number: when its column is read).
 CsvTable read_csv_table(const std::string& path, std::uint64_t max_bytes = kMaxPlotCsvBytes);
 // The same on text in memory; `name` stands for the file in messages.
 CsvTable parse_csv_table(const std::string& text, const std::string& name);

@@ -103,6 +103,7 @@ TetMesh cached_tetrahedralize(const SurfaceMesh& s, const TetgenOptions& o, cons
     TetMesh m;
     if (read_entry(path, s, o.max_tets, m)) {
       if (hit) *hit = true;
+      check_tetgen_boundary(m);  // as tetrahedralize_surface's (an entry older than that check)
       return m;
     }
   }

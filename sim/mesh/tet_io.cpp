@@ -200,51 +200,8 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
     for (int k = 0; k < 3; ++k) X[3 * n + k] = soup.X[3 * std::size_t(old_of_new[n]) + k];
   for (int& v : soup.tet) v = new_of_old[v];
   TetMesh m = make_tet_mesh(std::move(X), std::move(soup.tet));  // boundary as for TetGen's meshes
-  // The boundary must be a manifold: every boundary edge on exactly two boundary faces, and
-  // the faces around every boundary node one fan (two parts touching at a node only, a
-  // pinch, give two: no normal there, and self-contact's 1-ring is not a ring).
-  {
-    struct Edge {
-      std::pair<int, int> key;
-      int corner_a, corner_b;  // the face's corners (3 f + k) at key.first and key.second
-    };
-    std::vector<Edge> edges;
-    edges.reserve(m.boundary_tri.size());
-    for (int f = 0; f < m.nbtri(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int ka = k, kb = (k + 1) % 3;
-        const int a = m.boundary_tri[3 * f + ka], b = m.boundary_tri[3 * f + kb];
-        edges.push_back(a < b ? Edge{{a, b}, 3 * f + ka, 3 * f + kb} : Edge{{b, a}, 3 * f + kb, 3 * f + ka});
-      }
-    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
-      return x.key < y.key || (x.key == y.key && x.corner_a < y.corner_a);
-    });
-    std::vector<int> fan(m.boundary_tri.size());  // union-find over face corners
-    for (std::size_t c = 0; c < fan.size(); ++c) fan[c] = int(c);
-    const auto root = [&fan](int c) {
-      while (fan[c] != c) c = fan[c] = fan[fan[c]];
-      return c;
-    };
-    for (std::size_t i = 0; i < edges.size();) {
-      std::size_t j = i + 1;
-      while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-      if (j - i != 2)
-        throw InputError(name + ": non-manifold boundary: the edge between nodes " + std::to_string(old_of_new[edges[i].key.first]) +
-                         " and " + std::to_string(old_of_new[edges[i].key.second]) + " (0-based, file order) belongs to " +
-                         std::to_string(j - i) + " boundary faces (2 expected)");
-      fan[root(edges[i].corner_a)] = root(edges[i + 1].corner_a);  // the two faces meet at both ends
-      fan[root(edges[i].corner_b)] = root(edges[i + 1].corner_b);
-      i = j;
-    }
-    std::vector<int> first(m.nnode(), -1);  // a node's first fan
-    for (std::size_t c = 0; c < fan.size(); ++c) {
-      const int v = m.boundary_tri[c], r = root(int(c));
-      if (first[v] < 0) first[v] = r;
-      else if (first[v] != r)
-        throw InputError(name + ": non-manifold boundary: parts of the mesh touch at node " + std::to_string(old_of_new[v]) +
-                         " (0-based, file order) only; its boundary faces form separate fans");
-    }
-  }
+  const std::string bad = boundary_manifold_problem(m, [&](int v) { return "node " + std::to_string(old_of_new[v]); });
+  if (!bad.empty()) throw InputError(name + ": " + bad + " (nodes 0-based, in file order)");
   check_tet_boundary_overlap(m, name);
   if (report) *report = rep;
   return m;

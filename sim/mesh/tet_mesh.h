@@ -1,5 +1,6 @@
 #pragma once
 // Linear 4-node tetrahedral mesh with its extracted boundary.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,12 @@ TetMesh concat_bodies(const std::vector<TetMesh>& bodies, const std::vector<doub
 // Builds a mesh from nodes and tets: flips negatively oriented tets, rejects degenerate
 // ones (InputError naming the element), extracts the boundary.
 TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet);
+
+// "" when the boundary is a manifold: every boundary edge on exactly two boundary faces,
+// and the faces around every boundary node one fan (two parts touching at a node only
+// give two: no normal there, and self-contact's 1-ring is not a ring). Else what is
+// wrong, naming nodes by node_name.
+std::string boundary_manifold_problem(const TetMesh& m, const std::function<std::string(int)>& node_name);
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
 // Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four

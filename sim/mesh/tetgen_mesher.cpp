@@ -62,12 +62,13 @@ void check_theta(double theta, const std::string& where) {
 }
 
 // Parses TetgenOptions::switches: only the documented subset, each letter once.
-Switches parse_switches(const std::string& text) {
+// unit_m: metres per length unit of a<V> (the scene's units).
+Switches parse_switches(const std::string& text, double unit_m) {
   const std::string key = "mesh.switches";
   if (text.size() > kMaxSwitchesLength)
     throw InputError(key + ": too long (" + std::to_string(text.size()) + " characters; at most " +
                      std::to_string(kMaxSwitchesLength) + ")");
-  const std::string allowed = " (allowed: p, q[rho][/theta], a<volume in mm^3>, Y, z, Q)";
+  const std::string allowed = " (allowed: p, q[rho][/theta], a<volume in the scene's units^3>, Y, z, Q)";
   Switches s;
   std::string seen;
   std::size_t i = 0;
@@ -123,7 +124,8 @@ Switches parse_switches(const std::string& text) {
       check_rho(s.rho, key + ": '" + text.substr(start, i - start) + "'");
       check_theta(s.theta, key + ": '" + text.substr(start, i - start) + "'");
     } else if (c == 'a') {
-      s.a_mm3 = number(true, "a", start);
+      const double mm = unit_m * kMm;
+      s.a_mm3 = number(true, "a", start) * mm * mm * mm;
       if (!(s.a_mm3 > 0 && std::isfinite(s.a_mm3)))
         throw InputError(key + ": '" + text.substr(start, i - start) + "': the volume bound must be finite and > 0");
     } else if (c == 'Y') {
@@ -144,7 +146,7 @@ void check_budget(long max_tets, double time_limit_s) {
 
 Switches resolve(const TetgenOptions& o) {
   check_budget(o.max_tets, o.time_limit_s);
-  if (!o.switches.empty()) return parse_switches(o.switches);
+  if (!o.switches.empty()) return parse_switches(o.switches, o.switches_unit_m);
   Switches s;
   if (!(o.radius_edge == 0 || (o.radius_edge >= kMinRadiusEdge && o.radius_edge <= kMaxRadiusEdge)))
     throw InputError("mesh.radius_edge: must be 0 (no quality bound) or in " + num(kMinRadiusEdge) + ".." +
@@ -611,7 +613,20 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
                      "use a larger mesh.radius_edge or a smaller mesh.min_dihedral_deg");
   std::vector<double> X = std::move(run.X);
   for (double& x : X) x /= to_mm;
-  return make_tet_mesh(std::move(X), std::move(run.tet));
+  TetMesh m = make_tet_mesh(std::move(X), std::move(run.tet));
+  check_tetgen_boundary(m);
+  return m;
+}
+
+void check_tetgen_boundary(const TetMesh& m) {
+  const std::string bad = boundary_manifold_problem(m, [&m](int v) {
+    char at[120];
+    std::snprintf(at, sizeof at, "the point (%.6g, %.6g, %.6g) m", m.X[3 * v], m.X[3 * v + 1], m.X[3 * v + 2]);
+    return std::string(at);
+  });
+  if (!bad.empty())
+    throw InputError("the surface's parts touch, and TetGen joined them there: " + bad +
+                     "; move the parts apart or make them one closed surface");
 }
 
 }  // namespace softtled

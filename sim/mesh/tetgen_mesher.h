@@ -30,11 +30,12 @@ struct TetgenOptions {
   // accepted (at most 64 characters, each letter once, an optional leading '-'):
   //   p z Q        always used (added when missing)
   //   q[rho][/th]  radius-edge bound rho in 1.1..1000 (default 2), min dihedral th in 0..20 deg
-  //   a<V>         largest tet volume V > 0 in mm^3 (TetGen meshes in millimetres)
+  //   a<V>         largest tet volume V > 0 in switches_unit_m^3 (the scene's units)
   //   Y            keep the boundary
   // Anything else (T, r, w, i, m, S, O, ...) is refused: those switches read inputs that
   // SoftTLED never provides, crash TetGen 1.5 or hang it.
   std::string switches;
+  double switches_unit_m = 1e-3;  // metres per length unit of a<V>: the scene's units
   // Budget: refuse to mesh when the estimate (estimate_tet_count) is above it, and stop
   // TetGen at max_tets / 3 added points (kSteinerPerTet) if it is wrong. 1..kMaxTetsLimit.
   long max_tets = kDefaultMaxTets;
@@ -97,7 +98,10 @@ std::vector<double> cavity_hole_points(const SurfaceMesh& s);
 
 // Checks the options and the surface (above), refuses a mesh estimated above o.max_tets
 // ("mesh too large: about N tetrahedra ..."), then meshes. Throws InputError for bad
-// input or when TetGen fails (self-intersecting input).
+// input or when TetGen fails (self-intersecting input), and (check_tetgen_boundary) where
+// the surface's parts touch at an edge or a point: TetGen merges the coincident vertices,
+// so the mesh's boundary is not a manifold there.
 TetMesh tetrahedralize_surface(const SurfaceMesh& s, const TetgenOptions& o);
+void check_tetgen_boundary(const TetMesh& m);
 
 }  // namespace softtled

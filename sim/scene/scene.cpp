@@ -417,6 +417,7 @@ void read_mesh_keys(Reader& r, Scene& s) {
   s.tetgen.max_tets = r.integer("mesh.max_tets", int(kDefaultMaxTets), 1, int(kMaxTetsLimit));
   s.tetgen.time_limit_s = r.num("mesh.time_limit_s", kDefaultTetgenTimeLimitS, 0, 1e6);
   s.mesh_cache = r.boolean("mesh.cache", true);
+  s.tetgen.switches_unit_m = s.length_unit;  // a<V> in the scene's units^3
   TetgenOptions o = s.tetgen;  // as scene_tetgen_options: max_volume in m^3
   o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
   try {

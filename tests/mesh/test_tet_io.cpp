@@ -312,9 +312,9 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
       {"duplicate.mesh", with_tets({{1, 2, 4, 8}, {1, 2, 8, 6}, {8, 4, 2, 1}}), "tet 0 (0-based, file order) and tet 2 have the same nodes (duplicate tets)"},
       {"overlap.mesh", with_tets({{1, 2, 3, 5}, {2, 3, 5, 8}, {1, 2, 3, 6}}), "overlap: they lie on the same side"},
       // Two tets sharing only the edge 1-2: that edge is on four boundary faces.
-      {"nonmanifold.mesh", medit(two, {{1, 2, 3, 4}, {1, 2, 6, 7}}), "non-manifold boundary: the edge between nodes 0 and 1"},
+      {"nonmanifold.mesh", medit(two, {{1, 2, 3, 4}, {1, 2, 6, 7}}), "non-manifold boundary: the edge between node 0 and node 1"},
       // Two tets sharing only node 1: each edge on two faces, but two fans around the node.
-      {"pinched.mesh", medit(two, {{1, 2, 3, 4}, {1, 5, 6, 7}}), "parts of the mesh touch at node 0 (0-based, file order) only"},
+      {"pinched.mesh", medit(two, {{1, 2, 3, 4}, {1, 5, 6, 7}}), "parts of the mesh touch at node 0 only"},
       {"bad_number.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 zero 0\n", "'zero' is not a number"},
       {"huge_count.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 100000000 1 100000000\n", "cannot fit in the"},
       {"v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "MSH version '3.0' is not supported"},

@@ -90,9 +90,9 @@ TEST(Plot, MissingColumnIsAnInputError) {
 }
 
 namespace {
-std::string csv_error(const std::string& text) {
+std::string csv_error(const std::string& text) {  // reading it and plotting it
   try {
-    (void)parse_csv_table(text, "x.csv");
+    (void)run_plot_panels(parse_csv_table(text, "x.csv"));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -100,13 +100,25 @@ std::string csv_error(const std::string& text) {
 }
 }  // namespace
 
+// A bad number is refused where its column is read (the plotted ones), naming the cell;
+// another column may hold anything: run's min_gap is "inf" where no contact pair exists.
 TEST(Plot, NumbersAreFiniteDecimals) {
-  const std::string head = "t,ke\n0,1\n";
+  const std::string head = "t,ke,min_gap\n0,1,2\n";
   for (const char* v : {"nan", "inf", "-inf", "infinity", "0x10", "1e", "+", ".e5", "1 2", "1e999", "-1e31"}) {
-    const std::string msg = csv_error(head + "1," + v + "\n");
+    const CsvTable t = parse_csv_table(head + "1," + v + ",3\n2,4,5\n", "x.csv");
+    std::string msg;
+    try {
+      (void)t.column("ke");
+    } catch (const InputError& e) {
+      msg = e.what();
+    }
     EXPECT_NE(msg.find("x.csv:3 (row 2): column ke: '" + std::string(v) + "' is not a"), std::string::npos) << v << ": " << msg;
+    EXPECT_EQ(t.column("t")->size(), 3u);
   }
-  const CsvTable t = parse_csv_table(head + "1,-2.5e-3\n2,+.5\n3,7.\n4,1e30\n", "x.csv");
+  const CsvTable gaps = parse_csv_table("t,cy,ke,se,pe,min_gap\n0,1,0,0,0,inf\n0.1,0.5,1,0,-1,-inf\n", "x.csv");
+  EXPECT_EQ(run_plot_panels(gaps).size(), 2u);
+  EXPECT_NE(csv_error("t,cy,ke,se,pe\n0,inf,0,0,0\n"), "") << "but a plotted column is checked";
+  const CsvTable t = parse_csv_table("t,ke\n0,1\n1,-2.5e-3\n2,+.5\n3,7.\n4,1e30\n", "x.csv");
   ASSERT_EQ(t.cols[1].size(), 5u);
   EXPECT_DOUBLE_EQ(t.cols[1][1], -2.5e-3);
   EXPECT_DOUBLE_EQ(t.cols[1][2], 0.5);
