@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -217,6 +218,43 @@ void check_obstacle_surface(const SurfaceMesh& s, const std::string& what) {
                        ") lies inside another shell; an obstacle must be one solid per shell (no cavities or nested shells)");
 }
 
+namespace {
+// Every part of the mesh must be thick enough for the grid to hold an inside behind it:
+// from each triangle's centroid, inwards (against its outward normal) by 0.25 to 2 cells,
+// the interpolated distance must turn negative somewhere. A plate thinner than about a
+// cell has all its grid nodes outside, so its interpolant is positive everywhere and a
+// body passes through it unseen (a 1 mm plate at 1.6 mm cells did).
+void check_grid_resolves(const SdfGrid& g, int resolution) {
+  const SdfGridView<double> v = g.view(g.value.data());
+  const SurfaceMesh& s = g.surface;
+  int thin = 0, first = -1;
+  for (int t = 0; t < s.ntri(); ++t) {
+    const double* a = &s.xyz[3 * s.tri[3 * t]];
+    const double* b = &s.xyz[3 * s.tri[3 * t + 1]];
+    const double* c = &s.xyz[3 * s.tri[3 * t + 2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    bool inside = false;
+    for (const double depth : {0.25, 0.5, 1.0, 1.5, 2.0}) {
+      double q[3];
+      for (int k = 0; k < 3; ++k) q[k] = (a[k] + b[k] + c[k]) / 3 - n[k] / len * depth * g.cell;
+      inside = inside || sdf_sample(v, q).value < 0;
+    }
+    if (!inside && thin++ == 0) first = t;
+  }
+  if (thin == 0) return;
+  const double* a = &s.xyz[3 * s.tri[3 * first]];
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "obstacle mesh: %d of its %d triangles bound parts thinner than its distance grid resolves (cells of "
+                "%.3g mm at resolution %d; e.g. the triangle at (%.4g, %.4g, %.4g) mm): no grid node lies inside there, "
+                "so bodies would pass through; raise the resolution (at most %d) or thicken the mesh",
+                thin, s.ntri(), g.cell * 1e3, resolution, a[0] * 1e3, a[1] * 1e3, a[2] * 1e3, kMaxSdfResolution);
+  throw InputError(buf);
+}
+}  // namespace
+
 SdfGrid build_mesh_sdf(const SurfaceMesh& s, int resolution) {
   const auto t0 = std::chrono::steady_clock::now();
   if (resolution < kMinSdfResolution || resolution > kMaxSdfResolution)
@@ -258,6 +296,7 @@ SdfGrid build_mesh_sdf(const SurfaceMesh& s, int resolution) {
   for (int a = 0; a < 3; ++a) vote_inside_along(g, a, votes);
   for (std::size_t i = 0; i < nn; ++i)
     if (votes[i] >= 2) g.value[i] = -g.value[i];
+  check_grid_resolves(g, resolution);
   g.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return g;
 }

@@ -58,7 +58,8 @@ struct SdfGrid {
 // with `resolution` cells across its longest bounding-box side, in the surface's frame.
 // Throws std::invalid_argument for a resolution outside [kMinSdfResolution, kMaxSdfResolution]
 // or an empty surface (the scene reader refuses both first, naming the key), and
-// InputError ("obstacle mesh: ...") for a surface check_obstacle_surface refuses.
+// InputError ("obstacle mesh: ...") for a surface check_obstacle_surface refuses or one
+// with parts too thin for the grid: no node inside behind a triangle, within 2 cells.
 SdfGrid build_mesh_sdf(const SurfaceMesh& s, int resolution = kDefaultSdfResolution);
 
 // Throws InputError ("WHAT: ...") unless the closed surface is one solid per shell: no

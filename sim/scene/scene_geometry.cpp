@@ -309,40 +309,77 @@ void surface_edges(const TetMesh& m, std::vector<std::array<int, 2>>& nodes, std
   }
 }
 
-// A surface edge of the body that crosses obstacle o although no node is inside it (a
-// thin plate or capsule through a torus's tube): {a, b}, or {-1, -1}.
-std::array<int, 2> edge_through_obstacle(const TetMesh& m, const ObstacleSpec& o) {
+// Where the body's surface passes through obstacle o although no node is inside it (a
+// thin plate or capsule through a torus's tube, a rod through two faces of a box): "" if
+// nowhere. Convex shapes: a surface triangle reaching into it (its edges included). A
+// mesh: a surface edge crossing one of its triangles, or one of its edges crossing a
+// surface triangle. `body` gets the body of the nodes named.
+std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, int& body) {
+  auto node_body = [&](int v) { return m.node_body.empty() ? 0 : m.node_body[v]; };
+  auto face = [&](int f) {
+    const int* t = &m.boundary_tri[3 * f];
+    body = node_body(t[0]);
+    return "the surface triangle of nodes " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + " and " +
+           std::to_string(t[2]);
+  };
+  if (o.shape != kObstacleMesh) {
+    for (int f = 0; f < m.nbtri(); ++f) {
+      const double* p[3] = {&m.X[3 * m.boundary_tri[3 * f]], &m.X[3 * m.boundary_tri[3 * f + 1]],
+                            &m.X[3 * m.boundary_tri[3 * f + 2]]};
+      // The signed distance changes by at most the distance moved: farther than the
+      // triangle's longest edge from every corner, it cannot reach the obstacle.
+      double reach = 0, near = INFINITY;
+      for (int v = 0; v < 3; ++v) {
+        const double* q = p[(v + 1) % 3];
+        reach = std::max(reach, std::sqrt((q[0] - p[v][0]) * (q[0] - p[v][0]) + (q[1] - p[v][1]) * (q[1] - p[v][1]) +
+                                          (q[2] - p[v][2]) * (q[2] - p[v][2])));
+        near = std::min(near, signed_distance(o, p[v]));
+      }
+      if (near > reach) continue;
+      if (triangle_enters_convex_obstacle(o, p[0], p[1], p[2], 1e-9)) return face(f) + " reaches into it";
+    }
+    return "";
+  }
+  if (!o.sdf) return "";
   std::vector<std::array<int, 2>> nodes;
   std::vector<std::array<double, 6>> seg;
-  std::vector<int> body;
-  surface_edges(m, nodes, seg, body);
-  if (o.shape == kObstacleMesh) {
-    if (!o.sdf) return {-1, -1};
-    const SurfaceMesh& sm = o.sdf->surface;
-    std::vector<std::array<double, 9>> tri(sm.ntri());
-    for (int t = 0; t < sm.ntri(); ++t)
-      for (int v = 0; v < 3; ++v) {
-        const double* q = &sm.xyz[3 * sm.tri[3 * t + v]];
-        for (int k = 0; k < 3; ++k)
-          tri[t][3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
-      }
-    const SegmentTriangleHit h = first_crossing(seg, std::vector<int>(seg.size(), 0), tri, std::vector<int>(tri.size(), 1));
-    return h.segment < 0 ? std::array<int, 2>{-1, -1} : nodes[h.segment];
+  std::vector<int> seg_body;
+  surface_edges(m, nodes, seg, seg_body);
+  const SurfaceMesh& sm = o.sdf->surface;
+  std::vector<double> x(sm.xyz.size());  // the mesh placed
+  for (int v = 0; v < sm.npoint(); ++v) {
+    const double* q = &sm.xyz[3 * v];
+    for (int k = 0; k < 3; ++k) x[3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
   }
-  for (std::size_t e = 0; e < seg.size(); ++e) {
-    const double* p = &seg[e][0];
-    const double* q = &seg[e][3];
-    const double len = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]));
-    // The signed distance changes by at most the distance moved: farther than the edge's
-    // length from both ends, the edge cannot reach the obstacle.
-    if (signed_distance(o, p) > len && signed_distance(o, q) > len) continue;
-    if (segment_enters_convex_obstacle(o, p, q, 1e-9)) return nodes[e];
+  std::vector<std::array<double, 9>> tri(sm.ntri());
+  for (int t = 0; t < sm.ntri(); ++t)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) tri[t][3 * v + k] = x[3 * sm.tri[3 * t + v] + k];
+  const SegmentTriangleHit h = first_crossing(seg, std::vector<int>(seg.size(), 0), tri, std::vector<int>(tri.size(), 1));
+  if (h.segment >= 0) {
+    body = seg_body[h.segment];
+    return "the surface edge between nodes " + std::to_string(nodes[h.segment][0]) + " and " +
+           std::to_string(nodes[h.segment][1]) + " crosses it";
   }
-  return {-1, -1};
+  std::vector<std::array<double, 6>> edges;  // the mesh's edges, each once
+  for (int t = 0; t < sm.ntri(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = sm.tri[3 * t + k], b = sm.tri[3 * t + (k + 1) % 3];
+      if (a < b) edges.push_back({x[3 * a], x[3 * a + 1], x[3 * a + 2], x[3 * b], x[3 * b + 1], x[3 * b + 2]});
+    }
+  std::vector<std::array<double, 9>> faces(m.nbtri());
+  for (int f = 0; f < m.nbtri(); ++f)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) faces[f][3 * v + k] = m.X[3 * m.boundary_tri[3 * f + v] + k];
+  const SegmentTriangleHit g = first_crossing(edges, std::vector<int>(edges.size(), 1), faces, std::vector<int>(faces.size(), 0));
+  return g.segment < 0 ? "" : "an edge of the mesh crosses " + face(g.triangle);
 }
 }  // namespace
 
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles) {
+  // "the body", or with several bodies the one the node or element belongs to.
+  const auto body_name = [&](int b) { return m.nbody() > 1 ? s.body(b).key : std::string("the body"); };
+  const auto node_body = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
     int node = -1;
@@ -352,11 +389,11 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     }
     const std::string key = s.source + ": obstacle[" + std::to_string(o) + "]";
     if (worst < -1e-9) {
-      char buf[240];
-      std::snprintf(buf, sizeof buf,
-                    ": the body starts inside this %s obstacle (node %d is %.4g mm inside); move body.position or the "
-                    "obstacle",
-                    obstacle_shape_name(obstacles[o].shape), node, -worst * 1e3);
+      const std::string who = body_name(node_body(node));
+      char buf[320];
+      std::snprintf(buf, sizeof buf, ": %s starts inside this %s obstacle (node %d is %.4g mm inside); move %s.position or the obstacle",
+                    who.c_str(), obstacle_shape_name(obstacles[o].shape), node, -worst * 1e3,
+                    s.body(node_body(node)).key.c_str());
       throw InputError(key + buf);
     }
     // A small obstacle between the nodes: its centre (a capsule's end a; a mesh's every
@@ -380,20 +417,21 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
         if (in) points.insert(points.end(), x, x + 3);
       }
     }
-    const char* what = ob.shape == kObstacleCapsule ? "end a" : ob.shape == kObstacleMesh ? "a vertex" : "centre";
+    if (ob.shape == kObstacleCapsule) points.insert(points.end(), ob.b, ob.b + 3);  // a rod's other end too
+    const char* what = ob.shape == kObstacleCapsule ? "an end" : ob.shape == kObstacleMesh ? "a vertex" : "centre";
     for (std::size_t p = 0; p < points.size(); p += 3)
       for (int e = 0; e < m.ntet(); ++e) {
         const int* t = &m.tet[4 * e];
         if (point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], &points[p]))
-          throw InputError(key + ": the obstacle starts inside the body (" + (ob.shape == kObstacleMesh ? "" : "its ") +
-                           what + " lies in element " + std::to_string(e) + "); move body.position or the obstacle");
+          throw InputError(key + ": the obstacle starts inside " + body_name(node_body(t[0])) + " (" +
+                           (ob.shape == kObstacleMesh ? "" : "its ") + what + " lies in element " + std::to_string(e) +
+                           "); move " + s.body(node_body(t[0])).key + ".position or the obstacle");
       }
-    const std::array<int, 2> cut = edge_through_obstacle(m, ob);
-    if (cut[0] >= 0)
-      throw InputError(key + ": the " + obstacle_shape_name(ob.shape) +
-                       " obstacle cuts through the body at the start (the surface edge between nodes " +
-                       std::to_string(cut[0]) + " and " + std::to_string(cut[1]) +
-                       " crosses it); move body.position or the obstacle");
+    int body = 0;
+    const std::string cut = surface_through_obstacle(m, ob, body);
+    if (!cut.empty())
+      throw InputError(key + ": the " + obstacle_shape_name(ob.shape) + " obstacle cuts through " + body_name(body) +
+                       " at the start (" + cut + "); move " + s.body(body).key + ".position or the obstacle");
   }
 }
 

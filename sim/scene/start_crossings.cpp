@@ -27,23 +27,46 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
   return t > 0 && t < 1;  // an end point on the triangle (bodies touching) is no crossing
 }
 
+namespace {
+// Golden-section search for the least value of a convex f on [lo, hi], to the search's
+// tolerance; it stops as soon as a value falls below `below`. The least value seen.
+template <class F>
+double convex_min(const F& f, double lo, double hi, double below) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  const double ends = std::min(f(lo), f(hi));
+  if (ends < below) return ends;
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < 80 && hi - lo > 1e-12 && std::min(f1, f2) >= below; ++it) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
+    }
+  }
+  return std::min({ends, f1, f2});
+}
+}  // namespace
+
 bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol) {
   auto dist = [&](double s) {
     const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
     return signed_distance(o, x);
   };
-  const double g = 0.5 * (std::sqrt(5.0) - 1);
-  double lo = 0, hi = 1, x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = dist(x1), f2 = dist(x2);
-  if (dist(0) < -tol || dist(1) < -tol) return true;
-  for (int it = 0; it < 80 && hi - lo > 1e-12; ++it) {
-    if (f1 < -tol || f2 < -tol) return true;
-    if (f1 < f2) {
-      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = dist(x1);
-    } else {
-      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = dist(x2);
-    }
-  }
-  return f1 < -tol || f2 < -tol;
+  return convex_min(dist, 0, 1, -tol) < -tol;
+}
+
+bool triangle_enters_convex_obstacle(const ObstacleSpec& o, const double a[3], const double b[3], const double c[3],
+                                     double tol) {
+  // x(s, t) = a + s (b - a) + t (c - a), s, t >= 0, s + t <= 1. The least distance over t
+  // for a given s is convex in s (a convex function minimised over a convex set), so the
+  // search nests: over s outside, over t in [0, 1 - s] inside.
+  auto at = [&](double s, double t) {
+    double x[3];
+    for (int k = 0; k < 3; ++k) x[k] = a[k] + s * (b[k] - a[k]) + t * (c[k] - a[k]);
+    return signed_distance(o, x);
+  };
+  auto along_t = [&](double s) { return convex_min([&](double t) { return at(s, t); }, 0, 1 - s, -tol); };
+  return convex_min(along_t, 0, 1, -tol) < -tol;
 }
 
 namespace {

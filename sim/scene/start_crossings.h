@@ -18,6 +18,10 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
 // somewhere on it). Their signed distance is convex along a line, so a golden-section
 // search for its minimum over the segment is exact to the search's tolerance.
 bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol);
+// The same for triangle abc (a nested search over its two barycentric coordinates): a
+// thin capsule or box through a face, touching none of its edges, is found too.
+bool triangle_enters_convex_obstacle(const ObstacleSpec& o, const double a[3], const double b[3], const double c[3],
+                                     double tol);
 
 // The key of grid cell (x, y, z) in the start checks' hash maps (the spatial hash of
 // Teschner et al. 2003; unsigned, so it wraps and never overflows).

@@ -194,12 +194,25 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
        "obstacle[0]: the body starts inside this mesh obstacle"},
       {"mesh inside an element", scene(write_file("tet.obj", closed), "center = [1, 1, 1]\n"),
        "obstacle[0]: the obstacle starts inside the body (a vertex lies in element"},
+      // A 1 mm rod through the interiors of the block's top and bottom faces: no node in
+      // it, no vertex in an element, no surface edge crossing it; its edges cross the faces.
+      {"rod through two faces", scene(box_obj(1, 40, 1), "center = [2.5, 0, 1.3]\nresolution = 120\n"),
+       "obstacle[0]: the mesh obstacle cuts through the body at the start (an edge of the mesh crosses the surface "
+       "triangle of nodes"},
+      // A plate thinner than the grid's cells (0.625 mm at the default 64 across 40 mm):
+      // no node inside, so a body would pass through it.
+      {"plate thinner than a cell", scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\n"),
+       "obstacle[0].file: " },
   };
   for (const Bad& b : bad) {
     const std::string e = error_of(b.s);
     EXPECT_NE(e.find(b.fragment), std::string::npos) << b.what << ": " << e;
     EXPECT_NE(e.find("obstacle[0]"), std::string::npos) << b.what << ": " << e;
   }
+  EXPECT_NE(error_of(scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\n")).find("bound parts thinner than its distance grid resolves (cells of 0.625 mm at resolution 64"),
+            std::string::npos)
+      << error_of(scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\n"));
+  EXPECT_EQ(error_of(scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\nresolution = 120\n")), "") << "resolved at 0.333 mm";
   // The missing file's message carries the OS reason.
   EXPECT_NE(error_of(scene("no_such_mesh.obj")).find("No such file or directory"), std::string::npos);
 }
