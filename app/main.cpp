@@ -23,6 +23,16 @@
 
 int main(int argc, char** argv) {
   using namespace softtled;
+  // One error line, at most ~2 KB: the messages quote the user's values (quoted() shortens
+  // them where they are built), and this catches any that do not (a 3 MB key name).
+  auto error = [](const char* what) {
+    const std::string m = what;
+    constexpr std::size_t kMax = 2000;
+    if (m.size() <= kMax)
+      std::fprintf(stderr, "softtled: error: %s\n", m.c_str());
+    else
+      std::fprintf(stderr, "softtled: error: %s... (message cut: %zu characters)\n", m.substr(0, kMax).c_str(), m.size());
+  };
   // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the checked writers
   // report (exit 5, the CSV cut back to its last row) instead of SIGXFSZ killing the program
   // with half-written files.
@@ -32,7 +42,9 @@ int main(int argc, char** argv) {
                "5 resource (out of memory, disk full or write error, no display/EGL), 130/143 stopped by SIGINT/SIGTERM."};
   app.require_subcommand(1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
-    return std::string("softtled: error: ") + e.what() + "\nRun with --help for more information.\n";
+    const std::string m = e.what();  // CLI11 quotes the argument it refuses: shortened as above
+    return "softtled: error: " + (m.size() <= 2000 ? m : m.substr(0, 2000) + "... (message cut)") +
+           "\nRun with --help for more information.\n";
   });
   app.set_version_flag("--version", "softtled " SOFTTLED_VERSION);
   app.add_flag("-v,--verbose", g_verbose, "print notices (e.g. why backend auto chose the CPU)");
@@ -54,8 +66,8 @@ int main(int argc, char** argv) {
     if (!commands.count(a)) {
       std::string known;
       for (const auto& c : commands) known += (known.empty() ? "" : ", ") + c.first;
-      std::fprintf(stderr, "softtled: error: unknown command '%s' (commands: %s)\nRun with --help for more information.\n",
-                   a.c_str(), known.c_str());
+      std::fprintf(stderr, "softtled: error: unknown command %s (commands: %s)\nRun with --help for more information.\n",
+                   quoted(a).c_str(), known.c_str());
       return kExitInput;
     }
     break;
@@ -86,13 +98,13 @@ int main(int argc, char** argv) {
     }
   } catch (const InputError& e) {
     if (stop_requested()) return stopped(e.what());  // e.g. TetGen's child ended by the same Ctrl-C
-    std::fprintf(stderr, "softtled: error: %s\n", e.what());
+    error(e.what());
     return kExitInput;
   } catch (const ResourceError& e) {
-    std::fprintf(stderr, "softtled: error: %s\n", e.what());
+    error(e.what());
     return kExitResource;
   } catch (const std::filesystem::filesystem_error& e) {  // a path the OS refused (checks catch most before)
-    std::fprintf(stderr, "softtled: error: %s\n", e.what());
+    error(e.what());
     return kExitResource;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "softtled: error: out of memory (std::bad_alloc); use a coarser mesh or a smaller mesh.max_tets\n");

@@ -65,12 +65,49 @@ double tet_signed_volume(const double* a, const double* b, const double* c, cons
           u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
 }
 
-bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x, double* l) {
   const double v = tet_signed_volume(a, b, c, d);
   if (v == 0) return false;
-  const double l[4] = {tet_signed_volume(x, b, c, d) / v, tet_signed_volume(a, x, c, d) / v,
-                       tet_signed_volume(a, b, x, d) / v, tet_signed_volume(a, b, c, x) / v};
+  double own[4];
+  if (!l) l = own;
+  l[0] = tet_signed_volume(x, b, c, d) / v, l[1] = tet_signed_volume(a, x, c, d) / v;
+  l[2] = tet_signed_volume(a, b, x, d) / v, l[3] = tet_signed_volume(a, b, c, x) / v;
   return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
+}
+
+BoundaryFaces::BoundaryFaces(const TetMesh& m) : of_node_(m.nnode()) {
+  for (int f = 0; f < m.nbtri(); ++f)
+    for (int k = 0; k < 3; ++k) of_node_[m.boundary_tri[3 * f + k]].push_back(f);
+}
+
+bool BoundaryFaces::strictly_inside(const TetMesh& m, int e, const double* x) const {
+  const int* t = &m.tet[4 * e];
+  if (!point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x)) return false;
+  // On a boundary triangle, x shares it with e, so the triangle has a node of e.
+  for (int i = 0; i < 4; ++i)
+    for (int f : of_node_[t[i]]) {
+      const double* a = &m.X[3 * m.boundary_tri[3 * f]];
+      const double* b = &m.X[3 * m.boundary_tri[3 * f + 1]];
+      const double* c = &m.X[3 * m.boundary_tri[3 * f + 2]];
+      const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double ax[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+      const double n[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]};
+      const double n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+      const double len = std::sqrt(std::max({ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2],
+                                             ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2]}));
+      if (!(n2 > 0)) continue;
+      const double off = (n[0] * ax[0] + n[1] * ax[1] + n[2] * ax[2]) / std::sqrt(n2);
+      if (!(std::fabs(off) <= kOnFace * len)) continue;
+      // In the triangle, within the same tolerance: the barycentric coordinates of x's
+      // projection (Ericson, Real-Time Collision Detection, sec. 3.4).
+      const double d00 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], d01 = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+      const double d11 = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+      const double d20 = ax[0] * ab[0] + ax[1] * ab[1] + ax[2] * ab[2], d21 = ax[0] * ac[0] + ax[1] * ac[1] + ax[2] * ac[2];
+      const double den = d00 * d11 - d01 * d01;
+      const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+      if (v >= -kOnFace && w >= -kOnFace && v + w <= 1 + kOnFace) return false;  // on the boundary: touching
+    }
+  return true;
 }
 
 double tet_mesh_volume(const TetMesh& m) {

@@ -51,8 +51,22 @@ std::string boundary_manifold_problem(const TetMesh& m, const std::function<std:
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
 // Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four
-// sub-volumes (barycentric coordinates); false for a degenerate tet.
-bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x);
+// sub-volumes (barycentric coordinates, into l[4] when given); false for a degenerate tet.
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x,
+                  double* l = nullptr);
+
+// A mesh's boundary faces by node, for the start checks: a point in an element but on the
+// body's boundary (within kOnFace of a boundary triangle's size) touches the body, it is
+// not inside (two boxes face to face, edge to edge); on faces between elements it is.
+class BoundaryFaces {
+ public:
+  explicit BoundaryFaces(const TetMesh& m);
+  bool strictly_inside(const TetMesh& m, int element, const double* x) const;
+  static constexpr double kOnFace = 1e-9;
+
+ private:
+  std::vector<std::vector<int>> of_node_;  // boundary triangles at each node
+};
 // Sum of the signed element volumes [m^3].
 double tet_mesh_volume(const TetMesh& m);
 

@@ -104,7 +104,7 @@ class Reader {
     if (!allowed.empty() && !allowed.count(s->get())) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(key, "'" + s->get() + "' is not one of: " + list);
+      fail(key, quoted(s->get()) + " is not one of: " + list);
     }
     return s->get();
   }
@@ -171,6 +171,8 @@ class Reader {
           if (!used_.count(full)) fail(full, "unknown key (see README, 'Scene format')");
         }
       } else if (!used_.count(key)) {
+        if (v.is_array_of_tables())
+          fail(key, "[[" + key + "]] repeats a table; only [[body]] and [[obstacle]] may repeat (write [" + key + "])");
         fail(key, "unknown key (see README, 'Scene format')");
       }
     }
@@ -274,7 +276,7 @@ std::pair<std::size_t, std::string> split_index(const std::string& kv, const std
   const std::string idx = leaf.substr(0, dot);
   const std::string rest = dot == std::string::npos ? "" : leaf.substr(dot + 1);
   if (idx.empty() || idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty())
-    throw InputError("--set '" + kv + "': " + form);
+    throw InputError("--set " + quoted(kv) + ": " + form);
   return {std::stoul(idx), rest};
 }
 
@@ -297,7 +299,7 @@ using BodySets = std::set<std::pair<std::size_t, std::string>>;
 
 void apply_override(toml::table& root, const std::string& kv, const std::string& source, BodySets& body_sets) {
   const auto eq = kv.find('=');
-  if (eq == std::string::npos || eq == 0) throw InputError("--set '" + kv + "': expected key=value");
+  if (eq == std::string::npos || eq == 0) throw InputError("--set " + quoted(kv) + ": expected key=value");
   const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
   // One value on one line: anything after it (a second key on a new line) is refused,
   // not silently parsed as more TOML or dropped.
@@ -334,8 +336,8 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   const std::string first = leaf.substr(0, leaf.find('.'));
   if (section == "body" && leaf.find('.') != std::string::npos && first != "material") {
     if (first.empty() || first.size() > 3 || first.find_first_not_of("0123456789") != std::string::npos)
-      throw InputError("--set '" + kv + "': the body index '" + first +
-                       "' is invalid: body keys are 'body.N.key' (N = 0, 1, ... in file order)");
+      throw InputError("--set " + quoted(kv) + ": the body index " + quoted(first) +
+                       " is invalid: body keys are 'body.N.key' (N = 0, 1, ... in file order)");
   }
   if (section == "body" && !leaf.empty() && std::isdigit(static_cast<unsigned char>(leaf[0]))) {
     auto [n, rest] = split_index(kv, leaf, "body keys are 'body.N.key' (N = 0, 1, ... in file order)");
@@ -357,7 +359,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
                        key + ".key=value)");
     }
     if (rest.empty() || rest.find('.') != std::string::npos)
-      throw InputError("--set '" + kv + "': body keys are 'body.N.key' or 'body.N.material.key'");
+      throw InputError("--set " + quoted(kv) + ": body keys are 'body.N.key' or 'body.N.material.key'");
     body->insert_or_assign(rest, v);
     body_sets.insert({n, rest});
     return;
@@ -368,7 +370,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   if (section == "obstacle") {
     auto [n, rest] = split_index(kv, leaf, "obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
     if (rest.find('.') != std::string::npos)
-      throw InputError("--set '" + kv + "': obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
+      throw InputError("--set " + quoted(kv) + ": obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
     auto* arr = root["obstacle"].as_array();
     if (!arr) throw InputError(source + ": --set " + key + ": the scene has no [[obstacle]] tables");
     toml::table* obstacle = n < arr->size() ? (*arr)[n].as_table() : nullptr;
@@ -381,7 +383,7 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   if (section == "body" && root["body"].as_array())
     throw InputError(source + ": --set " + key + ": the scene has [[body]] tables: use body.N." + leaf);
   if (leaf.empty() || leaf.find('.') != std::string::npos)
-    throw InputError("--set '" + kv + "': keys are 'section.key' or 'key'");
+    throw InputError("--set " + quoted(kv) + ": keys are 'section.key' or 'key'");
   if (section == "body" && leaf == "material")
     throw InputError(source + ": --set " + key + ": 'material' is a table, not a key: set its keys one by one (--set " +
                      key + ".key=value)");
@@ -449,7 +451,7 @@ void read_obstacles(Reader& r, Scene& s) {
     bool known = false;
     for (const auto& [name, v] : kObstacleShapes)
       if (shape == name) o.shape = v, known = true;
-    if (!known) r.fail(key + ".shape", "'" + shape + "' is not one of: sphere, box, capsule, mesh");
+    if (!known) r.fail(key + ".shape", quoted(shape) + " is not one of: sphere, box, capsule, mesh");
     const std::set<std::string> keys =
         o.shape == kObstacleSphere ? std::set<std::string>{"shape", "center", "radius", "velocity"}
         : o.shape == kObstacleBox  ? std::set<std::string>{"shape", "center", "size", "rotation_deg", "velocity"}
@@ -583,7 +585,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   if (b.shape == "file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");
   if (b.shape == "tet_file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"tet_file\"");
   if (b.shape == "tet_file" && !is_tet_file_extension(b.file))
-    r.fail("body.file", "'" + b.file + "': a tet mesh file must end in .msh, .vtu, .node, .ele or .mesh");
+    r.fail("body.file", quoted(b.file) + ": a tet mesh file must end in .msh, .vtu, .node, .ele or .mesh");
   if (const toml::node* mat = r.get("body.material")) {
     auto mt = mat->as_table();
     if (!mt) r.fail("body.material", "expected a table ([body.material]) with E, nu, rho, model, element");
@@ -786,7 +788,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       s.dt_auto = false;
       s.dt_adaptive = true;
     } else if (!dt->is_number()) {
-      std::string got = dt->as_string() ? "'" + dt->as_string()->get() + "'" : std::string("a ") + (dt->is_boolean() ? "boolean" : dt->is_array() ? "array" : dt->is_table() ? "table" : "date or time");
+      std::string got = dt->as_string() ? quoted(dt->as_string()->get()) : std::string("a ") + (dt->is_boolean() ? "boolean" : dt->is_array() ? "array" : dt->is_table() ? "table" : "date or time");
       r.fail("time.dt", "expected a step in seconds, \"auto\" or \"adaptive\" (lower case), got " + got);
     } else {
       s.dt_auto = false;
@@ -815,6 +817,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       for (int k = 0; k < 3; ++k) {
         auto v = (*p)[k].value<double>();
         if (!v || !std::isfinite(*v)) r.fail("output.track_points", "element " + std::to_string(i) + " has a non-number");
+        if (!(std::fabs(*v) <= kMaxCoordinate / s.length_unit))
+          r.fail("output.track_points", "element " + std::to_string(i) + " lies beyond " +
+                                            std::to_string(int(kMaxCoordinate)) + " m from the origin");
         q[k] = *v;
       }
       s.track_points.push_back(q);

@@ -380,6 +380,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
   // "the body", or with several bodies the one the node or element belongs to.
   const auto body_name = [&](int b) { return m.nbody() > 1 ? s.body(b).key : std::string("the body"); };
   const auto node_body = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
+  const BoundaryFaces boundary(m);  // a point on the body's boundary touches it
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
     int node = -1;
@@ -422,7 +423,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     for (std::size_t p = 0; p < points.size(); p += 3)
       for (int e = 0; e < m.ntet(); ++e) {
         const int* t = &m.tet[4 * e];
-        if (point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], &points[p]))
+        if (boundary.strictly_inside(m, e, &points[p]))
           throw InputError(key + ": the obstacle starts inside " + body_name(node_body(t[0])) + " (" +
                            (ob.shape == kObstacleMesh ? "" : "its ") + what + " lies in element " + std::to_string(e) +
                            "); move " + s.body(node_body(t[0])).key + ".position or the obstacle");
@@ -505,6 +506,7 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
     if (near) grid[cell_key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
   }
   if (grid.empty()) return;
+  const BoundaryFaces boundary(m);  // a node on another body's boundary touches it
   for (int e = 0; e < m.ntet(); ++e) {
     const int* t = &m.tet[4 * e];
     const int be = m.tet_body[e];
@@ -528,7 +530,7 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
             const double* x = &m.X[3 * i];
             bool in = true;
             for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
-            if (in && point_in_tet(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]], x))
+            if (in && boundary.strictly_inside(m, e, x))
               throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key +
                                " overlap at the start (a node of " + s.body(b).key + " lies in element " +
                                std::to_string(e) + " of " + s.body(be).key + "); move " + s.body(b).key +

@@ -19,12 +19,16 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
   const double inv = 1 / det;
   const double s[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
   const double u = inv * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]);
-  if (u < 0 || u > 1) return false;
+  // Through the triangle's boundary within rounding is touching (a body's edge along the
+  // edge of a cube it rests on), not crossing: a crossing there would also cross the
+  // neighbouring face, or end inside, which the other start checks see.
+  constexpr double eps = 1e-9;
+  if (u < eps || u > 1 - eps) return false;
   const double r[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
   const double v = inv * (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]);
-  if (v < 0 || u + v > 1) return false;
+  if (v < eps || u + v > 1 - eps) return false;
   const double t = inv * (e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2]);
-  return t > 0 && t < 1;  // an end point on the triangle (bodies touching) is no crossing
+  return t > eps && t < 1 - eps;  // nor is an end point on the triangle
 }
 
 namespace {

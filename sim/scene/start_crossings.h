@@ -10,7 +10,9 @@
 namespace softtled {
 
 // Segment pq against triangle abc (Moller & Trumbore 1997, "Fast, minimum storage
-// ray/triangle intersection", restricted to 0 < t < 1). Parallel or degenerate: false.
+// ray/triangle intersection", restricted to 0 < t < 1). Parallel or degenerate: false; so
+// is a crossing within 1e-9 (barycentric, or of the segment) of the triangle's boundary or
+// of the segment's ends: touching, not overlapping.
 bool segment_crosses_triangle(const double p[3], const double q[3], const double a[3], const double b[3],
                               const double c[3]);
 

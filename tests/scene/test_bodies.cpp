@@ -171,6 +171,14 @@ TEST(Bodies, BadInputNamesTheKey) {
   EXPECT_NE(e1c.find("body[0] and body[1] overlap at the start (the surface edge between nodes"), std::string::npos)
       << e1c;
   EXPECT_EQ(error_of(plate, {"body.1.position=[0, 10, 0]"}), "") << "the same plate above the torus is fine";
+  // Touching is not overlapping: boxes face to face, along an edge, corner to corner (each
+  // was refused, a node "in" the other's element or an edge "crossing" at its end point);
+  // 1 um into each other they overlap.
+  const std::string boxes = "units = \"mm\"\n[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\ndivisions = [2, 2, 2]\n"
+                            "[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\ndivisions = [2, 2, 2]\n[floor]\nenabled = false\n";
+  for (const char* at : {"[4, 0, 0]", "[4, 4, 0]", "[4, 4, 4]", "[4, 2, 2]"})
+    EXPECT_EQ(error_of(boxes, {std::string("body.1.position=") + at}), "") << at;
+  EXPECT_NE(error_of(boxes, {"body.1.position=[3.999, 0, 0]"}).find("overlap at the start"), std::string::npos);
   // Too many bodies.
   std::string many;
   for (int i = 0; i <= kMaxBodies; ++i) many += "[[body]]\nshape = \"sphere\"\n";

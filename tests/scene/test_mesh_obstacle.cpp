@@ -213,6 +213,10 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
             std::string::npos)
       << error_of(scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\n"));
   EXPECT_EQ(error_of(scene(box_obj(40, 0.5, 40), "center = [0, -20, 0]\nresolution = 120\n")), "") << "resolved at 0.333 mm";
+  // A mesh cube touching the block's bottom face, and a corner of it: touching is not
+  // overlapping (its vertices were "in" an element, on the element's face).
+  EXPECT_EQ(error_of(scene(box_obj(2, 2, 2), "center = [0, -6, 0]\n")), "");
+  EXPECT_EQ(error_of(scene(box_obj(2, 2, 2), "center = [6, -6, 6]\n")), "");
   // The missing file's message carries the OS reason.
   EXPECT_NE(error_of(scene("no_such_mesh.obj")).find("No such file or directory"), std::string::npos);
 }

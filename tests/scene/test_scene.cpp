@@ -64,6 +64,15 @@ TEST(Scene, NamedModesParseToTheirEnumsAndBack) {
 TEST(Scene, BadInputNamesTheKey) {
   EXPECT_NE(error_of("[material]\nEE = 3\n").find("material.EE: unknown key"), std::string::npos);
   EXPECT_NE(error_of("colour = 3\n").find("colour: unknown key"), std::string::npos);
+  EXPECT_NE(error_of("[[material]]\nE = 3000\n").find("material: [[material]] repeats a table; only [[body]] and [[obstacle]]"),
+            std::string::npos)
+      << error_of("[[material]]\nE = 3000\n");
+  EXPECT_NE(error_of("[output]\ntrack_points = [[1e30, 0, 0]]\n").find("output.track_points: element 0 lies beyond 10000 m"),
+            std::string::npos);
+  // A user's value is quoted shortened: a 3 MB string made a 3 MB message.
+  const std::string huge = error_of("units = \"" + std::string(3 << 20, 'm') + "\"\n");
+  EXPECT_LT(huge.size(), 400u);
+  EXPECT_NE(huge.find("...' (3145728 characters) is not one of: m, mm"), std::string::npos) << huge.substr(0, 400);
   EXPECT_NE(error_of("", {"material.E=nan"}).find("material.E: must be finite"), std::string::npos);
   EXPECT_NE(error_of("[material]\nE = -5.0\n").find("material.E: value -5 out of range"), std::string::npos);
   EXPECT_NE(error_of("[material]\nnu = 0.5\n").find("material.nu"), std::string::npos);
