@@ -397,7 +397,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
                     s.body(node_body(node)).key.c_str());
       throw InputError(key + buf);
     }
-    // A small obstacle between the nodes: its centre (a capsule's end a; a mesh's every
+    // A small obstacle between the nodes: its centre (a capsule's ends; a mesh's every
     // vertex inside the body's bounding box) in an element.
     const ObstacleSpec& ob = obstacles[o];
     std::vector<double> points(ob.center, ob.center + 3);

@@ -51,14 +51,6 @@ double convex_min(const F& f, double lo, double hi, double below) {
 }
 }  // namespace
 
-bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol) {
-  auto dist = [&](double s) {
-    const double x[3] = {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
-    return signed_distance(o, x);
-  };
-  return convex_min(dist, 0, 1, -tol) < -tol;
-}
-
 bool triangle_enters_convex_obstacle(const ObstacleSpec& o, const double a[3], const double b[3], const double c[3],
                                      double tol) {
   // x(s, t) = a + s (b - a) + t (c - a), s, t >= 0, s + t <= 1. The least distance over t

@@ -16,12 +16,10 @@ namespace softtled {
 bool segment_crosses_triangle(const double p[3], const double q[3], const double a[3], const double b[3],
                               const double c[3]);
 
-// Whether segment pq comes inside a sphere, box or capsule obstacle (signed distance < -tol
-// somewhere on it). Their signed distance is convex along a line, so a golden-section
-// search for its minimum over the segment is exact to the search's tolerance.
-bool segment_enters_convex_obstacle(const ObstacleSpec& o, const double p[3], const double q[3], double tol);
-// The same for triangle abc (a nested search over its two barycentric coordinates): a
-// thin capsule or box through a face, touching none of its edges, is found too.
+// Whether triangle abc comes inside a sphere, box or capsule obstacle (signed distance
+// < -tol somewhere on it, its edges included): a thin capsule or box through a face,
+// touching none of its edges, is found too. Their signed distance is convex, so a nested
+// golden-section search over the two barycentric coordinates is exact to its tolerance.
 bool triangle_enters_convex_obstacle(const ObstacleSpec& o, const double a[3], const double b[3], const double c[3],
                                      double tol);
 
