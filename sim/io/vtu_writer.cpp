@@ -25,8 +25,13 @@ void write_vtu(const std::string& path, const TetMesh& m, const HostState* s, do
   o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
     << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << ne << "\">\n";
   o << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  // Positions with every digit of a double (17): a mesh written by mesh --vtu reads back
+  // bit for bit (9 digits moved the nodes of a body 20 m out by 5e-12 m, its step and run
+  // with them). The data arrays below keep 9.
+  o.precision(17);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) o << m.X[3 * i + k] + (s ? s->u[k * n + i] : 0.0) << (k == 2 ? '\n' : ' ');
+  o.precision(9);
   o << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
   for (int e = 0; e < ne; ++e)
     o << m.tet[4 * e] << ' ' << m.tet[4 * e + 1] << ' ' << m.tet[4 * e + 2] << ' ' << m.tet[4 * e + 3] << '\n';

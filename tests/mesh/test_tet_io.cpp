@@ -221,6 +221,7 @@ TEST(TetIo, VtuRoundTripOfTheTorusKeepsTableI) {
   EXPECT_EQ(b.ntet(), a.ntet());
   EXPECT_EQ(b.nbtri(), a.nbtri());
   EXPECT_NEAR(tet_mesh_volume(b), tet_mesh_volume(a), 1e-7 * tet_mesh_volume(a));
+  EXPECT_EQ(b.X, a.X) << "positions written with 17 digits read back bit for bit";
   const MeshReport ra = mesh_report(surface, a, s.E, s.nu, s.rho, s.material_model);
   const MeshReport rb = mesh_report(boundary_surface(b), b, s.E, s.nu, s.rho, s.material_model);
   EXPECT_EQ(rb.counts.faces, ra.counts.faces);
