@@ -65,13 +65,11 @@ double tet_signed_volume(const double* a, const double* b, const double* c, cons
           u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
 }
 
-bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x, double* l) {
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x) {
   const double v = tet_signed_volume(a, b, c, d);
   if (v == 0) return false;
-  double own[4];
-  if (!l) l = own;
-  l[0] = tet_signed_volume(x, b, c, d) / v, l[1] = tet_signed_volume(a, x, c, d) / v;
-  l[2] = tet_signed_volume(a, b, x, d) / v, l[3] = tet_signed_volume(a, b, c, x) / v;
+  const double l[4] = {tet_signed_volume(x, b, c, d) / v, tet_signed_volume(a, x, c, d) / v,
+                       tet_signed_volume(a, b, x, d) / v, tet_signed_volume(a, b, c, x) / v};
   return l[0] >= 0 && l[1] >= 0 && l[2] >= 0 && l[3] >= 0;
 }
 

@@ -51,9 +51,8 @@ std::string boundary_manifold_problem(const TetMesh& m, const std::function<std:
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d);
 // Whether x lies in the tet (a, b, c, d), boundary included, by the signs of the four
-// sub-volumes (barycentric coordinates, into l[4] when given); false for a degenerate tet.
-bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x,
-                  double* l = nullptr);
+// sub-volumes (barycentric coordinates); false for a degenerate tet.
+bool point_in_tet(const double* a, const double* b, const double* c, const double* d, const double* x);
 
 // A mesh's boundary faces by node, for the start checks: a point in an element but on the
 // body's boundary (within kOnFace of a boundary triangle's size) touches the body, it is
