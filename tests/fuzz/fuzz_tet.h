@@ -2,7 +2,7 @@
 // Shared body of the tet mesh fuzzers (fuzz_msh, fuzz_vtu, fuzz_tetgen, fuzz_medit): a
 // reader and the import must either return a valid mesh or throw InputError. The mesh's
 // promises: finite coordinates, indices in range, every tet positive and not flat against
-// the mean, every node used, and a boundary that is a closed manifold (each boundary edge
+// the median, every node used, and a boundary that is a closed manifold (each boundary edge
 // on exactly two boundary faces) with surface_nodes the nodes it touches.
 #include <algorithm>
 #include <set>
@@ -18,7 +18,7 @@ inline void require_valid_tet_mesh(const TetMesh& m) {
   require(m.ntet() > 0 && m.X.size() % 3 == 0 && m.tet.size() % 4 == 0, "whole nodes and tets, at least one tet");
   for (double v : m.X) require(std::isfinite(v), "finite coordinates");
   std::vector<char> used(m.nnode(), 0);
-  double mean = 0;
+  std::vector<double> volumes;
   for (int e = 0; e < m.ntet(); ++e) {
     const int* t = &m.tet[4 * e];
     for (int a = 0; a < 4; ++a) {
@@ -27,15 +27,13 @@ inline void require_valid_tet_mesh(const TetMesh& m) {
     }
     const double v = tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]);
     require(v > 0, "every tet positive");
-    mean += v;
+    volumes.push_back(v);
   }
-  mean /= m.ntet();
-  for (int e = 0; e < m.ntet(); ++e) {
-    const int* t = &m.tet[4 * e];
-    require(tet_signed_volume(&m.X[3 * t[0]], &m.X[3 * t[1]], &m.X[3 * t[2]], &m.X[3 * t[3]]) >=
-                0.5 * kDegenerateTetRelVolume * mean,
-            "no degenerate tet");
-  }
+  // The importer's rule: no tet below kDegenerateTetRelVolume of the median volume.
+  std::vector<double> sorted = volumes;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  for (double v : volumes) require(v >= 0.5 * kDegenerateTetRelVolume * median, "no degenerate tet");
   for (char u : used) require(u, "every node used by a tet");
   std::vector<std::pair<int, int>> edges;
   std::set<int> touched;
