@@ -108,6 +108,16 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   std::vector<double> cvol(nest.ncomp, 0.0);
   const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
   for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, o);
+  // A flat shell beside a solid one passes the whole-surface test above, but its sign is
+  // rounding noise, so its orientation would be a coin toss (and flip again on a second
+  // pass): every shell must enclose volume on its own, against its own size.
+  for (int c = 0; c < nest.ncomp; ++c) {
+    const auto& b = nest.box[c];
+    const double dc = std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
+    if (!(std::fabs(cvol[c]) > 1e-9 * dc * dc * dc))
+      fail("shell " + std::to_string(c + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
+           std::to_string(nest.first_tri[c]) + ") encloses no volume (flat or collapsed)");
+  }
   for (int t = 0; t < s.ntri(); ++t) {
     const int c = nest.tri_comp[t];
     const bool want_positive = nest.depth[c] % 2 == 0;
@@ -178,16 +188,17 @@ ShellNesting shell_nesting(const SurfaceMesh& s) {
     r.tri_comp[t] = id[root];
   }
   r.depth.assign(r.ncomp, 0);
-  if (r.ncomp <= 1) return r;
-  // Bounding boxes: shell c can lie inside shell d only if its box lies inside d's.
-  std::vector<std::array<double, 6>> box(r.ncomp, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  r.box.assign(r.ncomp, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
   for (int t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) {
         const double x = s.xyz[3 * s.tri[3 * t + k] + d];
-        auto& b = box[r.tri_comp[t]];
+        auto& b = r.box[r.tri_comp[t]];
         b[d] = std::min(b[d], x), b[3 + d] = std::max(b[3 + d], x);
       }
+  if (r.ncomp <= 1) return r;
+  // Shell c can lie inside shell d only if its box lies inside d's.
+  const auto& box = r.box;
   for (int c = 0; c < r.ncomp; ++c) {
     double p[3];
     point_off_triangle(s, r.first_tri[c], 0, 0, p);  // the centroid, on shell c

@@ -1,5 +1,6 @@
 #pragma once
 // Closed triangulated surface: the input to TetGen and what loaders and generators produce.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ struct ShellNesting {
   std::vector<int> tri_comp;   // component of each triangle
   std::vector<int> depth;      // per component
   std::vector<int> first_tri;  // a triangle of each component
+  std::vector<std::array<double, 6>> box;  // per component: lower corner, then upper
 };
 ShellNesting shell_nesting(const SurfaceMesh& s);
 

@@ -508,7 +508,6 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
   if (grid.empty()) return;
   const BoundaryFaces boundary(m);  // a node on another body's boundary touches it
   for (int e = 0; e < m.ntet(); ++e) {
-    const int* t = &m.tet[4 * e];
     const int be = m.tet_body[e];
     double elo[3], ehi[3];
     tet_box(e, elo, ehi);

@@ -402,6 +402,31 @@ TEST(TetgenHollow, SolidInsideACavityIsMeshedToo) {
   EXPECT_NEAR(vol, 99e-6, 1e-11);
 }
 
+TEST(TetgenHollow, EveryShellEnclosesVolumeAndOrientingTwiceChangesNothing) {
+  // A flat shell (a triangle and its back) beside a solid box: the whole surface encloses
+  // the box's volume, but the flat shell's sign is rounding noise, so it has no outside.
+  // tests/fuzz/crashes/fuzz_obj/flat_shell_beside_a_solid.obj is the fuzzer's version.
+  SurfaceMesh s;
+  add_box(s, 0, 0.01);
+  const int b = s.npoint();
+  s.xyz.insert(s.xyz.end(), {0.05, 0, 0, 0.06, 0, 0, 0.05, 0.01, 0});
+  s.tri.insert(s.tri.end(), {b, b + 1, b + 2, b, b + 2, b + 1});
+  expect_input_error([&] { check_and_orient_closed_surface(s, "flat shell"); }, {"shell 2 of 2", "encloses no volume"},
+                     "flat shell");
+  // Orientation is a fixed point: an oriented surface with shells in every role (solid,
+  // cavity, island, and a second solid beside them) passes through unchanged.
+  SurfaceMesh many;
+  add_box(many, 0, 0.05);
+  add_box(many, 0.01, 0.03, true);
+  add_box(many, 0.02, 0.01);
+  add_box(many, 0.1, 0.01, true);
+  check_and_orient_closed_surface(many, "many");
+  SurfaceMesh again = many;
+  check_and_orient_closed_surface(again, "many");
+  EXPECT_EQ(again.tri, many.tri);
+  EXPECT_NEAR(enclosed_volume(many), 125e-6 - 27e-6 + 1e-6 + 1e-6, 1e-14);
+}
+
 TEST(TetgenProbe, CountsSelfIntersections) {
   SurfaceMesh one;
   add_box(one, 0, 1);
