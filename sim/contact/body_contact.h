@@ -1,6 +1,6 @@
 #pragma once
 // Body-body and self-contact: a surface node of one body against a boundary triangle of
-// another (or, with contact.self, of its own body outside the node's 1-ring), by the
+// another (or, with contact.self, of its own body, other than the node's own), by the
 // projection rule of plane_contact.h (project_step), with the correction shared between
 // the node and the triangle's three nodes. The value functions here are what both
 // backends run: body_contact_cpu.cpp loops over them, tled_contact.cu launches them.
@@ -147,18 +147,17 @@ SIM_HD inline T pair_share(int cp, int ca, int cb, int cc) {
   return T(1) / T(c);
 }
 
-// Self-contact: node p against its own body's triangle (a, b, c) is skipped when p is one
-// of them or a neighbour of one (ring: p's neighbours along boundary edges, ring_start
-// indexed by node): the triangle's own nodes and their 1-ring would otherwise "touch"
-// through the surface they share.
-SIM_HD inline bool in_one_ring(int p, int a, int b, int c, const int* ring_start, const int* ring) {
-  if (p == a || p == b || p == c) return true;
-  for (int r = ring_start[p]; r < ring_start[p + 1]; ++r) {
-    const int q = ring[r];
-    if (q == a || q == b || q == c) return true;
-  }
-  return false;
-}
+// Self-contact: node p against its own body's triangle (a, b, c) is skipped only when p is
+// one of its corners (p lies on it). The triangles around p's neighbours stay in: where a
+// fold's crease closes, p's own surface folds onto p, and those are the triangles p meets.
+// Excluding p's 1-ring as well (the first version, as issue 14 put it) let the crease pass
+// through itself: beam_fold's deepest self-penetration on eight meshes of the same beam
+// (its size or position changed by 0.0001-0.001 mm; CPU, double, sampled every 1 ms) was
+// 0.14-0.70 mm with the 1-ring excluded and 0.004-0.34 mm without (six of the eight under
+// 0.016 mm; README "Limits"). A neighbour's triangle does not touch p at rest: p's foot on
+// it falls outside it (about one triangle height outside, on a flat or gently curved
+// surface), so it is rejected like any distant triangle.
+SIM_HD inline bool on_triangle(int p, int a, int b, int c) { return p == a || p == b || p == c; }
 
 // The hash grid: cells of size h (cell index floor(x / h), in double on both backends so
 // they agree), hashed with the body into a power-of-two table, so a node looks up only the

@@ -223,7 +223,7 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
   for (const auto& e : entries_) cell_tri_[cell_fill_[e[0]]++] = int(e[1]);  // triangle order kept
 
   // Per surface node, in order: its box inflated by half the margin against the partner
-  // bodies' triangles (its own outside its 1-ring); sorted, deduplicated.
+  // bodies' triangles (its own unless it is one of their corners); sorted, deduplicated.
   cand_start_.assign(surf.size() + 1, 0);
   for (std::size_t s = 0; s < surf.size(); ++s) {
     const int i = surf[s];
@@ -241,9 +241,7 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
         for (int q = cell_start_grid_[c]; q < cell_start_grid_[c + 1]; ++q) {
           const int t = cell_tri_[q];
           if (tri_body[t] != o || !boxes_overlap(nb, &tri_box_[6 * t])) continue;
-          if (o == bi && in_one_ring(i, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], tab_.ring_start.data(),
-                                     tab_.ring.data()))
-            continue;
+          if (o == bi && on_triangle(i, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2])) continue;
           cand_.push_back(t);
         }
       });

@@ -14,7 +14,7 @@
 //     box meets, filled by a counting sort in triangle order, so each cell's list is
 //     sorted;
 //  3. per surface node, in node order: for each body whose box its swept box meets, the
-//     cells it covers give that body's triangles (its own outside its 1-ring, in_one_ring),
+//     cells it covers give that body's triangles (its own unless on_triangle),
 //     whose boxes are tested, sorted and deduplicated.
 // Narrow phase, kBodyContactSweeps Jacobi sweeps: node_triangle_contact on every candidate
 // from the same state, then each node's share-scaled sum of its accepted pairs

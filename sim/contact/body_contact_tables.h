@@ -14,9 +14,6 @@ struct BodyContactTables {
   std::vector<int> surf;        // surface nodes, sorted
   std::vector<int> tri;         // 3 x ntri boundary triangles (outward), the mesh's order
   std::vector<int> tri_body;    // ntri
-  // Self-contact's exclusion (in_one_ring): each node's neighbours along boundary edges,
-  // sorted; ring_start: nnode + 1.
-  std::vector<int> ring_start, ring;
   // Contact thickness: a node up to tol behind a triangle is pushed back (an earlier step's
   // residual penetration); deeper means it is on the other side of a thin part, or not this
   // triangle's. A tenth of the mean boundary edge (residual penetrations measured at

@@ -43,7 +43,7 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
           if (it == grid.end()) continue;
           for (int p : it->second) {
             const bool own = t.node_body[p] == body;
-            if (own ? !self || in_one_ring(p, a, b, c, t.ring_start.data(), t.ring.data()) : !bodies) continue;
+            if (own ? !self || on_triangle(p, a, b, c) : !bodies) continue;
             TriangleProjection<double> tp;
             if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
             gap = std::min(gap, tp.d);

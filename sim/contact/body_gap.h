@@ -3,7 +3,7 @@
 // run CSV's and the panel's min_gap, with the planes' and obstacles'). Measured on the
 // host from positions, independently of the solver's contact stage: for each node the
 // stage flagged in contact this step, the boundary triangles it may touch (another body's;
-// its own outside its 1-ring with self-contact) whose plane it lies within the contact
+// its own, except those it is a corner of, with self-contact) whose plane it lies within the contact
 // tolerance of, with its projection inside the triangle; the gap is its signed distance
 // from that plane (negative: inside).
 #include <cstdint>

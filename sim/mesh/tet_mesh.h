@@ -45,7 +45,7 @@ TetMesh make_tet_mesh(std::vector<double> X, std::vector<int> tet);
 
 // "" when the boundary is a manifold: every boundary edge on exactly two boundary faces,
 // and the faces around every boundary node one fan (two parts touching at a node only
-// give two: no normal there, and self-contact's 1-ring is not a ring). Else what is
+// give two: no normal there). Else what is
 // wrong, naming nodes by node_name.
 std::string boundary_manifold_problem(const TetMesh& m, const std::function<std::string(int)>& node_name);
 

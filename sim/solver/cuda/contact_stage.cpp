@@ -8,15 +8,10 @@ template <class T>
 void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector<int>& node_new,
                                    const std::vector<int>& node_old) {
   const int n = t.nnode;
-  std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n), ring_start(n + 1, 0), ring;
+  std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n);
   for (std::size_t s = 0; s < surf.size(); ++s) surf[s] = node_new[t.surf[s]];
   for (std::size_t k = 0; k < tri.size(); ++k) tri[k] = node_new[t.tri[k]];
-  for (int i = 0; i < n; ++i) {
-    const int o = node_old[i];
-    node_body[i] = t.node_body[o];
-    for (int r = t.ring_start[o]; r < t.ring_start[o + 1]; ++r) ring.push_back(node_new[t.ring[r]]);
-    ring_start[i + 1] = int(ring.size());
-  }
+  for (int i = 0; i < n; ++i) node_body[i] = t.node_body[node_old[i]];
   const int nsurf = int(surf.size()), nt = t.ntri();
   // Buckets: 8 per triangle, a power of two (a triangle's swept box covers ~8 cells).
   unsigned buckets = 1;
@@ -26,8 +21,6 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   tri_.upload(tri);
   tri_body_.upload(t.tri_body);
   node_body_.upload(node_body);
-  ring_start_.upload(ring_start);
-  ring_.upload(ring.empty() ? std::vector<int>{0} : ring);
   bucket_count_.resize(buckets);
   bucket_tri_.resize(std::size_t(buckets) * kContactBucketCap);
   tri_box_.resize(6 * std::size_t(std::max(1, nt)));
@@ -54,8 +47,6 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.tri = tri_.data();
   v.tri_body = tri_body_.data();
   v.node_body = node_body_.data();
-  v.ring_start = ring_start_.data();
-  v.ring = ring_.data();
   v.tol = T(t.tol);
   v.half_margin = T(0.5) * v.tol;  // the CPU's boxes (body_contact_cpu.cpp)
   v.inv_h = 1.0 / double(T(t.cell));

@@ -150,7 +150,7 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
               if (q0 + lane < nh) {
                 t = c.bucket_tri[std::size_t(h) * kContactBucketCap + q0 + lane];
                 if (c.tri_body[t] != o || !boxes_overlap(nb, c.tri_box + 6 * t) ||
-                    (o == bi && in_one_ring(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2], c.ring_start, c.ring)))
+                    (o == bi && on_triangle(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2])))
                   t = -1;
               }
               for (unsigned hits = __ballot_sync(0xffffffffu, t >= 0); hits; hits &= hits - 1) {

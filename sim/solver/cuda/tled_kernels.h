@@ -235,8 +235,6 @@ struct BodyContactView {
   const int* tri = nullptr;         // 3 x ntri boundary triangles
   const int* tri_body = nullptr;    // ntri
   const int* node_body = nullptr;   // nnode
-  const int* ring_start = nullptr;  // nnode + 1
-  const int* ring = nullptr;        // neighbours along boundary edges
   T tol = T(0), half_margin = T(0);
   double inv_h = 1;                 // 1 / grid cell
   unsigned mask = 0;                // buckets - 1 (a power of two)
