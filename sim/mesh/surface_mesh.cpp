@@ -105,9 +105,14 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
     return;
   }
   // Each shell on its own: outwards at even depth, inwards (into the cavity) at odd depth.
+  // Each shell's volume about a vertex of its own: about a far point (vertex 0 on another
+  // shell) the terms grow with the distance squared and their rounding can swamp a thin
+  // shell's volume, as enclosed_volume's origin on the surface avoids for one shell.
   std::vector<double> cvol(nest.ncomp, 0.0);
-  const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
-  for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, o);
+  std::vector<std::array<double, 3>> origin(nest.ncomp);
+  for (int c = 0; c < nest.ncomp; ++c)
+    for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * nest.first_tri[c]] + d];
+  for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, origin[nest.tri_comp[t]].data());
   // A flat shell beside a solid one passes the whole-surface test above, but its sign is
   // rounding noise, so its orientation would be a coin toss (and flip again on a second
   // pass): every shell must enclose volume on its own, against its own size.

@@ -427,6 +427,33 @@ TEST(TetgenHollow, EveryShellEnclosesVolumeAndOrientingTwiceChangesNothing) {
   EXPECT_NEAR(enclosed_volume(many), 125e-6 - 27e-6 + 1e-6 + 1e-6, 1e-14);
 }
 
+TEST(TetgenHollow, AThinShellIsJudgedAndOrientedTheSameWhereverItLies) {
+  // A 1 m box and, D metres away, an octahedron 20 mm across and 0.4 nm thick: a thin but
+  // solid shell, 1.2x its own no-volume threshold. Its volume must be taken about a point
+  // of its own; about the box's corner the rounding of terms ~D^2 refused it at D = 500 and
+  // not at 300, and could as well have flipped it.
+  for (const double D : {300.0, 500.0}) {
+    for (const bool inward : {false, true}) {
+      SurfaceMesh s;
+      add_box(s, 0, 1);
+      const int b = s.npoint();
+      const double d = 0.01, h = 2e-10;
+      const double P[6][3] = {{d, 0, 0}, {-d, 0, 0}, {0, d, 0}, {0, -d, 0}, {0, 0, h}, {0, 0, -h}};
+      for (const auto& p : P) s.xyz.insert(s.xyz.end(), {D + p[0], D + p[1], D + p[2]});
+      const int F[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+      for (const auto& f : F) {
+        if (inward) s.tri.insert(s.tri.end(), {b + f[0], b + f[2], b + f[1]});
+        else s.tri.insert(s.tri.end(), {b + f[0], b + f[1], b + f[2]});
+      }
+      check_and_orient_closed_surface(s, "thin shell");
+      SurfaceMesh thin;  // the octahedron alone, as oriented
+      thin.xyz.assign(s.xyz.begin() + 3 * b, s.xyz.end());
+      for (std::size_t i = 36; i < s.tri.size(); ++i) thin.tri.push_back(s.tri[i] - b);
+      EXPECT_NEAR(enclosed_volume(thin), 4.0 / 3.0 * d * d * h, 1e-3 * d * d * h) << "D = " << D;
+    }
+  }
+}
+
 TEST(TetgenProbe, CountsSelfIntersections) {
   SurfaceMesh one;
   add_box(one, 0, 1);
