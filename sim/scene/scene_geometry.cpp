@@ -309,6 +309,67 @@ void surface_edges(const TetMesh& m, std::vector<std::array<int, 2>>& nodes, std
   }
 }
 
+// Points of a body for the start checks (a node, or a point of its own volume or surface
+// away from its nodes) and the body they belong to.
+struct BodyPoint {
+  double x[3];
+  int body;
+  int kind;  // 0 node a, 1 midpoint of the surface edge a-b, 2 centroid of the surface
+             // triangle a, b, c, 3 centroid of element a
+  int a, b, c;
+};
+
+std::string describe(const BodyPoint& p) {
+  switch (p.kind) {
+    case 0: return "node " + std::to_string(p.a);
+    case 1: return "the midpoint of the surface edge between nodes " + std::to_string(p.a) + " and " + std::to_string(p.b);
+    case 2:
+      return "the centre of the surface triangle of nodes " + std::to_string(p.a) + ", " + std::to_string(p.b) + " and " +
+             std::to_string(p.c);
+    default: return "the centre of element " + std::to_string(p.a);
+  }
+}
+
+std::vector<BodyPoint> body_points(const TetMesh& m, bool every_node) {
+  std::vector<BodyPoint> pts;
+  auto mean = [&](std::initializer_list<int> nodes, BodyPoint& p) {
+    for (int k = 0; k < 3; ++k) {
+      double v = 0;
+      for (int i : nodes) v += m.X[3 * i + k];
+      p.x[k] = v / double(nodes.size());
+    }
+    p.body = m.node_body.empty() ? 0 : m.node_body[*nodes.begin()];
+  };
+  auto node = [&](int i) {
+    BodyPoint p{{}, 0, 0, i, -1, -1};
+    mean({i}, p);
+    pts.push_back(p);
+  };
+  if (every_node)
+    for (int i = 0; i < m.nnode(); ++i) node(i);
+  else
+    for (int i : m.surface_nodes) node(i);
+  for (int f = 0; f < m.nbtri(); ++f) {
+    const int* t = &m.boundary_tri[3 * f];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] < t[(k + 1) % 3]) {  // each edge of a closed surface appears once each way
+        BodyPoint p{{}, 0, 1, t[k], t[(k + 1) % 3], -1};
+        mean({t[k], t[(k + 1) % 3]}, p);
+        pts.push_back(p);
+      }
+    BodyPoint p{{}, 0, 2, t[0], t[1], t[2]};
+    mean({t[0], t[1], t[2]}, p);
+    pts.push_back(p);
+  }
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int* t = &m.tet[4 * e];
+    BodyPoint p{{}, 0, 3, e, -1, -1};
+    mean({t[0], t[1], t[2], t[3]}, p);
+    pts.push_back(p);
+  }
+  return pts;
+}
+
 // Where the body's surface passes through obstacle o although no node is inside it (a
 // thin plate or capsule through a torus's tube, a rod through two faces of a box): "" if
 // nowhere. Convex shapes: a surface triangle reaching into it (its edges included). A
@@ -381,52 +442,71 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
   const auto body_name = [&](int b) { return m.nbody() > 1 ? s.body(b).key : std::string("the body"); };
   const auto node_body = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
   const BoundaryFaces boundary(m);  // a point on the body's boundary touches it
+  // Every node, and the body's other points (body_points: a body that meets an obstacle
+  // only where its nodes and edges lie on the obstacle's surface, such as a box body in a
+  // box-shaped mesh of the same size, has its element centres inside).
+  const std::vector<BodyPoint> pts = body_points(m, true);
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
-    int node = -1;
-    for (int i = 0; i < m.nnode(); ++i) {
-      const double d = signed_distance(obstacles[o], &m.X[3 * i]);
-      if (d < worst) worst = d, node = i;
+    const BodyPoint* deepest = nullptr;
+    for (const BodyPoint& p : pts) {
+      const double d = signed_distance(obstacles[o], p.x);
+      if (d < worst) worst = d, deepest = &p;
     }
     const std::string key = s.source + ": obstacle[" + std::to_string(o) + "]";
     if (worst < -1e-9) {
-      const std::string who = body_name(node_body(node));
+      const std::string who = body_name(deepest->body);
       char buf[320];
-      std::snprintf(buf, sizeof buf, ": %s starts inside this %s obstacle (node %d is %.4g mm inside); move %s.position or the obstacle",
-                    who.c_str(), obstacle_shape_name(obstacles[o].shape), node, -worst * 1e3,
-                    s.body(node_body(node)).key.c_str());
+      std::snprintf(buf, sizeof buf, ": %s starts inside this %s obstacle (%s is %.4g mm inside); move %s.position or the obstacle",
+                    who.c_str(), obstacle_shape_name(obstacles[o].shape), describe(*deepest).c_str(), -worst * 1e3,
+                    s.body(deepest->body).key.c_str());
       throw InputError(key + buf);
     }
     // A small obstacle between the nodes: its centre (a capsule's ends; a mesh's every
-    // vertex inside the body's bounding box) in an element.
+    // vertex, edge midpoint and triangle centre inside the body's bounding box: a mesh that
+    // meets the body only where its vertices and edges lie on the body's surface can still
+    // cut through it) in an element.
     const ObstacleSpec& ob = obstacles[o];
-    std::vector<double> points(ob.center, ob.center + 3);
+    struct Point {
+      double x[3];
+      const char* what;
+    };
+    std::vector<Point> points;
     if (ob.shape == kObstacleMesh && ob.sdf) {
-      points.clear();
       double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
       for (int i = 0; i < m.nnode(); ++i)
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.X[3 * i + k]), hi[k] = std::max(hi[k], m.X[3 * i + k]);
       const SurfaceMesh& sm = ob.sdf->surface;
-      for (int v = 0; v < sm.npoint(); ++v) {
-        const double* q = &sm.xyz[3 * v];
-        double x[3];
+      auto add = [&](std::initializer_list<int> verts, const char* what) {  // the mean of the vertices, placed
+        double q[3] = {0, 0, 0};
+        for (int v : verts)
+          for (int k = 0; k < 3; ++k) q[k] += sm.xyz[3 * v + k] / double(verts.size());
+        Point p{{}, what};
         bool in = true;
         for (int k = 0; k < 3; ++k) {
-          x[k] = ob.center[k] + ob.R[3 * k] * q[0] + ob.R[3 * k + 1] * q[1] + ob.R[3 * k + 2] * q[2];
-          in = in && x[k] >= lo[k] && x[k] <= hi[k];
+          p.x[k] = ob.center[k] + ob.R[3 * k] * q[0] + ob.R[3 * k + 1] * q[1] + ob.R[3 * k + 2] * q[2];
+          in = in && p.x[k] >= lo[k] && p.x[k] <= hi[k];
         }
-        if (in) points.insert(points.end(), x, x + 3);
+        if (in) points.push_back(p);
+      };
+      for (int v = 0; v < sm.npoint(); ++v) add({v}, "a vertex");
+      for (int t = 0; t < sm.ntri(); ++t) {
+        const int* v = &sm.tri[3 * t];
+        for (int k = 0; k < 3; ++k)
+          if (v[k] < v[(k + 1) % 3]) add({v[k], v[(k + 1) % 3]}, "the midpoint of an edge");
+        add({v[0], v[1], v[2]}, "the centre of a triangle");
       }
+    } else {
+      points.push_back({{ob.center[0], ob.center[1], ob.center[2]}, ob.shape == kObstacleCapsule ? "an end" : "its centre"});
+      if (ob.shape == kObstacleCapsule) points.push_back({{ob.b[0], ob.b[1], ob.b[2]}, "an end"});  // a rod's other end too
     }
-    if (ob.shape == kObstacleCapsule) points.insert(points.end(), ob.b, ob.b + 3);  // a rod's other end too
-    const char* what = ob.shape == kObstacleCapsule ? "an end" : ob.shape == kObstacleMesh ? "a vertex" : "centre";
-    for (std::size_t p = 0; p < points.size(); p += 3)
+    for (const Point& p : points)
       for (int e = 0; e < m.ntet(); ++e) {
         const int* t = &m.tet[4 * e];
-        if (boundary.strictly_inside(m, e, &points[p]))
-          throw InputError(key + ": the obstacle starts inside " + body_name(node_body(t[0])) + " (" +
-                           (ob.shape == kObstacleMesh ? "" : "its ") + what + " lies in element " + std::to_string(e) +
-                           "); move " + s.body(node_body(t[0])).key + ".position or the obstacle");
+        if (boundary.strictly_inside(m, e, p.x))
+          throw InputError(key + ": the obstacle starts inside " + body_name(node_body(t[0])) + " (" + p.what +
+                           " lies in element " + std::to_string(e) + "); move " + s.body(node_body(t[0])).key +
+                           ".position or the obstacle");
       }
     int body = 0;
     const std::string cut = surface_through_obstacle(m, ob, body);
@@ -464,12 +544,18 @@ void check_surfaces_apart(const Scene& s, const TetMesh& m) {
                    " crosses a surface triangle of " + b + "); move " + a + ".position or " + b + ".position");
 }
 
-// A surface node of one body inside an element of another.
-void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
+// A point of one body strictly inside an element of another. A surface node is not
+// enough: bodies that meet only where nodes and edges lie on each other's boundary (which
+// is touching, BoundaryFaces) can still share volume: two copies of a body at the same
+// place, or boxes of one element across overlapping by a thin slab, whose face diagonal
+// runs through the other's interior between two of its edges. So each body also offers
+// the midpoint of every surface edge, the centroid of every surface triangle and of every
+// element: points inside its own volume or surface, away from its nodes.
+void check_points_outside_bodies(const Scene& s, const TetMesh& m) {
   const int nb = m.nbody();
-  // Bounding box of each body's nodes; the surface nodes inside another body's box go
-  // into a grid (cell: twice the mean element box), then each element is tested against
-  // the other bodies' nodes in the cells its box covers.
+  // Bounding box of each body's nodes; the points inside another body's box go into a
+  // grid (cell: twice the mean element box), then each element is tested against the
+  // other bodies' points in the cells its box covers.
   std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()), hi(3 * nb, -std::numeric_limits<double>::infinity());
   for (int i = 0; i < m.nnode(); ++i)
     for (int k = 0; k < 3; ++k) {
@@ -498,15 +584,16 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
   const double h = 2 * extent / std::max(1, m.ntet());
   if (!(h > 0)) return;
   auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
-  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> surface nodes (index order)
-  for (int i : m.surface_nodes) {
-    const double* x = &m.X[3 * i];
+  const std::vector<BodyPoint> pts = body_points(m, false);
+  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> points (index order)
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const double* x = pts[p].x;
     bool near = false;
-    for (int b = 0; b < nb && !near; ++b) near = b != m.node_body[i] && in_box(x, b);
-    if (near) grid[cell_key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(i);
+    for (int b = 0; b < nb && !near; ++b) near = b != pts[p].body && in_box(x, b);
+    if (near) grid[cell_key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(int(p));
   }
   if (grid.empty()) return;
-  const BoundaryFaces boundary(m);  // a node on another body's boundary touches it
+  const BoundaryFaces boundary(m);  // a point on another body's boundary touches it
   for (int e = 0; e < m.ntet(); ++e) {
     const int be = m.tet_body[e];
     double elo[3], ehi[3];
@@ -523,17 +610,18 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
         for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
           const auto it = grid.find(cell_key(cx, cy, cz));
           if (it == grid.end()) continue;
-          for (int i : it->second) {
-            const int b = m.node_body[i];
-            if (b == be) continue;
-            const double* x = &m.X[3 * i];
+          for (int q : it->second) {
+            const BodyPoint& p = pts[q];
+            if (p.body == be) continue;
             bool in = true;
-            for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
-            if (in && boundary.strictly_inside(m, e, x))
-              throw InputError(s.source + ": " + s.body(b).key + " and " + s.body(be).key +
-                               " overlap at the start (a node of " + s.body(b).key + " lies in element " +
-                               std::to_string(e) + " of " + s.body(be).key + "); move " + s.body(b).key +
-                               ".position or " + s.body(be).key + ".position");
+            for (int k = 0; k < 3; ++k) in = in && p.x[k] >= elo[k] && p.x[k] <= ehi[k];
+            if (in && boundary.strictly_inside(m, e, p.x)) {
+              const std::string& a = s.body(p.body).key;
+              const std::string& b = s.body(be).key;
+              throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (" + describe(p) + " of " + a +
+                               " lies in element " + std::to_string(e) + " of " + b + "); move " + a + ".position or " +
+                               b + ".position");
+            }
           }
         }
   }
@@ -543,7 +631,7 @@ void check_nodes_outside_bodies(const Scene& s, const TetMesh& m) {
 
 void check_bodies_apart(const Scene& s, const TetMesh& m) {
   if (m.nbody() < 2) return;
-  check_nodes_outside_bodies(s, m);
+  check_points_outside_bodies(s, m);
   check_surfaces_apart(s, m);
 }
 

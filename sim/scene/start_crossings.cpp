@@ -20,8 +20,10 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
   const double s[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
   const double u = inv * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]);
   // Through the triangle's boundary within rounding is touching (a body's edge along the
-  // edge of a cube it rests on), not crossing: a crossing there would also cross the
-  // neighbouring face, or end inside, which the other start checks see.
+  // edge of a cube it rests on), not crossing. Bodies that overlap with every crossing on
+  // such a boundary (a face diagonal running through the other body between two of its
+  // edges) are found by the point checks: the edge's midpoint, or a triangle or element
+  // centre, lies inside (scene_geometry.cpp, body_points).
   constexpr double eps = 1e-9;
   if (u < eps || u > 1 - eps) return false;
   const double r[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};

@@ -161,10 +161,10 @@ TEST(Bodies, BadInputNamesTheKey) {
   // One body wholly inside the other.
   const std::string e1b = error_of(two, {"body.1.position=[0, 0, 0]", "body.1.radius=1"});
   EXPECT_NE(e1b.find("overlap"), std::string::npos) << e1b;
-  // A thin plate through a torus's hole and tube: every node of each lies outside the
-  // other, but the torus's surface edges cross the plate's faces.
+  // A plate 0.1 um thin through a torus's hole and tube: no node, edge midpoint or centre
+  // of either lies inside the other, but the torus's surface edges cross the plate's faces.
   const std::string plate =
-      "[[body]]\nshape = \"torus\"\nsegments = [45, 9]\n[[body]]\nshape = \"box\"\nsize = [40, 40, 0.01]\n"
+      "[[body]]\nshape = \"torus\"\nsegments = [45, 9]\n[[body]]\nshape = \"box\"\nsize = [40, 40, 0.0001]\n"
       "divisions = [1, 1, 1]\nposition = [0, 0.3, 0]\nrotation_deg = [90, 0, 0]\n[mesh]\nkeep_boundary = true\n"
       "radius_edge = 0\n[floor]\nenabled = false\n";
   const std::string e1c = error_of(plate);
@@ -179,6 +179,28 @@ TEST(Bodies, BadInputNamesTheKey) {
   for (const char* at : {"[4, 0, 0]", "[4, 4, 0]", "[4, 4, 4]", "[4, 2, 2]"})
     EXPECT_EQ(error_of(boxes, {std::string("body.1.position=") + at}), "") << at;
   EXPECT_NE(error_of(boxes, {"body.1.position=[3.999, 0, 0]"}).find("overlap at the start"), std::string::npos);
+  // Overlapping where every node and edge of each lies on the other's boundary: two copies
+  // of a body at one place, and boxes of one element across (their face diagonals run
+  // through the other's interior) overlapping by 4 mm down to a 1 um slab. Each was accepted
+  // while only nodes and edge crossings were tested.
+  const std::string cubes = "units = \"mm\"\n[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\ndivisions = [1, 1, 1]\n"
+                            "[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\ndivisions = [1, 1, 1]\n[floor]\nenabled = false\n";
+  for (const char* at : {"[0, 0, 0]", "[1, 0, 0]", "[2, 0, 0]", "[3.5, 0, 0]", "[3.9, 0, 0]", "[3.999, 0, 0]"}) {
+    const std::string e = error_of(cubes, {std::string("body.1.position=") + at});
+    EXPECT_NE(e.find("body[1] and body[0] overlap at the start"), std::string::npos) << at << ": " << e;
+  }
+  for (const char* at : {"[4, 0, 0]", "[4, 4, 0]", "[4, 4, 4]", "[4, 2, 2]"})
+    EXPECT_EQ(error_of(cubes, {std::string("body.1.position=") + at}), "") << at;
+  EXPECT_NE(error_of(two, {"body.1.position=[0, 0, 0]"}).find("overlap at the start"), std::string::npos)
+      << "two copies of a sphere";
+  EXPECT_NE(error_of(boxes, {"body.1.position=[0, 0, 0]"}).find("overlap at the start"), std::string::npos)
+      << "two copies of a box";
+  // A small plate inside a plate of the same thickness, straight and turned.
+  const std::string plates = "units = \"mm\"\n[[body]]\nshape = \"box\"\nsize = [20, 1, 20]\ndivisions = [1, 1, 1]\n"
+                             "[[body]]\nshape = \"box\"\nsize = [5, 1, 5]\ndivisions = [1, 1, 1]\n[floor]\nenabled = false\n";
+  for (const char* turn : {"[0, 0, 0]", "[0, 30, 0]"})
+    EXPECT_NE(error_of(plates, {std::string("body.1.rotation_deg=") + turn}).find("overlap at the start"), std::string::npos)
+        << turn;
   // Too many bodies.
   std::string many;
   for (int i = 0; i <= kMaxBodies; ++i) many += "[[body]]\nshape = \"sphere\"\n";

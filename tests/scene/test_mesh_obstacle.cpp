@@ -194,9 +194,10 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
        "obstacle[0]: the body starts inside this mesh obstacle"},
       {"mesh inside an element", scene(write_file("tet.obj", closed), "center = [1, 1, 1]\n"),
        "obstacle[0]: the obstacle starts inside the body (a vertex lies in element"},
-      // A 1 mm rod through the interiors of the block's top and bottom faces: no node in
-      // it, no vertex in an element, no surface edge crossing it; its edges cross the faces.
-      {"rod through two faces", scene(box_obj(1, 40, 1), "center = [2.5, 0, 1.3]\nresolution = 120\n"),
+      // A 1 mm rod through the interiors of the block's top and bottom faces, its middle
+      // above the block: no point of the block in it, no vertex, edge midpoint or triangle
+      // centre of the rod in an element; its edges cross the faces.
+      {"rod through two faces", scene(box_obj(1, 40, 1), "center = [1, 14, 1.3]\nresolution = 120\n"),
        "obstacle[0]: the mesh obstacle cuts through the body at the start (an edge of the mesh crosses the surface "
        "triangle of nodes"},
       // A plate thinner than the grid's cells (0.625 mm at the default 64 across 40 mm):
@@ -217,6 +218,21 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
   // overlapping (its vertices were "in" an element, on the element's face).
   EXPECT_EQ(error_of(scene(box_obj(2, 2, 2), "center = [0, -6, 0]\n")), "");
   EXPECT_EQ(error_of(scene(box_obj(2, 2, 2), "center = [6, -6, 6]\n")), "");
+  // A mesh box meeting the block only where its vertices and edges lie on the block's
+  // surface, yet sharing its volume: the same box (the block is 10 mm across, two elements
+  // a side), half of it (its vertices on the block's faces and edges), and a one-element
+  // block in the same box. Each was accepted while only vertices and crossings were tested.
+  for (const char* at : {"center = [0, 0, 0]\n", "center = [2.5, 0, 0]\n", "center = [5, 0, 0]\n"}) {
+    const std::string e = error_of(scene(box_obj(10, 10, 10), at));
+    EXPECT_NE(e.find("obstacle[0]: "), std::string::npos) << at << e;
+    EXPECT_NE(e.find("inside"), std::string::npos) << at << e;
+  }
+  const Scene one = parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [1, 1, 1]\n"
+                                "[floor]\nenabled = false\n[[obstacle]]\nshape = \"mesh\"\nfile = \"" +
+                                    box_obj(10, 10, 10) + "\"\n",
+                                temp_path("bad.toml"));
+  EXPECT_NE(error_of(one).find("the body starts inside this mesh obstacle (the centre of element"), std::string::npos)
+      << error_of(one);
   // The missing file's message carries the OS reason.
   EXPECT_NE(error_of(scene("no_such_mesh.obj")).find("No such file or directory"), std::string::npos);
 }
