@@ -1,4 +1,5 @@
 #include "sim/contact/mesh_sdf.h"
+#include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
 
 #include <algorithm>
@@ -206,10 +207,16 @@ void vote_inside_along(const SdfGrid& g, int a, std::vector<unsigned char>& vote
 }  // namespace
 
 void check_obstacle_surface(const SurfaceMesh& s, const std::string& what) {
-  const long crossing = count_self_intersections(s);
+  // TetGen's probe, as for tet files (tet_io.h): skipped above kMaxSelfIntersectionCheckTriangles
+  // (a million triangles ran past its 60 s limit, and a signal waits for it); an answer it
+  // could not give below that (it crashed or failed) is not taken for "none".
+  const long crossing = s.ntri() <= kMaxSelfIntersectionCheckTriangles ? count_self_intersections(s) : 0;
   if (crossing > 0)
     throw InputError(what + ": the surface intersects itself (" + std::to_string(crossing) +
                      " facets cross others); an obstacle must be one closed solid per shell, without self-intersections");
+  if (crossing < 0)
+    throw InputError(what + ": TetGen's self-intersection check could not be completed on this surface (it failed "
+                     "or ran past its time limit); a degenerate or self-intersecting mesh is the usual cause");
   const ShellNesting nest = shell_nesting(s);
   for (int c = 0; c < nest.ncomp; ++c)
     if (nest.depth[c] > 0)

@@ -6,9 +6,11 @@
 #include "sim/io/output_file.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <regex>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -88,24 +90,33 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
                     const std::vector<NeoHookean<double>>& mats) {
   char name[64];
   Frame frame{t, {}};
-  if (m.nbody() == 1) {
-    std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-    write_vtu(dir_ + "/" + name, m, &s, dt, mats);
-    frame.files.push_back(name);
-  } else {
-    // One file per body; if one fails, the frame's files already written are removed, so
-    // the directory keeps whole frames only.
-    try {
-      for (int b = 0; b < m.nbody(); ++b) {
+  // The first frame over an earlier series may bear the name of one of its frames: written
+  // beside it (".new") and renamed only once the new index is on disk, so that a failure
+  // before then leaves the earlier series whole, its index naming only files that exist.
+  const std::string staged = earlier_.empty() ? "" : ".new";
+  std::vector<std::string> written;  // paths on disk, for the clean-up of a failed frame
+  auto remove_written = [&] {
+    for (const auto& f : written) std::remove(f.c_str());
+  };
+  try {
+    for (int b = 0; b < m.nbody(); ++b) {  // one file per body
+      if (m.nbody() == 1)
+        std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+      else
         std::snprintf(name, sizeof name, "frame_%05zu_b%d.vtu", frames_.size(), b);
+      const std::string path = dir_ + "/" + name + staged;
+      if (m.nbody() == 1) {
+        write_vtu(path, m, &s, dt, mats);
+      } else {
         const HostState part = body_state(m, s, b);
-        write_vtu(dir_ + "/" + name, body_mesh(m, b), &part, dt, {mats.at(mats.size() == 1 ? 0 : std::size_t(b))});
-        frame.files.push_back(name);
+        write_vtu(path, body_mesh(m, b), &part, dt, {mats.at(mats.size() == 1 ? 0 : std::size_t(b))});
       }
-    } catch (...) {
-      for (const auto& f : frame.files) std::remove((dir_ + "/" + f).c_str());
-      throw;
+      written.push_back(path);
+      frame.files.push_back(name);
     }
+  } catch (...) {
+    remove_written();  // the directory keeps whole frames only
+    throw;
   }
   frames_.push_back(std::move(frame));
   std::ostringstream o;
@@ -123,10 +134,13 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
   } catch (...) {
     // The index kept is the last one: the frame it does not list goes, so that the
     // directory holds exactly the frames series.pvd names.
-    for (const auto& f : frames_.back().files) std::remove((dir_ + "/" + f).c_str());
+    remove_written();
     frames_.pop_back();
     throw;
   }
+  for (const auto& f : frames_.back().files)
+    if (!staged.empty() && std::rename((dir_ + "/" + f + staged).c_str(), (dir_ + "/" + f).c_str()) != 0)
+      throw ResourceError(dir_ + "/" + f + ": cannot rename the written frame into place: " + std::strerror(errno));
   // The new index is on disk: the earlier series' frames that this one has not rewritten go.
   for (const std::string& f : earlier_)
     if (std::find(frames_.back().files.begin(), frames_.back().files.end(), f) == frames_.back().files.end())

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -89,21 +90,28 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   if (nonmanifold) fail("not manifold: " + std::to_string(nonmanifold) + " edges are shared by more than two triangles" + edge());
   if (flipped) fail("inconsistent orientation: " + std::to_string(flipped) + " edges are traversed twice in the same direction" + edge());
   if (open) fail("not closed: " + std::to_string(open) + " boundary edges (holes)" + edge());
+  // Every edge on two triangles, but a vertex may still join shells that touch only there
+  // (two cubes sharing a corner): no normal, no inside near it.
+  const std::string pinch = triangles_manifold_problem(s.tri, n, [](int v) { return "vertex " + std::to_string(v); }, "surface");
+  if (!pinch.empty()) fail(pinch);
   // A closed surface can still enclose nothing (two copies of a triangle, back to back).
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.xyz[3 * i + k]), hi[k] = std::max(hi[k], s.xyz[3 * i + k]);
   const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  const double vol = enclosed_volume(s);
-  if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
-    fail("the surface encloses no volume (flat or collapsed)");
   const ShellNesting nest = shell_nesting(s);
   if (nest.ncomp <= 1) {
+    const double vol = enclosed_volume(s);
+    if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
+      fail("the surface encloses no volume (flat or collapsed)");
     if (vol < 0)
       for (int t = 0; t < s.ntri(); ++t) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
     return;
   }
+  // Several shells: the whole surface's signed volume before orienting them says nothing
+  // (two equal cubes, one inside out, sum to zero); each shell is judged on its own, the
+  // oriented whole at the end.
   // Each shell on its own: outwards at even depth, inwards (into the cavity) at odd depth.
   // Each shell's volume about a vertex of its own: about a far point (vertex 0 on another
   // shell) the terms grow with the distance squared and their rounding can swamp a thin
@@ -130,6 +138,51 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   }
   if (!(enclosed_volume(s) > 1e-9 * diag * diag * diag)) fail("the surface encloses no volume (flat or collapsed)");
 }
+
+std::string triangles_manifold_problem(const std::vector<int>& tri, int npoint,
+                                       const std::function<std::string(int)>& vertex_name, const std::string& what) {
+  struct Edge {
+    std::pair<int, int> key;
+    int corner_a, corner_b;  // the face's corners (3 f + k) at key.first and key.second
+  };
+  std::vector<Edge> edges;
+  edges.reserve(tri.size());
+  for (int f = 0; f < int(tri.size() / 3); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int ka = k, kb = (k + 1) % 3;
+      const int a = tri[3 * f + ka], b = tri[3 * f + kb];
+      edges.push_back(a < b ? Edge{{a, b}, 3 * f + ka, 3 * f + kb} : Edge{{b, a}, 3 * f + kb, 3 * f + ka});
+    }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& x, const Edge& y) { return x.key < y.key || (x.key == y.key && x.corner_a < y.corner_a); });
+  std::vector<int> fan(tri.size());  // union-find over face corners
+  for (std::size_t c = 0; c < fan.size(); ++c) fan[c] = int(c);
+  const auto root = [&fan](int c) {
+    while (fan[c] != c) c = fan[c] = fan[fan[c]];
+    return c;
+  };
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    if (j - i != 2)
+      return "non-manifold " + what + ": the edge between " + vertex_name(edges[i].key.first) + " and " +
+             vertex_name(edges[i].key.second) + " belongs to " + std::to_string(j - i) + " " + what + " faces (2 expected)";
+    fan[root(edges[i].corner_a)] = root(edges[i + 1].corner_a);  // the two faces meet at both ends
+    fan[root(edges[i].corner_b)] = root(edges[i + 1].corner_b);
+    i = j;
+  }
+  std::vector<int> first(npoint, -1);  // a vertex's first fan
+  for (std::size_t c = 0; c < fan.size(); ++c) {
+    const int v = tri[c], r = root(int(c));
+    if (first[v] < 0)
+      first[v] = r;
+    else if (first[v] != r)
+      return "non-manifold " + what + ": parts of the mesh touch at " + vertex_name(v) +
+             " only; its " + what + " faces form separate fans";
+  }
+  return "";
+}
+
 
 double generalized_winding_number(const SurfaceMesh& s, const double p[3], const std::vector<int>* tri_comp, int comp) {
   double w = 0;

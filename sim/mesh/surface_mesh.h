@@ -1,6 +1,7 @@
 #pragma once
 // Closed triangulated surface: the input to TetGen and what loaders and generators produce.
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,13 @@ struct SurfaceMesh {
 void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what);
 
 double enclosed_volume(const SurfaceMesh& s);
+
+// "" when the triangles tri (over npoint vertices) form a 2-manifold: every edge on exactly
+// two triangles, and the triangles around every vertex one fan (shells touching at a
+// vertex only give two). Else what is wrong, naming vertices by vertex_name and the
+// triangles by `what` ("non-manifold boundary: ..." for what = "boundary").
+std::string triangles_manifold_problem(const std::vector<int>& tri, int npoint,
+                                       const std::function<std::string(int)>& vertex_name, const std::string& what);
 
 // Shells of a closed surface: its connected components (triangles sharing vertices) and how
 // deeply each lies inside the others. A shell of odd depth bounds a cavity of the solid

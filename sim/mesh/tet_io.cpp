@@ -209,7 +209,9 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
 
 void check_tet_boundary_overlap(const TetMesh& m, const std::string& name) {
   const SurfaceMesh b = boundary_surface(m);
-  // Above the size the probe is skipped (documented in tet_io.h); -1: TetGen could not tell.
+  // Above the size the probe is skipped (documented in tet_io.h); -1: TetGen could not tell
+  // (coordinates out of its range, as a stray node 1e12 m out, which the scene's size
+  // check then names).
   const long crossing = m.nbtri() <= kMaxSelfIntersectionCheckTriangles ? count_self_intersections(b) : 0;
   if (crossing > 0)
     throw InputError(name + ": tets overlap: the mesh's boundary surface intersects itself (" + std::to_string(crossing) +

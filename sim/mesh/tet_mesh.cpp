@@ -15,46 +15,7 @@
 namespace softtled {
 
 std::string boundary_manifold_problem(const TetMesh& m, const std::function<std::string(int)>& node_name) {
-  struct Edge {
-    std::pair<int, int> key;
-    int corner_a, corner_b;  // the face's corners (3 f + k) at key.first and key.second
-  };
-  std::vector<Edge> edges;
-  edges.reserve(m.boundary_tri.size());
-  for (int f = 0; f < m.nbtri(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int ka = k, kb = (k + 1) % 3;
-      const int a = m.boundary_tri[3 * f + ka], b = m.boundary_tri[3 * f + kb];
-      edges.push_back(a < b ? Edge{{a, b}, 3 * f + ka, 3 * f + kb} : Edge{{b, a}, 3 * f + kb, 3 * f + ka});
-    }
-  std::sort(edges.begin(), edges.end(),
-            [](const Edge& x, const Edge& y) { return x.key < y.key || (x.key == y.key && x.corner_a < y.corner_a); });
-  std::vector<int> fan(m.boundary_tri.size());  // union-find over face corners
-  for (std::size_t c = 0; c < fan.size(); ++c) fan[c] = int(c);
-  const auto root = [&fan](int c) {
-    while (fan[c] != c) c = fan[c] = fan[fan[c]];
-    return c;
-  };
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i + 1;
-    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
-    if (j - i != 2)
-      return "non-manifold boundary: the edge between " + node_name(edges[i].key.first) + " and " +
-             node_name(edges[i].key.second) + " belongs to " + std::to_string(j - i) + " boundary faces (2 expected)";
-    fan[root(edges[i].corner_a)] = root(edges[i + 1].corner_a);  // the two faces meet at both ends
-    fan[root(edges[i].corner_b)] = root(edges[i + 1].corner_b);
-    i = j;
-  }
-  std::vector<int> first(m.nnode(), -1);  // a node's first fan
-  for (std::size_t c = 0; c < fan.size(); ++c) {
-    const int v = m.boundary_tri[c], r = root(int(c));
-    if (first[v] < 0)
-      first[v] = r;
-    else if (first[v] != r)
-      return "non-manifold boundary: parts of the mesh touch at " + node_name(v) +
-             " only; its boundary faces form separate fans";
-  }
-  return "";
+  return triangles_manifold_problem(m.boundary_tri, m.nnode(), node_name, "boundary");
 }
 
 double tet_signed_volume(const double* a, const double* b, const double* c, const double* d) {

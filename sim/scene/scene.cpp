@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -18,6 +19,16 @@
 
 namespace softtled {
 namespace {
+// v in the fewest %g digits (6 at least) that read back as v: a range message never shows
+// a value just past its limit rounded onto it ("1e+06 is out of range [-1e+06, 1e+06]").
+std::string exact(double v) {
+  char buf[40];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
 
 // One table per named mode: the names parse_scene accepts and *_name() returns.
 template <class E>
@@ -132,9 +143,8 @@ class Reader {
       const auto v = (*a)[i].value<double>();
       if (!v || !std::isfinite(*v)) fail(key, "element " + std::to_string(i) + " is not a finite number");
       if (std::abs(*v) > limit) {
-        std::ostringstream o;
-        o << "element " << i << " = " << *v << " is out of range [" << -limit << ", " << limit << "]";
-        fail(key, o.str());
+        fail(key, "element " + std::to_string(i) + " = " + exact(*v) + " is out of range [" + exact(-limit) + ", " +
+                      exact(limit) + "]");
       }
       r[i] = *v;
     }
@@ -270,12 +280,14 @@ bool normalize(std::array<double, 3>& v) {
 }
 
 // "N.rest" of an indexed --set key (body.N.rest, obstacle.N.rest): N (0-based, at most 3
-// digits) and rest, which must not be empty; form is the message for anything else.
+// digits, no leading zero: one spelling per index) and rest, which must not be empty; form
+// is the message for anything else.
 std::pair<std::size_t, std::string> split_index(const std::string& kv, const std::string& leaf, const char* form) {
   const auto dot = leaf.find('.');
   const std::string idx = leaf.substr(0, dot);
   const std::string rest = dot == std::string::npos ? "" : leaf.substr(dot + 1);
-  if (idx.empty() || idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty())
+  if (idx.empty() || idx.size() > 3 || idx.find_first_not_of("0123456789") != std::string::npos || rest.empty() ||
+      (idx.size() > 1 && idx[0] == '0'))
     throw InputError("--set " + quoted(kv) + ": " + form);
   return {std::stoul(idx), rest};
 }
@@ -481,9 +493,8 @@ void read_obstacles(Reader& r, Scene& s) {
         const auto v = (*a)[k].value<double>();
         if (!v || !std::isfinite(*v)) r.fail(full, "element " + std::to_string(k) + " is not a finite number");
         if (std::fabs(*v) > limit) {
-          std::ostringstream m;
-          m << "element " << k << " = " << *v << " is out of range [" << -limit << ", " << limit << "]";
-          r.fail(full, m.str());
+          r.fail(full, "element " + std::to_string(k) + " = " + exact(*v) + " is out of range [" + exact(-limit) + ", " +
+                           exact(limit) + "]");
         }
         out[k] = *v;
       }

@@ -284,11 +284,18 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m) {
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes) {
   for (std::size_t p = 0; p < planes.size(); ++p) {
     double worst = 0;
-    for (int i = 0; i < m.nnode(); ++i) worst = std::min(worst, signed_distance(planes[p], &m.X[3 * i]));
+    int deepest = 0;
+    for (int i = 0; i < m.nnode(); ++i) {
+      const double d = signed_distance(planes[p], &m.X[3 * i]);
+      if (d < worst) worst = d, deepest = i;
+    }
     if (worst < -1e-9) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, ": the body starts %.4g mm inside the %s plane; move body.position or the plane",
-                    -worst * 1e3, s.floor && p == 0 ? "floor" : "slope");
+      // With several bodies, the one that is in it (body.position is refused there).
+      const int b = m.node_body.empty() ? 0 : m.node_body[deepest];
+      const std::string who = m.nbody() > 1 ? s.body(b).key : std::string("the body");
+      char buf[320];
+      std::snprintf(buf, sizeof buf, ": %s starts %.4g mm inside the %s plane; move %s.position or the plane", who.c_str(),
+                    -worst * 1e3, s.floor && p == 0 ? "floor" : "slope", s.body(b).key.c_str());
       throw InputError(s.source + buf);
     }
   }

@@ -48,8 +48,16 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
       return m;
     }
     const SurfaceMesh surface = scene_surface(scene_, b);
-    return scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
-                             : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
+    try {
+      return scene_.mesh_cache ? cached_tetrahedralize(surface, scene_tetgen_options(scene_), default_mesh_cache_dir())
+                               : tetrahedralize_surface(surface, scene_tetgen_options(scene_));
+    } catch (const InputError& e) {
+      if (scene_.body_count() == 1) throw;
+      // TetGen's findings on one body of several (it intersects itself, it would be too
+      // large, its parts touch): which body, and its file.
+      const BodyDesc& d = scene_.body(b);
+      throw InputError(scene_.source + ": " + (d.shape == "file" ? d.key + ".file" : d.key) + ": " + e.what());
+    }
   };
   if (scene_.body_count() == 1) {
     mesh_ = mesh_body(0);

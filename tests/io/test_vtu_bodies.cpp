@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include "io/vtu_read.h"
@@ -233,6 +234,30 @@ TEST(VtuBodies, ASeriesReplacesTheEarlierSeriesInItsDirectory) {
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"frame_00000.vtu", "frame_00007.vtu", "notes.txt", "series.pvd"}));
   EXPECT_EQ(read_text(dir + "/notes.txt"), "mine");
+}
+
+// The new series' first frame failing (its index cannot be written) over an earlier
+// series whose first frame has the same name: the earlier series stays whole, its index
+// and every frame it names byte for byte (its frame_00000.vtu was overwritten, then removed).
+TEST(VtuBodies, AFirstFrameThatFailsLeavesTheEarlierSeriesWhole) {
+  Simulation one(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_first_fails";
+  std::filesystem::remove_all(dir);
+  {
+    VtuSeries first(dir);
+    for (int f = 0; f < 2; ++f) first.add(0.5 * f, one.mesh(), one.state(), one.time_step().dt, one.materials());
+  }
+  std::map<std::string, std::string> before;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) before[e.path().filename().string()] = read_text(e.path().string());
+  ASSERT_EQ(before.size(), 3u);
+  one.step(10);  // other positions, so a rewritten frame differs
+  VtuSeries second(dir);
+  std::filesystem::create_directories(dir + "/series.pvd.tmp");  // the index cannot be rewritten
+  EXPECT_THROW(second.add(0.0, one.mesh(), one.state(), one.time_step().dt, one.materials()), ResourceError);
+  std::filesystem::remove(dir + "/series.pvd.tmp");
+  std::map<std::string, std::string> after;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) after[e.path().filename().string()] = read_text(e.path().string());
+  EXPECT_EQ(after, before);
 }
 
 TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {

@@ -427,6 +427,16 @@ TEST(TetgenHollow, EveryShellEnclosesVolumeAndOrientingTwiceChangesNothing) {
   EXPECT_NEAR(enclosed_volume(many), 125e-6 - 27e-6 + 1e-6 + 1e-6, 1e-14);
 }
 
+TEST(TetgenHollow, TwoSolidsOneInsideOutAreOrientedNotRefused) {
+  // Equal cubes side by side, the second inside out: the whole surface's signed volume is
+  // zero, which once refused it as enclosing none; each shell oriented, it encloses both.
+  SurfaceMesh s;
+  add_box(s, 0, 0.01);
+  add_box(s, 0.02, 0.01, true);
+  check_and_orient_closed_surface(s, "two cubes");
+  EXPECT_NEAR(enclosed_volume(s), 2e-6, 1e-15);
+}
+
 TEST(TetgenHollow, AThinShellIsJudgedAndOrientedTheSameWhereverItLies) {
   // A 1 m box and, D metres away, an octahedron 20 mm across and 0.4 nm thick: a thin but
   // solid shell, 1.2x its own no-volume threshold. Its volume must be taken about a point

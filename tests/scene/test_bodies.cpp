@@ -201,6 +201,14 @@ TEST(Bodies, BadInputNamesTheKey) {
   for (const char* turn : {"[0, 0, 0]", "[0, 30, 0]"})
     EXPECT_NE(error_of(plates, {std::string("body.1.rotation_deg=") + turn}).find("overlap at the start"), std::string::npos)
         << turn;
+  // A body below the floor: named, with a key that can move it (body.position is refused
+  // in a scene of several bodies).
+  const std::string e_floor = error_of(two, {"body.1.position=[10, -20, 0]", "floor.enabled=true", "floor.point=[0, -10, 0]"});
+  EXPECT_NE(e_floor.find("body[1] starts 13 mm inside the floor plane; move body[1].position"), std::string::npos)
+      << e_floor;
+  // TetGen's findings on one body of several name it.
+  const std::string e_tetgen = error_of(two, {"mesh.max_tets=10"});
+  EXPECT_NE(e_tetgen.find("bad.toml: body[0]: mesh too large"), std::string::npos) << e_tetgen;
   // Too many bodies.
   std::string many;
   for (int i = 0; i <= kMaxBodies; ++i) many += "[[body]]\nshape = \"sphere\"\n";

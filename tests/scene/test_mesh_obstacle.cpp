@@ -182,6 +182,10 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
        scene(write_file("nonmanifold.obj", "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 0.5 1\nv 0.5 -1 0\nv 0.5 -0.5 -1\n"
                                            "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 2\nf 1 2 6\nf 1 6 5\nf 2 5 6\n")),
        "not manifold"},
+      {"vertex-pinched",  // two tetrahedra sharing only vertex 1: every edge on two triangles
+       scene(write_file("pinched.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
+                                       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 6 7\nf 1 7 5\nf 5 7 6\n")),
+       "non-manifold surface: parts of the mesh touch at vertex 0 only"},
       {"empty", scene(write_file("empty.obj", "# nothing\n")), "empty surface"},
       {"NaN vertex", scene(write_file("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")),
        "NaN"},

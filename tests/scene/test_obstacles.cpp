@@ -321,7 +321,8 @@ TEST(ObstacleStart, ThinObstacleThroughTheBodyIsRefused) {
 }
 
 // Through a face and touching none of its edges: a rod skewering a block through the
-// interiors of two faces (no node inside it, its ends outside, no edge crossing it), and a
+// interiors of two faces (no node, edge midpoint or triangle or element centre inside it,
+// its ends outside, no edge crossing it), and a
 // ball dipping 0.2 mm into one face. Each was accepted and the block ran impaled. Refused
 // naming the face; moved 1 mm clear, each is fine. With two blocks, the one cut is named.
 TEST(ObstacleStart, ObstacleThroughAFaceIsRefused) {
@@ -332,9 +333,9 @@ TEST(ObstacleStart, ObstacleThroughAFaceIsRefused) {
     const char* shape;
     std::string through, clear;
   } cases[] = {
-      {"capsule", "shape = \"capsule\"\na = [2.5, -20, 1.3]\nb = [2.5, 20, 1.3]\nradius = 0.3\n",
+      {"capsule", "shape = \"capsule\"\na = [2.5, -20, 2.1]\nb = [2.5, 20, 2.1]\nradius = 0.3\n",
        "shape = \"capsule\"\na = [2.5, -20, 6.3]\nb = [2.5, 20, 6.3]\nradius = 0.3\n"},
-      {"box", "shape = \"box\"\ncenter = [2.5, 15, 1.3]\nsize = [0.6, 50, 0.6]\n",
+      {"box", "shape = \"box\"\ncenter = [2.5, 15, 2.1]\nsize = [0.6, 50, 0.6]\n",
        "shape = \"box\"\ncenter = [2.5, 15, 6.3]\nsize = [0.6, 50, 0.6]\n"},
       {"sphere", "shape = \"sphere\"\ncenter = [2.5, 5.3, 1.3]\nradius = 0.5\n",
        "shape = \"sphere\"\ncenter = [2.5, 6.3, 1.3]\nradius = 0.5\n"},

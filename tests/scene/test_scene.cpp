@@ -231,6 +231,11 @@ TEST(Scene, BadObstaclesNameTheKey) {
             std::string::npos);
   EXPECT_NE(error_of(sphere + "radius = 1\nvelocity = [1e5, 0, 0]\n").find("obstacle[0].velocity: element 0 = 100000 is out of range"),
             std::string::npos);
+  // Just past the limit: shown in the digits that tell it from the limit.
+  const std::string past = error_of("[[obstacle]]\nshape = \"box\"\ncenter = [0, -9, 0]\nsize = [1, 1, 1]\n"
+                                    "rotation_deg = [1000000.1, 0, 0]\n");
+  EXPECT_NE(past.find("obstacle[0].rotation_deg: element 0 = 1000000.1 is out of range [-1e+06, 1e+06]"), std::string::npos)
+      << past;
   std::string nine;
   for (int i = 0; i < kMaxObstacles + 1; ++i) nine += sphere + "radius = 1\n";
   EXPECT_NE(error_of(nine).find("obstacle: at most 8 obstacles, got 9"), std::string::npos);
@@ -267,7 +272,8 @@ TEST(Scene, BadObstacleSetNamesTheKey) {
             std::string::npos);
   // No index, a bad index, a nested key.
   for (const std::string bad : {"obstacle.center=[0, 0, 0]", "obstacle.x.center=[0, 0, 0]", "obstacle.-1.center=[0, 0, 0]",
-                                "obstacle.0=[0, 0, 0]", "obstacle.0.center.x=1", "obstacle.1234.radius=1"}) {
+                                "obstacle.0=[0, 0, 0]", "obstacle.0.center.x=1", "obstacle.1234.radius=1",
+                                "obstacle.00.radius=1"}) {
     const std::string e = error_of(one, {bad});
     EXPECT_NE(e.find("--set '" + bad + "': obstacle keys are 'obstacle.N.key'"), std::string::npos) << bad << ": " << e;
   }
