@@ -153,10 +153,15 @@ struct PolygonList {
     std::vector<int> poly;
     for (std::size_t k = 0; k + 1 < start.size(); ++k) {
       poly.assign(index.begin() + start[k], index.begin() + start[k + 1]);
-      for (int v : poly)
+      for (int v : poly) {
         if (v < 0 || v >= s.npoint())
           throw InputError(where(k) + ": refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()) +
                            " (0-based)");
+        // Before the ear clipping, which would call such a face "not a simple polygon".
+        for (int d = 0; d < 3; ++d)
+          if (!std::isfinite(s.xyz[3 * std::size_t(v) + d]))
+            throw InputError(where(k) + ": vertex " + std::to_string(v) + " (0-based) has a NaN or infinite coordinate");
+      }
       if (!triangulate_polygon(s.xyz, poly, s.tri))
         throw InputError(where(k) + ": face of " + std::to_string(poly.size()) +
                          " vertices is not a simple polygon (it intersects itself, repeats a vertex or is degenerate)");

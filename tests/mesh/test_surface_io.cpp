@@ -267,4 +267,12 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   // Coordinates of 1e308: the products overflow, not a degenerate triangle.
   e = load_error(d + "ovf.obj");
   EXPECT_NE(e.find("ovf.obj: triangle 0: the coordinates overflow"), std::string::npos) << e;
+  // A NaN vertex of a quad face is named as such, not as a polygon that is not simple.
+  std::string quad;
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n", "q.obj");
+  } catch (const InputError& x) {
+    quad = x.what();
+  }
+  EXPECT_NE(quad.find("q.obj:6: vertex 2 (0-based) has a NaN or infinite coordinate"), std::string::npos) << quad;
 }
