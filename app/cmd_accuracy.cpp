@@ -6,6 +6,7 @@
 // each variant prints a progress line with an estimate of the time left.
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +32,24 @@ std::vector<std::string> split(const std::string& s) {
   std::string x;
   while (std::getline(ss, x, ',')) r.push_back(x);
   return r;
+}
+
+// A flag's comma-separated list: every item given, none twice (an empty item, or a
+// repeated one that would run the same variant again and write its row twice, is an
+// error); "" is no items.
+std::vector<std::string> list_of(const std::string& flag, const std::string& list) {
+  std::vector<std::string> r;
+  if (list.empty()) return r;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = list.find(',', start);
+    r.push_back(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (r.back().empty()) throw InputError(flag + " '" + list + "': item " + std::to_string(r.size()) + " is empty");
+    for (std::size_t i = 0; i + 1 < r.size(); ++i)
+      if (r[i] == r.back()) throw InputError(flag + " '" + list + "': '" + r.back() + "' is given twice");
+    if (comma == std::string::npos) return r;
+    start = comma + 1;
+  }
 }
 
 // The overrides run_accuracy_variant builds for a level ("NUxNV[@qRHO]"); a bad level is
@@ -120,7 +139,7 @@ Command add_accuracy_command(CLI::App& app) {
     if (o->scene.empty()) o->scene = default_scene();
     auto parse_lambdas = [](const std::string& flag, const std::string& list) {
       std::vector<double> out;
-      for (const auto& ls : split(list)) {
+      for (const auto& ls : list_of(flag, list)) {
         double v = 0;
         std::size_t used = 0;
         try {
@@ -130,13 +149,16 @@ Command add_accuracy_command(CLI::App& app) {
         }
         if (used != ls.size() || !std::isfinite(v) || !(v >= 1e-3 && v <= 1))
           throw InputError(flag + " '" + list + "': '" + ls + "' is not a number in [0.001, 1]");
+        if (std::find(out.begin(), out.end(), v) != out.end())
+          throw InputError(flag + " '" + list + "': " + ls + " is the same value as an earlier item");
         out.push_back(v);
       }
       return out;
     };
     const std::vector<double> lambdas = parse_lambdas("--lambdas", o->lambdas);
     const std::vector<double> adaptive_lambdas = parse_lambdas("--adaptive-lambdas", o->adaptive_lambdas);
-    const std::vector<std::string> levels = split(o->levels), precs = split(o->precisions), elements = split(o->elements);
+    const std::vector<std::string> levels = list_of("--levels", o->levels), precs = list_of("--precisions", o->precisions),
+                                   elements = list_of("--elements", o->elements);
     if (lambdas.empty() || levels.empty() || precs.empty() || elements.empty())
       throw InputError("--levels, --lambdas, --precisions and --elements each need at least one value");
     for (const auto& p : precs)
@@ -155,7 +177,11 @@ Command add_accuracy_command(CLI::App& app) {
                          " (the accuracy sweep takes one torus)");
       std::vector<std::string> set = level_set(flag, level);
       set.push_back("time.dt=\"auto\"");
-      load_scene(o->scene, set);
+      try {
+        load_scene(o->scene, set);
+      } catch (const InputError& e) {  // the level's value, not the scene file, is at fault
+        throw InputError(flag + " '" + level + "': " + e.what());
+      }
     };
     check_scene("--ref", o->ref);
     for (const auto& l : levels) check_scene("--levels", l);

@@ -88,12 +88,16 @@ Command add_run_command(CLI::App& app) {
     const Scene s = load_scene(o->scene, o->set);
     {  // no output onto an input or another output
       std::vector<PathUse> paths = scene_inputs(s, "--scene");
-      if (!o->csv.empty()) paths.push_back({o->csv, "--csv", true});
+      if (!o->csv.empty()) paths.push_back({o->csv, "--csv", true, false, true});
       if (!o->vtu.empty()) paths.push_back({o->vtu, "--vtu", true, true});
       check_distinct_paths(paths);
     }
     install_stop_signals();
     const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
+    if (stop_requested()) {  // during meshing: the outputs of an earlier run stay as they are
+      std::fprintf(stderr, "softtled: stopped by signal %d before the run started; wrote nothing\n", stop_signal());
+      return exit_code_for_signal(stop_signal());
+    }
     Simulation& sim = *sim_owner;
     const TimeStepInfo& ts = sim.time_step();
     const double dt = ts.dt;

@@ -125,6 +125,8 @@ void check_no_nul(const std::string& path, const std::string& what) {
 
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout, bool in_place) {
   if (path == "-" && allow_stdout) return;
+  if (path == "-")
+    throw InputError(what + " -: standard output is not an option here; give a file name (./- for a file named '-')");
   const std::string where = what + " " + path + ": ";
   if (path.empty()) throw InputError(what + ": empty path");
   check_no_nul(path, what);
@@ -205,12 +207,14 @@ bool same_file(const std::string& a, const std::string& b) {
   if (ea != eb) return false;
   return absolute_of(a) == absolute_of(b);
 }
-// A file a directory output writes (series.pvd, frame_*.vtu and their .tmp).
+// A file a directory output writes (series.pvd, frame_*.vtu, their .tmp, and a first
+// frame staged as .new beside an earlier series': VtuSeries::add).
 bool written_in_dir(const std::string& file, const std::string& dir) {
   const std::filesystem::path f(file);
   const std::string name = f.filename().string();
   std::string base = name;
-  if (base.size() > 4 && base.compare(base.size() - 4, 4, ".tmp") == 0) base.resize(base.size() - 4);
+  for (const char* suffix : {".tmp", ".new"})
+    if (base.size() > 4 && base.compare(base.size() - 4, 4, suffix) == 0) base.resize(base.size() - 4);
   const bool owned = base == "series.pvd" ||
                      (base.rfind("frame_", 0) == 0 && base.size() > 4 && base.compare(base.size() - 4, 4, ".vtu") == 0);
   if (!owned) return false;
@@ -220,11 +224,36 @@ bool written_in_dir(const std::string& file, const std::string& dir) {
 }  // namespace
 
 void check_distinct_paths(const std::vector<PathUse>& paths) {
+  // Standard output sent to a regular file (> f, >> f) is an output too: not an input, nor
+  // a file a directory output writes.
+  struct stat so;
+  if (::fstat(STDOUT_FILENO, &so) == 0 && S_ISREG(so.st_mode))
+    for (const PathUse& u : paths) {
+      if (!comparable(u)) continue;
+      auto is_stdout = [&](const std::string& p) {
+        struct stat st;
+        return ::stat(p.c_str(), &st) == 0 && st.st_dev == so.st_dev && st.st_ino == so.st_ino;
+      };
+      std::string hit = u.output_dir ? "" : (is_stdout(u.path) ? u.path : "");
+      std::error_code ec;
+      if (u.output_dir)
+        for (const auto& e : std::filesystem::directory_iterator(u.path, ec))
+          if (written_in_dir(e.path().string(), u.path) && is_stdout(e.path().string())) hit = e.path().string();
+      if (!hit.empty())
+        throw InputError(u.what + " " + u.path + ": standard output goes to " + hit + ", which " +
+                         (u.output ? "this output writes" : "is an input") + "; send standard output elsewhere");
+    }
   for (std::size_t i = 0; i < paths.size(); ++i)
     for (std::size_t j = 0; j < paths.size(); ++j) {
       const PathUse &a = paths[i], &b = paths[j];
-      if (i == j || !a.output || (b.output && j < i) || !comparable(a) || !comparable(b)) continue;
+      if (i == j || !a.output || !comparable(a) || !comparable(b)) continue;
       const std::string both = a.what + " " + a.path + " and " + b.what + " " + b.path;
+      // A replaced file is written to PATH.tmp first (write_file_atomic): that name is
+      // taken too.
+      if (!a.output_dir && !a.in_place && same_file(a.path + ".tmp", b.path))
+        throw InputError(both + ": " + a.what + " is written to " + a.path + ".tmp first, which is " +
+                         (b.output ? "the other output" : "the input"));
+      if (b.output && j < i) continue;
       if (same_file(a.path, b.path))
         throw InputError(both + " are the same file: the " + (b.output ? "second output would overwrite the first"
                                                                         : "output would overwrite the input"));

@@ -71,6 +71,7 @@ struct PathUse {
   std::string path, what;
   bool output = false;
   bool output_dir = false;
+  bool in_place = false;  // an output written where it is (a CSV), not through PATH.tmp
 };
 // InputError naming both flags when an output is the same file as an input or as another
 // output (same device and inode, or the same absolute path once symlinks are resolved, for

@@ -84,27 +84,59 @@ VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
   const std::regex entry("file=\"(frame_[0-9]{5}(_b[0-9]+)?\\.vtu)\"");
   for (std::string line; std::getline(in, line);)
     for (std::sregex_iterator it(line.begin(), line.end(), entry), end; it != end; ++it) earlier_.push_back((*it)[1]);
+  // A first frame staged beside an earlier one (add) by a run killed before it was renamed.
+  const std::regex staged("frame_[0-9]{5}(_b[0-9]+)?\\.vtu\\.new");
+  for (const auto& e : std::filesystem::directory_iterator(dir_, ec))
+    if (std::regex_match(e.path().filename().string(), staged)) std::filesystem::remove(e.path(), ec);
 }
+
+namespace {
+std::string pvd_index(const std::vector<std::pair<double, std::vector<std::string>>>& frames) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& [t, files] : frames)
+    for (std::size_t p = 0; p < files.size(); ++p) {
+      o << "<DataSet timestep=\"" << t << "\" ";
+      if (files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
+      o << "file=\"" << files[p] << "\"/>\n";
+    }
+  o << "</Collection>\n</VTKFile>\n";
+  return o.str();
+}
+}  // namespace
 
 void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
                     const std::vector<NeoHookean<double>>& mats) {
   char name[64];
   Frame frame{t, {}};
-  // The first frame over an earlier series may bear the name of one of its frames: written
-  // beside it (".new") and renamed only once the new index is on disk, so that a failure
-  // before then leaves the earlier series whole, its index naming only files that exist.
-  const std::string staged = earlier_.empty() ? "" : ".new";
+  std::vector<std::string> names;
+  for (int b = 0; b < m.nbody(); ++b) {  // one file per body
+    if (m.nbody() == 1)
+      std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
+    else
+      std::snprintf(name, sizeof name, "frame_%05zu_b%d.vtu", frames_.size(), b);
+    names.push_back(name);
+  }
+  // A file of the first frame that bears the name of one of an earlier series' frames is
+  // written beside it (".new") and renamed only once the new index is on disk, so that a
+  // failure before then leaves the earlier series whole, its index naming only files that
+  // exist. Such a name must be a regular file to be renamed onto: checked first.
+  auto is_earlier = [&](const std::string& f) { return std::find(earlier_.begin(), earlier_.end(), f) != earlier_.end(); };
+  for (const std::string& f : names) {
+    std::error_code ec;
+    const auto st = std::filesystem::symlink_status(dir_ + "/" + f, ec);
+    if (is_earlier(f) && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+      throw ResourceError(dir_ + "/" + f + ": an earlier series names it, but it is not a regular file; remove it");
+  }
+  auto staged = [&](const std::string& f) { return dir_ + "/" + f + (is_earlier(f) ? ".new" : ""); };
   std::vector<std::string> written;  // paths on disk, for the clean-up of a failed frame
   auto remove_written = [&] {
     for (const auto& f : written) std::remove(f.c_str());
   };
   try {
-    for (int b = 0; b < m.nbody(); ++b) {  // one file per body
-      if (m.nbody() == 1)
-        std::snprintf(name, sizeof name, "frame_%05zu.vtu", frames_.size());
-      else
-        std::snprintf(name, sizeof name, "frame_%05zu_b%d.vtu", frames_.size(), b);
-      const std::string path = dir_ + "/" + name + staged;
+    for (int b = 0; b < m.nbody(); ++b) {
+      const std::string path = staged(names[b]);
       if (m.nbody() == 1) {
         write_vtu(path, m, &s, dt, mats);
       } else {
@@ -112,25 +144,20 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
         write_vtu(path, body_mesh(m, b), &part, dt, {mats.at(mats.size() == 1 ? 0 : std::size_t(b))});
       }
       written.push_back(path);
-      frame.files.push_back(name);
+      frame.files.push_back(names[b]);
     }
   } catch (...) {
     remove_written();  // the directory keeps whole frames only
     throw;
   }
   frames_.push_back(std::move(frame));
-  std::ostringstream o;
-  o.precision(17);
-  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  for (const Frame& f : frames_)
-    for (std::size_t p = 0; p < f.files.size(); ++p) {
-      o << "<DataSet timestep=\"" << f.t << "\" ";
-      if (f.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
-      o << "file=\"" << f.files[p] << "\"/>\n";
-    }
-  o << "</Collection>\n</VTKFile>\n";
+  auto index = [&] {
+    std::vector<std::pair<double, std::vector<std::string>>> list;
+    for (const Frame& f : frames_) list.push_back({f.t, f.files});
+    return pvd_index(list);
+  };
   try {
-    write_file_atomic(dir_ + "/series.pvd", o.str());  // always a complete index of complete frames
+    write_file_atomic(dir_ + "/series.pvd", index());  // always a complete index of complete frames
   } catch (...) {
     // The index kept is the last one: the frame it does not list goes, so that the
     // directory holds exactly the frames series.pvd names.
@@ -138,9 +165,16 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     frames_.pop_back();
     throw;
   }
-  for (const auto& f : frames_.back().files)
-    if (!staged.empty() && std::rename((dir_ + "/" + f + staged).c_str(), (dir_ + "/" + f).c_str()) != 0)
-      throw ResourceError(dir_ + "/" + f + ": cannot rename the written frame into place: " + std::strerror(errno));
+  for (const std::string& f : frames_.back().files) {
+    if (!is_earlier(f) || std::rename(staged(f).c_str(), (dir_ + "/" + f).c_str()) == 0) continue;
+    // Not expected after the check above (same directory, a regular file): the frame goes
+    // and the index is written again without it; the earlier frames stay, unlisted.
+    const std::string why = std::strerror(errno);
+    remove_written();
+    frames_.pop_back();
+    write_file_atomic(dir_ + "/series.pvd", index());
+    throw ResourceError(dir_ + "/" + f + ": cannot rename the written frame into place: " + why);
+  }
   // The new index is on disk: the earlier series' frames that this one has not rewritten go.
   for (const std::string& f : earlier_)
     if (std::find(frames_.back().files.begin(), frames_.back().files.end(), f) == frames_.back().files.end())

@@ -110,33 +110,35 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
     return;
   }
   // Several shells: the whole surface's signed volume before orienting them says nothing
-  // (two equal cubes, one inside out, sum to zero); each shell is judged on its own, the
-  // oriented whole at the end.
-  // Each shell on its own: outwards at even depth, inwards (into the cavity) at odd depth.
-  // Each shell's volume about a vertex of its own: about a far point (vertex 0 on another
-  // shell) the terms grow with the distance squared and their rounding can swamp a thin
-  // shell's volume, as enclosed_volume's origin on the surface avoids for one shell.
+  // (two equal cubes, one inside out, sum to zero), and against the whole surface's size
+  // it would depend on how far apart the shells lie: each shell is judged on its own.
+  // Outwards at even depth, inwards (into the cavity) at odd depth. Each shell's volume
+  // about a vertex of its own: about a far point (vertex 0 on another shell) the terms
+  // grow with the distance squared and their rounding can swamp a thin shell's volume, as
+  // enclosed_volume's origin on the surface avoids for one shell.
   std::vector<double> cvol(nest.ncomp, 0.0);
   std::vector<std::array<double, 3>> origin(nest.ncomp);
   for (int c = 0; c < nest.ncomp; ++c)
     for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * nest.first_tri[c]] + d];
   for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, origin[nest.tri_comp[t]].data());
-  // A flat shell beside a solid one passes the whole-surface test above, but its sign is
-  // rounding noise, so its orientation would be a coin toss (and flip again on a second
-  // pass): every shell must enclose volume on its own, against its own size.
+  // A flat shell's sign is rounding noise, so its orientation would be a coin toss (and
+  // flip again on a second pass): every shell must enclose volume, against its own size.
+  double largest = 0, solid = 0;  // the largest shell's size; solids minus cavities
   for (int c = 0; c < nest.ncomp; ++c) {
     const auto& b = nest.box[c];
     const double dc = std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
     if (!(std::fabs(cvol[c]) > 1e-9 * dc * dc * dc))
       fail("shell " + std::to_string(c + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
            std::to_string(nest.first_tri[c]) + ") encloses no volume (flat or collapsed)");
+    largest = std::max(largest, dc);
+    solid += nest.depth[c] % 2 == 0 ? std::fabs(cvol[c]) : -std::fabs(cvol[c]);
   }
+  if (!(solid > 1e-9 * largest * largest * largest)) fail("the surface encloses no volume (flat or collapsed)");
   for (int t = 0; t < s.ntri(); ++t) {
     const int c = nest.tri_comp[t];
     const bool want_positive = nest.depth[c] % 2 == 0;
     if ((cvol[c] > 0) != want_positive) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
   }
-  if (!(enclosed_volume(s) > 1e-9 * diag * diag * diag)) fail("the surface encloses no volume (flat or collapsed)");
 }
 
 std::string triangles_manifold_problem(const std::vector<int>& tri, int npoint,

@@ -83,9 +83,7 @@ class Reader {
     else fail(key, "expected a number");
     if (!std::isfinite(v)) fail(key, "must be finite, got " + std::to_string(v));
     if (v < lo || (lo_open && v == lo) || v > hi) {
-      std::ostringstream o;
-      o << "value " << v << " out of range " << (lo_open ? "(" : "[") << lo << ", " << hi << "]";
-      fail(key, o.str());
+      fail(key, "value " + exact(v) + " out of range " + (lo_open ? "(" : "[") + exact(lo) + ", " + exact(hi) + "]");
     }
     return v;
   }

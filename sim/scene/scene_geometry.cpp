@@ -377,6 +377,54 @@ std::vector<BodyPoint> body_points(const TetMesh& m, bool every_node) {
   return pts;
 }
 
+// The first element (in index order) of m that holds one of the points strictly inside
+// (BoundaryFaces: a point on the body's boundary touches it, it is not inside), with the
+// point: {element, point}, or {-1, -1}. owner[p]: the body point p belongs to, whose own
+// elements it is not tested against (-1: none, an obstacle's point). The points go into a
+// uniform grid (cell: twice the mean element box), and each element is tested against the
+// points in the cells its box covers: linear in elements and points, not their product.
+std::array<int, 2> first_point_in_element(const TetMesh& m, const BoundaryFaces& boundary,
+                                          const std::vector<std::array<double, 3>>& pts, const std::vector<int>& owner) {
+  auto tet_box = [&](int e, double* elo, double* ehi) {
+    const int* t = &m.tet[4 * e];
+    for (int k = 0; k < 3; ++k) {
+      elo[k] = std::min(std::min(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::min(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
+      ehi[k] = std::max(std::max(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::max(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
+    }
+  };
+  double extent = 0;
+  for (int e = 0; e < m.ntet(); ++e) {
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    extent += std::max(ehi[0] - elo[0], std::max(ehi[1] - elo[1], ehi[2] - elo[2]));
+  }
+  const double h = 2 * extent / std::max(1, m.ntet());
+  if (!(h > 0) || pts.empty()) return {-1, -1};
+  auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
+  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> points (index order)
+  for (std::size_t p = 0; p < pts.size(); ++p)
+    grid[cell_key(cell(pts[p][0]), cell(pts[p][1]), cell(pts[p][2]))].push_back(int(p));
+  for (int e = 0; e < m.ntet(); ++e) {
+    const int be = m.tet_body.empty() ? 0 : m.tet_body[e];
+    double elo[3], ehi[3];
+    tet_box(e, elo, ehi);
+    for (long long cx = cell(elo[0]); cx <= cell(ehi[0]); ++cx)
+      for (long long cy = cell(elo[1]); cy <= cell(ehi[1]); ++cy)
+        for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
+          const auto it = grid.find(cell_key(cx, cy, cz));
+          if (it == grid.end()) continue;
+          for (int q : it->second) {
+            if (owner[q] == be) continue;
+            const double* x = pts[q].data();
+            bool in = true;
+            for (int k = 0; k < 3; ++k) in = in && x[k] >= elo[k] && x[k] <= ehi[k];
+            if (in && boundary.strictly_inside(m, e, x)) return {e, q};
+          }
+        }
+  }
+  return {-1, -1};
+}
+
 // Where the body's surface passes through obstacle o although no node is inside it (a
 // thin plate or capsule through a torus's tube, a rod through two faces of a box): "" if
 // nowhere. Convex shapes: a surface triangle reaching into it (its edges included). A
@@ -448,6 +496,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
   // "the body", or with several bodies the one the node or element belongs to.
   const auto body_name = [&](int b) { return m.nbody() > 1 ? s.body(b).key : std::string("the body"); };
   const auto node_body = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
+  if (obstacles.empty()) return;
   const BoundaryFaces boundary(m);  // a point on the body's boundary touches it
   // Every node, and the body's other points (body_points: a body that meets an obstacle
   // only where its nodes and edges lie on the obstacle's surface, such as a box body in a
@@ -461,7 +510,12 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
       if (d < worst) worst = d, deepest = &p;
     }
     const std::string key = s.source + ": obstacle[" + std::to_string(o) + "]";
-    if (worst < -1e-9) {
+    // A mesh's distance is its grid's, within sqrt(3)/2 cell of the triangles (most at a
+    // concave edge): a body touching it there reads as up to that deep. Shallower overlaps
+    // cross its surface, which the exact tests below see.
+    const ObstacleSpec& ob = obstacles[o];
+    const double tol = ob.shape == kObstacleMesh && ob.sdf ? std::max(1e-9, 0.5 * std::sqrt(3.0) * ob.sdf->cell) : 1e-9;
+    if (worst < -tol) {
       const std::string who = body_name(deepest->body);
       char buf[320];
       std::snprintf(buf, sizeof buf, ": %s starts inside this %s obstacle (%s is %.4g mm inside); move %s.position or the obstacle",
@@ -473,7 +527,6 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     // vertex, edge midpoint and triangle centre inside the body's bounding box: a mesh that
     // meets the body only where its vertices and edges lie on the body's surface can still
     // cut through it) in an element.
-    const ObstacleSpec& ob = obstacles[o];
     struct Point {
       double x[3];
       const char* what;
@@ -507,14 +560,15 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
       points.push_back({{ob.center[0], ob.center[1], ob.center[2]}, ob.shape == kObstacleCapsule ? "an end" : "its centre"});
       if (ob.shape == kObstacleCapsule) points.push_back({{ob.b[0], ob.b[1], ob.b[2]}, "an end"});  // a rod's other end too
     }
-    for (const Point& p : points)
-      for (int e = 0; e < m.ntet(); ++e) {
-        const int* t = &m.tet[4 * e];
-        if (boundary.strictly_inside(m, e, p.x))
-          throw InputError(key + ": the obstacle starts inside " + body_name(node_body(t[0])) + " (" + p.what +
-                           " lies in element " + std::to_string(e) + "); move " + s.body(node_body(t[0])).key +
-                           ".position or the obstacle");
-      }
+    std::vector<std::array<double, 3>> xs;
+    for (const Point& p : points) xs.push_back({p.x[0], p.x[1], p.x[2]});
+    const std::array<int, 2> hit = first_point_in_element(m, boundary, xs, std::vector<int>(xs.size(), -1));
+    if (hit[0] >= 0) {
+      const int b = node_body(m.tet[4 * hit[0]]);
+      throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + points[hit[1]].what +
+                       " lies in element " + std::to_string(hit[0]) + "); move " + s.body(b).key +
+                       ".position or the obstacle");
+    }
     int body = 0;
     const std::string cut = surface_through_obstacle(m, ob, body);
     if (!cut.empty())
@@ -560,9 +614,7 @@ void check_surfaces_apart(const Scene& s, const TetMesh& m) {
 // element: points inside its own volume or surface, away from its nodes.
 void check_points_outside_bodies(const Scene& s, const TetMesh& m) {
   const int nb = m.nbody();
-  // Bounding box of each body's nodes; the points inside another body's box go into a
-  // grid (cell: twice the mean element box), then each element is tested against the
-  // other bodies' points in the cells its box covers.
+  // Only the points inside another body's bounding box can be inside it.
   std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()), hi(3 * nb, -std::numeric_limits<double>::infinity());
   for (int i = 0; i < m.nnode(); ++i)
     for (int k = 0; k < 3; ++k) {
@@ -575,63 +627,27 @@ void check_points_outside_bodies(const Scene& s, const TetMesh& m) {
       if (x[k] < lo[3 * b + k] || x[k] > hi[3 * b + k]) return false;
     return true;
   };
-  auto tet_box = [&](int e, double* elo, double* ehi) {
-    const int* t = &m.tet[4 * e];
-    for (int k = 0; k < 3; ++k) {
-      elo[k] = std::min(std::min(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::min(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
-      ehi[k] = std::max(std::max(m.X[3 * t[0] + k], m.X[3 * t[1] + k]), std::max(m.X[3 * t[2] + k], m.X[3 * t[3] + k]));
-    }
-  };
-  double extent = 0;
-  for (int e = 0; e < m.ntet(); ++e) {
-    double elo[3], ehi[3];
-    tet_box(e, elo, ehi);
-    extent += std::max(ehi[0] - elo[0], std::max(ehi[1] - elo[1], ehi[2] - elo[2]));
+  std::vector<BodyPoint> near;
+  for (const BodyPoint& p : body_points(m, false)) {
+    bool in = false;
+    for (int b = 0; b < nb && !in; ++b) in = b != p.body && in_box(p.x, b);
+    if (in) near.push_back(p);
   }
-  const double h = 2 * extent / std::max(1, m.ntet());
-  if (!(h > 0)) return;
-  auto cell = [&](double x) { return static_cast<long long>(std::floor(x / h)); };
-  const std::vector<BodyPoint> pts = body_points(m, false);
-  std::unordered_map<unsigned long long, std::vector<int>> grid;  // cell -> points (index order)
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    const double* x = pts[p].x;
-    bool near = false;
-    for (int b = 0; b < nb && !near; ++b) near = b != pts[p].body && in_box(x, b);
-    if (near) grid[cell_key(cell(x[0]), cell(x[1]), cell(x[2]))].push_back(int(p));
+  if (near.empty()) return;
+  std::vector<std::array<double, 3>> xs;
+  std::vector<int> owner;
+  for (const BodyPoint& p : near) {
+    xs.push_back({p.x[0], p.x[1], p.x[2]});
+    owner.push_back(p.body);
   }
-  if (grid.empty()) return;
-  const BoundaryFaces boundary(m);  // a point on another body's boundary touches it
-  for (int e = 0; e < m.ntet(); ++e) {
-    const int be = m.tet_body[e];
-    double elo[3], ehi[3];
-    tet_box(e, elo, ehi);
-    bool near = false;
-    for (int b = 0; b < nb && !near; ++b) {
-      if (b == be) continue;
-      near = true;
-      for (int k = 0; k < 3; ++k) near = near && elo[k] <= hi[3 * b + k] && ehi[k] >= lo[3 * b + k];
-    }
-    if (!near) continue;
-    for (long long cx = cell(elo[0]); cx <= cell(ehi[0]); ++cx)
-      for (long long cy = cell(elo[1]); cy <= cell(ehi[1]); ++cy)
-        for (long long cz = cell(elo[2]); cz <= cell(ehi[2]); ++cz) {
-          const auto it = grid.find(cell_key(cx, cy, cz));
-          if (it == grid.end()) continue;
-          for (int q : it->second) {
-            const BodyPoint& p = pts[q];
-            if (p.body == be) continue;
-            bool in = true;
-            for (int k = 0; k < 3; ++k) in = in && p.x[k] >= elo[k] && p.x[k] <= ehi[k];
-            if (in && boundary.strictly_inside(m, e, p.x)) {
-              const std::string& a = s.body(p.body).key;
-              const std::string& b = s.body(be).key;
-              throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (" + describe(p) + " of " + a +
-                               " lies in element " + std::to_string(e) + " of " + b + "); move " + a + ".position or " +
-                               b + ".position");
-            }
-          }
-        }
-  }
+  const std::array<int, 2> hit = first_point_in_element(m, BoundaryFaces(m), xs, owner);
+  if (hit[0] < 0) return;
+  const BodyPoint& p = near[hit[1]];
+  const std::string& a = s.body(p.body).key;
+  const std::string& b = s.body(m.tet_body[hit[0]]).key;
+  throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (" + describe(p) + " of " + a +
+                   " lies in element " + std::to_string(hit[0]) + " of " + b + "); move " + a + ".position or " + b +
+                   ".position");
 }
 
 }  // namespace

@@ -48,13 +48,15 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m);
 // A body that starts inside a plane would be shot out by the projection: InputError
 // naming the plane (planes as scene_planes returns them).
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes);
-// The same for obstacles: InputError naming obstacle[i] when a body node lies inside it
-// (signed distance < 0; a mesh's from its grid) or its centre (a capsule: its end a; a
-// mesh: any of its vertices) lies in one of the body's elements (a small obstacle between
-// the nodes).
+// The same for obstacles: InputError naming obstacle[i] when a point of the body (a node,
+// a surface-edge midpoint, a surface-triangle or element centre) lies inside it (signed
+// distance < 0; a mesh's from its grid, beyond the grid's error), a point of the obstacle
+// (its centre, a capsule's ends, a mesh's vertices, edge midpoints and triangle centres)
+// lies in one of the body's elements, or its surface cuts through the body between them.
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles);
 // Bodies must not overlap at the start (body-body contact would shoot them apart):
-// InputError naming both bodies when a node of one lies in an element of another.
+// InputError naming both bodies when a point of one (as above) lies in an element of
+// another, or a surface edge of one crosses a surface triangle of another.
 void check_bodies_apart(const Scene& s, const TetMesh& m);
 
 }  // namespace softtled

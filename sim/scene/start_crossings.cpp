@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace softtled {
@@ -16,6 +17,19 @@ bool segment_crosses_triangle(const double p[3], const double q[3], const double
   const double scale = std::sqrt((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
                                  (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]));
   if (!(std::fabs(det) > 1e-12 * scale)) return false;  // parallel (or degenerate)
+  // The ends strictly on either side of the triangle's plane: by more than 1e-9 of the
+  // segment, and than the rounding of coordinates this far from the origin (a body's face
+  // along another's, both turned, 100 m out, lies in its plane only to ~1e-14 m, which
+  // tilts a segment in the face by far more than the parallel test's 1e-12).
+  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  double big = 0;
+  for (const double* x : {p, q, a, b, c}) big = std::max({big, std::fabs(x[0]), std::fabs(x[1]), std::fabs(x[2])});
+  const double off = std::max(1e-9 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]),
+                              64 * std::numeric_limits<double>::epsilon() * big);
+  const double hp = (n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]) + n[2] * (p[2] - a[2])) / nn;
+  const double hq = (n[0] * (q[0] - a[0]) + n[1] * (q[1] - a[1]) + n[2] * (q[2] - a[2])) / nn;
+  if (!((hp > off && hq < -off) || (hp < -off && hq > off))) return false;
   const double inv = 1 / det;
   const double s[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
   const double u = inv * (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]);

@@ -57,6 +57,22 @@ fi
 rc=$?; { [ $rc -eq 2 ] && grep -q "is where standard output goes" so.err; } || { echo "FAIL: --csv onto stdout's file (exit $rc)"; status=1; }
 out=$("$exe" run --scene surface.toml --csv /dev/stdout 2>&1 | cat)
 grep -q "is where standard output goes" <<<"$out" || { echo "FAIL: --csv /dev/stdout into a pipe: $out"; status=1; }
+# The names written on the way: PATH.tmp of a replaced output, a first frame staged as
+# .new beside an earlier series; and standard output sent into a file that is an input or
+# that --vtu writes. Each was consumed (the scene gone) or lost (the CSV) with exit 0.
+cp surface.toml out.vtu.tmp && cp surface.toml b.json.tmp
+t 2 "--vtu out.vtu and --scene out.vtu.tmp: --vtu is written to out.vtu.tmp first, which is the input" "$exe" mesh --scene out.vtu.tmp --vtu out.vtu
+t 2 "--json b.json and --scene b.json.tmp" "$exe" bench --scene b.json.tmp --steps 30 --samples 3 --json b.json
+[ "$(cat out.vtu.tmp b.json.tmp | md5sum)" = "$(cat surface.toml surface.toml | md5sum)" ] || { echo "FAIL: a scene named NAME.tmp was overwritten"; status=1; }
+t 2 "--vtu writes frame_00000.vtu.new in that directory" "$exe" run --scene surface.toml --csv v1/frame_00000.vtu.new --vtu v1
+"$exe" run --scene surface.toml --vtu v1 > v1/series.pvd 2> so.err
+rc=$?; { [ $rc -eq 2 ] && grep -q "standard output goes to v1/series.pvd, which this output writes" so.err; } || { echo "FAIL: stdout into --vtu's index (exit $rc)"; status=1; }
+cp surface.toml app.toml && sum3=$(md5sum <app.toml)
+"$exe" run --scene app.toml --csv - >> app.toml 2> so.err
+rc=$?; { [ $rc -eq 2 ] && grep -q "standard output goes to app.toml, which is an input" so.err; } || { echo "FAIL: stdout appended onto the scene (exit $rc)"; status=1; }
+[ "$(md5sum <app.toml)" = "$sum3" ] || { echo "FAIL: the scene was appended to"; status=1; }
+t 2 "--json -: standard output is not an option here" "$exe" bench --scene surface.toml --steps 30 --samples 3 --json -
+[ -e ./- ] && { echo "FAIL: a file named - was written"; status=1; }
 # Read-only directory holding a writable file: the atomic replacement needs the directory.
 # Run as nobody (root may write anywhere); skipped where that is not possible.
 mkdir ro && touch ro/m.vtu ro/b.json && chmod 666 ro/m.vtu ro/b.json && chmod 555 ro

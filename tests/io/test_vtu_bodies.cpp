@@ -255,9 +255,45 @@ TEST(VtuBodies, AFirstFrameThatFailsLeavesTheEarlierSeriesWhole) {
   std::filesystem::create_directories(dir + "/series.pvd.tmp");  // the index cannot be rewritten
   EXPECT_THROW(second.add(0.0, one.mesh(), one.state(), one.time_step().dt, one.materials()), ResourceError);
   std::filesystem::remove(dir + "/series.pvd.tmp");
-  std::map<std::string, std::string> after;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) after[e.path().filename().string()] = read_text(e.path().string());
-  EXPECT_EQ(after, before);
+  auto files = [&] {
+    std::map<std::string, std::string> m;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) m[e.path().filename().string()] = read_text(e.path().string());
+    return m;
+  };
+  EXPECT_EQ(files(), before);
+  // Then it succeeds: the new frame in place of the old one of its name, the old frame 1
+  // gone, nothing staged left.
+  second.add(0.0, one.mesh(), one.state(), one.time_step().dt, one.materials());
+  const auto now = files();
+  EXPECT_EQ(now.size(), 2u);
+  ASSERT_EQ(now.count("frame_00000.vtu"), 1u);
+  EXPECT_NE(now.at("frame_00000.vtu"), before.at("frame_00000.vtu"));
+  EXPECT_EQ(now.count("frame_00001.vtu"), 0u);
+}
+
+// An earlier series' frame that is no longer a regular file (a directory in its place)
+// cannot be renamed onto: refused before anything is written. A frame staged by a run
+// killed before its rename is removed by the next series.
+TEST(VtuBodies, TheEarlierSeriesIsCheckedBeforeTheFirstFrame) {
+  Simulation one(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
+  const std::string dir = ::testing::TempDir() + "vtu_bodies_not_a_file";
+  std::filesystem::remove_all(dir);
+  {
+    VtuSeries first(dir);
+    for (int f = 0; f < 2; ++f) first.add(0.5 * f, one.mesh(), one.state(), one.time_step().dt, one.materials());
+  }
+  const std::string pvd = read_text(dir + "/series.pvd");
+  std::filesystem::remove(dir + "/frame_00000.vtu");
+  std::filesystem::create_directories(dir + "/frame_00000.vtu/inside");
+  VtuSeries second(dir);
+  EXPECT_THROW(second.add(0.0, one.mesh(), one.state(), one.time_step().dt, one.materials()), ResourceError);
+  EXPECT_EQ(read_text(dir + "/series.pvd"), pvd);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_00001.vtu"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/frame_00000.vtu.new"));
+  std::filesystem::remove_all(dir + "/frame_00000.vtu");
+  write_file_atomic(dir + "/frame_00001.vtu.new", "left by a killed run");
+  VtuSeries third(dir);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/frame_00001.vtu.new"));
 }
 
 TEST(VtuBodies, OneBodyMeshIsItsOwnOnlyBody) {

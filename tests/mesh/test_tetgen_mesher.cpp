@@ -435,6 +435,13 @@ TEST(TetgenHollow, TwoSolidsOneInsideOutAreOrientedNotRefused) {
   add_box(s, 0.02, 0.01, true);
   check_and_orient_closed_surface(s, "two cubes");
   EXPECT_NEAR(enclosed_volume(s), 2e-6, 1e-15);
+  // Nor does the distance between them matter: 10 cm cubes 300 m apart (against the whole
+  // surface's 520 m diagonal they were refused as enclosing nothing).
+  SurfaceMesh far;
+  add_box(far, 0, 0.1);
+  add_box(far, 300, 0.1);
+  check_and_orient_closed_surface(far, "far cubes");
+  EXPECT_NEAR(enclosed_volume(far), 2e-3, 1e-8);  // summed about vertex 0, 300 m from the second cube
 }
 
 TEST(TetgenHollow, AThinShellIsJudgedAndOrientedTheSameWhereverItLies) {

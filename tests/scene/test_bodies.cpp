@@ -151,6 +151,29 @@ std::string error_of(const std::string& toml, const std::vector<std::string>& se
 }
 }  // namespace
 
+// Two turned boxes face to face touch wherever they lie: 100 m from the origin their shared
+// face is flat only to the rounding of the coordinates there (~1e-14 m), which once read as
+// surface edges crossing it. 0.04 um into each other they overlap there too.
+TEST(Bodies, TurnedBoxesFaceToFaceTouchFarFromTheOrigin) {
+  // body.rotation_deg = [13, 27, 41] turns x, then y, then z: the turned x axis times 4 mm.
+  const double pi = 3.14159265358979323846, ay = 27 * pi / 180, az = 41 * pi / 180;  // (x first: e_x stays)
+  const double axis[3] = {std::cos(az) * std::cos(ay), std::sin(az) * std::cos(ay), -std::sin(ay)};
+  for (const double x0 : {0.0, 100000.0}) {
+    for (const double f : {1.0, 0.99999}) {
+      char at[2][120];
+      std::snprintf(at[0], sizeof at[0], "body.0.position=[%.17g, 0, 0]", x0);
+      std::snprintf(at[1], sizeof at[1], "body.1.position=[%.17g, %.17g, %.17g]", x0 + 4 * f * axis[0], 4 * f * axis[1],
+                    4 * f * axis[2]);
+      const std::string box = "[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\ndivisions = [2, 2, 2]\nrotation_deg = [13, 27, 41]\n";
+      const std::string e = error_of("units = \"mm\"\n" + box + box + "[floor]\nenabled = false\n", {at[0], at[1]});
+      if (f == 1.0)
+        EXPECT_EQ(e, "") << "x0 = " << x0;
+      else
+        EXPECT_NE(e.find("overlap at the start"), std::string::npos) << "x0 = " << x0 << ": " << e;
+    }
+  }
+}
+
 TEST(Bodies, BadInputNamesTheKey) {
   const std::string two = "[[body]]\nshape = \"sphere\"\nradius = 3\nsubdivisions = 1\n[[body]]\nshape = \"sphere\"\n"
                           "radius = 3\nsubdivisions = 1\nposition = [10, 0, 0]\n[floor]\nenabled = false\n";

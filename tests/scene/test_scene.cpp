@@ -359,6 +359,9 @@ TEST(Scene, SetRefusesSectionsAndTrailingContent) {
 
 TEST(Scene, TimeKeysNameTheirProblem) {
   EXPECT_NE(error_of("", {"time.duration=0"}).find("s.toml: time.duration: value 0 out of range (0, "), std::string::npos);
+  EXPECT_NE(error_of("", {"damping.alpha=1000000.1"}).find("damping.alpha: value 1000000.1 out of range [0, 1e+06]"),
+            std::string::npos)
+      << error_of("", {"damping.alpha=1000000.1"});
   EXPECT_NE(error_of("", {"time.dt=\"Auto\""})
                 .find("time.dt: expected a step in seconds, \"auto\" or \"adaptive\" (lower case), got 'Auto'"),
             std::string::npos);
