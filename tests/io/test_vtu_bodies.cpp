@@ -236,17 +236,24 @@ TEST(VtuBodies, ASeriesReplacesTheEarlierSeriesInItsDirectory) {
   EXPECT_EQ(read_text(dir + "/notes.txt"), "mine");
 }
 
+namespace {
+// A fresh directory holding a series of two frames of sim (frame_00000.vtu, frame_00001.vtu).
+std::string two_frame_series(const std::string& name, Simulation& sim) {
+  const std::string dir = ::testing::TempDir() + name;
+  std::filesystem::remove_all(dir);
+  VtuSeries first(dir);
+  for (int f = 0; f < 2; ++f) first.add(0.5 * f, sim.mesh(), sim.state(), sim.time_step().dt, sim.materials());
+  return dir;
+}
+}  // namespace
+
 // The new series' first frame failing (its index cannot be written) over an earlier
 // series whose first frame has the same name: the earlier series stays whole, its index
-// and every frame it names byte for byte (its frame_00000.vtu was overwritten, then removed).
+// and every frame it names byte for byte (its frame_00000.vtu was overwritten, then
+// removed, before the first frame was staged).
 TEST(VtuBodies, AFirstFrameThatFailsLeavesTheEarlierSeriesWhole) {
   Simulation one(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
-  const std::string dir = ::testing::TempDir() + "vtu_bodies_first_fails";
-  std::filesystem::remove_all(dir);
-  {
-    VtuSeries first(dir);
-    for (int f = 0; f < 2; ++f) first.add(0.5 * f, one.mesh(), one.state(), one.time_step().dt, one.materials());
-  }
+  const std::string dir = two_frame_series("vtu_bodies_first_fails", one);
   std::map<std::string, std::string> before;
   for (const auto& e : std::filesystem::directory_iterator(dir)) before[e.path().filename().string()] = read_text(e.path().string());
   ASSERT_EQ(before.size(), 3u);
@@ -276,12 +283,7 @@ TEST(VtuBodies, AFirstFrameThatFailsLeavesTheEarlierSeriesWhole) {
 // killed before its rename is removed by the next series.
 TEST(VtuBodies, TheEarlierSeriesIsCheckedBeforeTheFirstFrame) {
   Simulation one(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\ndivisions = [1, 1, 1]\n", "one"), "cpu");
-  const std::string dir = ::testing::TempDir() + "vtu_bodies_not_a_file";
-  std::filesystem::remove_all(dir);
-  {
-    VtuSeries first(dir);
-    for (int f = 0; f < 2; ++f) first.add(0.5 * f, one.mesh(), one.state(), one.time_step().dt, one.materials());
-  }
+  const std::string dir = two_frame_series("vtu_bodies_not_a_file", one);
   const std::string pvd = read_text(dir + "/series.pvd");
   std::filesystem::remove(dir + "/frame_00000.vtu");
   std::filesystem::create_directories(dir + "/frame_00000.vtu/inside");
