@@ -3,7 +3,9 @@
 // offscreen context (no window system; never calls glfwInit).
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <regex>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <set>
@@ -48,17 +50,21 @@ void check_stem(const std::string& stem) {
 
 std::vector<double> parse_times(const std::string& s) {
   std::vector<double> t;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(item, &used);
-      if (used != item.size() || !(v >= 0) || !std::isfinite(v)) throw std::invalid_argument(item);
-      t.push_back(v);
-    } catch (const std::exception&) {
-      throw InputError("--at '" + s + "': expected finite non-negative times in seconds separated by commas, e.g. 0.02,0.05,0.2");
-    }
+  // Every item a plain decimal (no sign, no hex: stod took 0x10 for 16 s), none empty
+  // (getline dropped a trailing one); spaces around an item are allowed.
+  static const std::regex decimal(R"(\s*([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?\s*)");
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = s.find(',', start);
+    const std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const double v = std::regex_match(item, decimal) ? std::strtod(item.c_str(), nullptr) : -1;
+    if (!(v >= 0) || !std::isfinite(v))
+      throw InputError("--at '" + s + "': '" + item +
+                       "' is not a time: expected finite non-negative decimal times in seconds separated by commas, "
+                       "e.g. 0.02,0.05,0.2");
+    t.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
   }
   if (t.empty()) throw InputError("--at: no times given");
   if (t.size() > 100000) throw InputError("--at: at most 100000 times");

@@ -86,6 +86,9 @@ CsvTable parse_csv_table(const std::string& text_in, const std::string& path) {
     }
     if (t.names.empty()) {
       for (std::string& c : cells) c = trim(c);
+      for (std::size_t c = 0; c < cells.size(); ++c)  // which one would be plotted?
+        for (std::size_t d = 0; d < c; ++d)
+          if (cells[c] == cells[d]) throw InputError(where + ": column '" + shown(cells[c]) + "' appears twice in the header");
       t.names = cells;
       t.cols.resize(cells.size());
       t.bad.resize(cells.size());
@@ -137,6 +140,12 @@ std::vector<PlotPanel> run_plot_panels(const CsvTable& table, const std::string&
   };
   const std::vector<double>&t = need("t"), &cy = need("cy"), &ke = need("ke"), &se = need("se"), &pe = need("pe");
   if (t.empty()) throw InputError("the CSV has a header but no rows");
+  // A run's rows in time order: the energy is drawn from the first row's potential, and
+  // the curves join the rows in file order.
+  for (std::size_t i = 1; i < t.size(); ++i)
+    if (!(t[i] > t[i - 1]))
+      throw InputError("the CSV's times do not increase: row " + std::to_string(i + 1) + " has t = " + std::to_string(t[i]) +
+                       " after " + std::to_string(t[i - 1]) + " (expected softtled run --csv output)");
   std::vector<double> h(cy.size()), k(t.size()), s(t.size()), p(t.size()), sum(t.size());
   for (std::size_t i = 0; i < t.size(); ++i) {
     h[i] = cy[i] * 1e3;

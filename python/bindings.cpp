@@ -299,6 +299,8 @@ PYBIND11_MODULE(_softtled, m) {
       .def(
           "step", [](PySimulation& s, long n) {
             if (n < 0) throw py::value_error("step: n must be >= 0");
+            if (double(n) > kMaxRunSteps)  // as advance and softtled run: the step count past it overflows
+              throw py::value_error("step: n = " + std::to_string(n) + " is above the limit of 1e11 steps");
             run_steps(s, n);
           },
           py::arg("n") = 1,

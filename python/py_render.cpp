@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "python/py_simulation.h"
 #include "sim/core/input_error.h"
 #include "sim/io/output_file.h"
 
@@ -27,8 +28,14 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
     throw InputError("render_png: size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                      ": each side must be between 16 and 8192");
   if (o.samples < 0 || o.samples > 8) throw InputError("render_png: samples must be between 0 and 8");
-  if (!(std::fabs(o.azimuth_deg) <= 360) || !(std::fabs(o.elevation_deg) <= 89) || !(o.zoom >= 0.01f && o.zoom <= 100))
-    throw InputError("render_png: azimuth in [-360, 360], elevation in [-89, 89], zoom in [0.01, 100]");
+  auto camera = [](const char* name, double v, double lo, double hi) {
+    if (!(float(v) >= float(lo) && float(v) <= float(hi)))  // the options are floats
+      throw InputError(std::string("render_png: ") + name + " = " + number_text(v) + ": must be in [" + number_text(lo) +
+                       ", " + number_text(hi) + "]");
+  };
+  camera("azimuth", o.azimuth_deg, -360, 360);
+  camera("elevation", o.elevation_deg, -89, 89);
+  camera("zoom", o.zoom, 0.01, 100);
   // Its own check of the names: a build without the renderer has no parse_color_mode.
   if (o.color != "shaded" && o.color != "displacement" && o.color != "contact" && o.color != "von_mises")
     throw InputError("render_png: color '" + o.color + "': use shaded, displacement, contact or von_mises");

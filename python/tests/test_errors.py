@@ -136,6 +136,16 @@ def test_adaptive_advance_answers_ctrl_c_and_refuses_endless_runs():
     assert 0 < sim.time < 1000.0 and sim.diagnostics()["t"] == sim.time
 
 
+def test_step_refuses_a_count_past_the_limit():
+    """step(n) takes at most 1e11 steps, as advance and `softtled run`: 2**62 ran on until
+    Ctrl-C, and 2**63 - 1 would overflow the step counter."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    for n in (2**62, 2**63 - 1):
+        with pytest.raises(ValueError, match="above the limit of 1e11 steps"):
+            sim.step(n)
+    assert sim.steps == 0
+
+
 def test_an_instance_never_initialised_is_refused_not_crashed():
     """Simulation.__new__ alone gives an object without its C++ state: every method and
     property is refused with a TypeError (it crashed the interpreter)."""

@@ -61,6 +61,11 @@ def test_render_png_bad_options(tmp_path):
         sim.render_png(str(tmp_path / "x.png"), color="plaid")
     with pytest.raises(softtled.InputError, match="size 8x8"):
         sim.render_png(str(tmp_path / "x.png"), width=8, height=8)
+    # A bad camera value is named with its value (one message for all three before).
+    for kw, text in (({"zoom": 0}, r"zoom = 0: must be in \[0.01, 100\]"),
+                     ({"azimuth": float("nan")}, "azimuth = nan"), ({"elevation": 90}, "elevation = 90")):
+        with pytest.raises(softtled.InputError, match=text):
+            sim.render_png(str(tmp_path / "x.png"), **kw)
 
 
 def test_outputs_never_overwrite_the_scene_or_its_files(tmp_path):

@@ -126,6 +126,17 @@ TEST(Plot, NumbersAreFiniteDecimals) {
   EXPECT_DOUBLE_EQ(t.cols[1][4], 1e30);
 }
 
+// Rows out of time order were drawn (the energy panel from the last time's potential), and
+// of a column given twice the first was taken: both refused.
+TEST(Plot, RowsInTimeOrderAndColumnsOnce) {
+  EXPECT_NE(csv_error("t,cy,ke,se,pe\n0.1,1,0,0,0\n0,1,0,0,0\n").find("the CSV's times do not increase: row 2"),
+            std::string::npos);
+  EXPECT_NE(csv_error("t,cy,ke,se,pe\n0,1,0,0,0\n0,1,0,0,0\n").find("do not increase"), std::string::npos) << "a row twice";
+  EXPECT_NE(csv_error("t,cy,ke,se,pe,cy\n0,1,0,0,0,2\n").find("x.csv:1: column 'cy' appears twice in the header"),
+            std::string::npos);
+  EXPECT_EQ(csv_error("t,cy,ke,se,pe\n0,1,0,0,0\n0.1,1,0,0,0\n"), "");
+}
+
 TEST(Plot, ByteOrderMarkAndNulBytes) {
   const CsvTable t = parse_csv_table("\xEF\xBB\xBFt,cy\r\n0,1\r\n", "x.csv");
   ASSERT_EQ(t.names.size(), 2u);
