@@ -30,6 +30,7 @@ Command add_plot_command(CLI::App& app) {
     if (!parse_wxh_size(o->size, 200, 8192, w, h))
       throw InputError("--size '" + o->size + "': expected WxH between 200 and 8192, e.g. 900x700");
     check_output_file(o->out, "--out");
+    check_distinct_paths({{o->csv, "csv"}, {o->out, "--out", true}});
     // A file it creates or replaces is named for what it holds (a device or FIFO is
     // written in place, whatever its name).
     std::error_code ec;
@@ -37,7 +38,6 @@ Command add_plot_command(CLI::App& app) {
     const std::string ext = std::filesystem::path(o->out).extension().string();
     if ((!std::filesystem::exists(st) || std::filesystem::is_regular_file(st)) && ext != ".png" && ext != ".PNG")
       throw InputError("--out " + o->out + ": plot writes a PNG; give a name ending in .png");
-    check_distinct_paths({{o->csv, "csv"}, {o->out, "--out", true}});
     const CsvTable table = read_csv_table(o->csv);
     std::vector<PlotPanel> panels;
     try {

@@ -33,6 +33,14 @@ std::string number_text(double v) {
 // Distinct times must give distinct PNG names (frame_file_name rounds the time): a later
 // frame must not overwrite an earlier one.
 void check_frame_names(const std::vector<double>& times, const std::string& stem) {
+  // Each name fits a directory entry (255 bytes on Linux file systems) while it is written
+  // as NAME.tmp: a long --stem failed only at the first write, after the run (exit 5).
+  for (double t : times) {
+    const std::string name = frame_file_name(stem, t);
+    if (name.size() + 4 > 255)
+      throw InputError("--stem: the PNG name for t = " + number_text(t) + " would be " + std::to_string(name.size()) +
+                       " characters; a file name holds at most 255 with the .tmp it is written under");
+  }
   for (std::size_t i = 1; i < times.size(); ++i) {
     const std::string a = frame_file_name(stem, times[i - 1]), b = frame_file_name(stem, times[i]);
     if (a == b)
