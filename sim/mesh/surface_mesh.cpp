@@ -101,6 +101,10 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
   const ShellNesting nest = shell_nesting(s);
+  if (nest.on_other[0] >= 0)
+    fail("shell " + std::to_string(nest.on_other[0] + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
+         std::to_string(nest.first_tri[nest.on_other[0]]) + ") lies on shell " + std::to_string(nest.on_other[1] + 1) +
+         ": shells that coincide or cross bound no solid");
   if (nest.ncomp <= 1) {
     const double vol = enclosed_volume(s);
     if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
@@ -260,13 +264,22 @@ ShellNesting shell_nesting(const SurfaceMesh& s) {
   // Shell c can lie inside shell d only if its box lies inside d's.
   const auto& box = r.box;
   for (int c = 0; c < r.ncomp; ++c) {
-    double p[3];
-    point_off_triangle(s, r.first_tri[c], 0, 0, p);  // the centroid, on shell c
+    // Just either side of a triangle of shell c: inside shell d both, or outside both,
+    // unless shell d passes between them (shells that coincide or cross there; at the
+    // centroid itself the winding number of a coinciding shell is 0 or 1 by rounding, and
+    // flips with its orientation).
+    double p_in[3], p_out[3];
+    point_off_triangle(s, r.first_tri[c], -1, 1e-3, p_in);
+    point_off_triangle(s, r.first_tri[c], +1, 1e-3, p_out);
     for (int d = 0; d < r.ncomp; ++d) {
       if (d == c) continue;
       bool inside_box = true;
       for (int k = 0; k < 3; ++k) inside_box = inside_box && box[c][k] >= box[d][k] && box[c][3 + k] <= box[d][3 + k];
-      if (inside_box && std::fabs(generalized_winding_number(s, p, &r.tri_comp, d)) > 0.5) ++r.depth[c];
+      if (!inside_box) continue;
+      const bool in = std::fabs(generalized_winding_number(s, p_in, &r.tri_comp, d)) > 0.5;
+      const bool out = std::fabs(generalized_winding_number(s, p_out, &r.tri_comp, d)) > 0.5;
+      if (in != out && r.on_other[0] < 0) r.on_other = {c, d};
+      if (in) ++r.depth[c];
     }
   }
   return r;

@@ -34,13 +34,16 @@ std::string triangles_manifold_problem(const std::vector<int>& tri, int npoint,
 // Shells of a closed surface: its connected components (triangles sharing vertices) and how
 // deeply each lies inside the others. A shell of odd depth bounds a cavity of the solid
 // (inside one shell), of even depth a solid part. Depth counts the other shells whose
-// generalized winding number at a point of this shell is above 1/2 in magnitude.
+// generalized winding number just off a triangle of this shell is above 1/2 in magnitude.
 struct ShellNesting {
   int ncomp = 0;
   std::vector<int> tri_comp;   // component of each triangle
   std::vector<int> depth;      // per component
   std::vector<int> first_tri;  // a triangle of each component
   std::vector<std::array<double, 6>> box;  // per component: lower corner, then upper
+  // {c, d} when shell d passes through a triangle of shell c (coincident or crossing
+  // shells, whose depth is not defined), else {-1, -1}.
+  std::array<int, 2> on_other{-1, -1};
 };
 ShellNesting shell_nesting(const SurfaceMesh& s);
 

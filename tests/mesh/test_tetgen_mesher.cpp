@@ -427,6 +427,22 @@ TEST(TetgenHollow, EveryShellEnclosesVolumeAndOrientingTwiceChangesNothing) {
   EXPECT_NEAR(enclosed_volume(many), 125e-6 - 27e-6 + 1e-6 + 1e-6, 1e-14);
 }
 
+TEST(TetgenHollow, CoincidentShellsAreRefused) {
+  // Two copies of a cube on separate vertices: each lies on the other, so the winding number
+  // at a centroid was 0 or 1 by rounding and the depths flipped with the orientation
+  // (tests/fuzz/crashes/fuzz_obj/coincident_shells.obj: accepted, then refused when
+  // oriented again). Beside a solid and alone, in either orientation.
+  for (const bool inward : {false, true}) {
+    SurfaceMesh s;
+    add_box(s, 0, 0.01);
+    add_box(s, 0, 0.01, inward);
+    expect_input_error([&] { check_and_orient_closed_surface(s, "copies"); }, {"lies on shell", "coincide or cross"},
+                       "coincident shells");
+    add_box(s, 0.05, 0.02);
+    expect_input_error([&] { check_and_orient_closed_surface(s, "copies"); }, {"lies on shell"}, "beside a solid");
+  }
+}
+
 TEST(TetgenHollow, TwoSolidsOneInsideOutAreOrientedNotRefused) {
   // Equal cubes side by side, the second inside out: the whole surface's signed volume is
   // zero, which once refused it as enclosing none; each shell oriented, it encloses both.
