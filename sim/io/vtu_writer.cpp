@@ -90,22 +90,6 @@ VtuSeries::VtuSeries(std::string dir) : dir_(std::move(dir)) {
     if (std::regex_match(e.path().filename().string(), staged)) std::filesystem::remove(e.path(), ec);
 }
 
-namespace {
-std::string pvd_index(const std::vector<std::pair<double, std::vector<std::string>>>& frames) {
-  std::ostringstream o;
-  o.precision(17);
-  o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  for (const auto& [t, files] : frames)
-    for (std::size_t p = 0; p < files.size(); ++p) {
-      o << "<DataSet timestep=\"" << t << "\" ";
-      if (files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
-      o << "file=\"" << files[p] << "\"/>\n";
-    }
-  o << "</Collection>\n</VTKFile>\n";
-  return o.str();
-}
-}  // namespace
-
 void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
                     const std::vector<NeoHookean<double>>& mats) {
   char name[64];
@@ -151,10 +135,18 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     throw;
   }
   frames_.push_back(std::move(frame));
-  auto index = [&] {
-    std::vector<std::pair<double, std::vector<std::string>>> list;
-    for (const Frame& f : frames_) list.push_back({f.t, f.files});
-    return pvd_index(list);
+  auto index = [&] {  // of the frames kept
+    std::ostringstream o;
+    o.precision(17);
+    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+    for (const Frame& f : frames_)
+      for (std::size_t p = 0; p < f.files.size(); ++p) {
+        o << "<DataSet timestep=\"" << f.t << "\" ";
+        if (f.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
+        o << "file=\"" << f.files[p] << "\"/>\n";
+      }
+    o << "</Collection>\n</VTKFile>\n";
+    return o.str();
   };
   try {
     write_file_atomic(dir_ + "/series.pvd", index());  // always a complete index of complete frames

@@ -425,6 +425,17 @@ std::array<int, 2> first_point_in_element(const TetMesh& m, const BoundaryFaces&
   return {-1, -1};
 }
 
+// A mesh obstacle's vertices where the scene places it (x, y, z per vertex) [m].
+std::vector<double> placed_vertices(const ObstacleSpec& o) {
+  const SurfaceMesh& sm = o.sdf->surface;
+  std::vector<double> x(sm.xyz.size());
+  for (int v = 0; v < sm.npoint(); ++v) {
+    const double* q = &sm.xyz[3 * v];
+    for (int k = 0; k < 3; ++k) x[3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
+  }
+  return x;
+}
+
 // Where the body's surface passes through obstacle o although no node is inside it (a
 // thin plate or capsule through a torus's tube, a rod through two faces of a box): "" if
 // nowhere. Convex shapes: a surface triangle reaching into it (its edges included). A
@@ -462,11 +473,7 @@ std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, in
   std::vector<int> seg_body;
   surface_edges(m, nodes, seg, seg_body);
   const SurfaceMesh& sm = o.sdf->surface;
-  std::vector<double> x(sm.xyz.size());  // the mesh placed
-  for (int v = 0; v < sm.npoint(); ++v) {
-    const double* q = &sm.xyz[3 * v];
-    for (int k = 0; k < 3; ++k) x[3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
-  }
+  const std::vector<double> x = placed_vertices(o);
   std::vector<std::array<double, 9>> tri(sm.ntri());
   for (int t = 0; t < sm.ntri(); ++t)
     for (int v = 0; v < 3; ++v)
@@ -527,27 +534,22 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     // vertex, edge midpoint and triangle centre inside the body's bounding box: a mesh that
     // meets the body only where its vertices and edges lie on the body's surface can still
     // cut through it) in an element.
-    struct Point {
-      double x[3];
-      const char* what;
-    };
-    std::vector<Point> points;
+    std::vector<std::array<double, 3>> xs;
+    std::vector<const char*> what;  // of each point, for the message
     if (ob.shape == kObstacleMesh && ob.sdf) {
       double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
       for (int i = 0; i < m.nnode(); ++i)
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.X[3 * i + k]), hi[k] = std::max(hi[k], m.X[3 * i + k]);
       const SurfaceMesh& sm = ob.sdf->surface;
-      auto add = [&](std::initializer_list<int> verts, const char* what) {  // the mean of the vertices, placed
-        double q[3] = {0, 0, 0};
-        for (int v : verts)
-          for (int k = 0; k < 3; ++k) q[k] += sm.xyz[3 * v + k] / double(verts.size());
-        Point p{{}, what};
+      const std::vector<double> placed = placed_vertices(ob);
+      auto add = [&](std::initializer_list<int> verts, const char* name) {  // the mean of the vertices
+        std::array<double, 3> x{0, 0, 0};
         bool in = true;
         for (int k = 0; k < 3; ++k) {
-          p.x[k] = ob.center[k] + ob.R[3 * k] * q[0] + ob.R[3 * k + 1] * q[1] + ob.R[3 * k + 2] * q[2];
-          in = in && p.x[k] >= lo[k] && p.x[k] <= hi[k];
+          for (int v : verts) x[k] += placed[3 * v + k] / double(verts.size());
+          in = in && x[k] >= lo[k] && x[k] <= hi[k];
         }
-        if (in) points.push_back(p);
+        if (in) xs.push_back(x), what.push_back(name);
       };
       for (int v = 0; v < sm.npoint(); ++v) add({v}, "a vertex");
       for (int t = 0; t < sm.ntri(); ++t) {
@@ -557,17 +559,15 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
         add({v[0], v[1], v[2]}, "the centre of a triangle");
       }
     } else {
-      points.push_back({{ob.center[0], ob.center[1], ob.center[2]}, ob.shape == kObstacleCapsule ? "an end" : "its centre"});
-      if (ob.shape == kObstacleCapsule) points.push_back({{ob.b[0], ob.b[1], ob.b[2]}, "an end"});  // a rod's other end too
+      xs.push_back({ob.center[0], ob.center[1], ob.center[2]});
+      what.push_back(ob.shape == kObstacleCapsule ? "an end" : "its centre");
+      if (ob.shape == kObstacleCapsule) xs.push_back({ob.b[0], ob.b[1], ob.b[2]}), what.push_back("an end");  // a rod's other end too
     }
-    std::vector<std::array<double, 3>> xs;
-    for (const Point& p : points) xs.push_back({p.x[0], p.x[1], p.x[2]});
     const std::array<int, 2> hit = first_point_in_element(m, boundary, xs, std::vector<int>(xs.size(), -1));
     if (hit[0] >= 0) {
       const int b = node_body(m.tet[4 * hit[0]]);
-      throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + points[hit[1]].what +
-                       " lies in element " + std::to_string(hit[0]) + "); move " + s.body(b).key +
-                       ".position or the obstacle");
+      throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + what[hit[1]] + " lies in element " +
+                       std::to_string(hit[0]) + "); move " + s.body(b).key + ".position or the obstacle");
     }
     int body = 0;
     const std::string cut = surface_through_obstacle(m, ob, body);
