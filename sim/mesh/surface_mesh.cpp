@@ -24,13 +24,57 @@ double volume_term(const SurfaceMesh& s, int t, const double o[3]) {
   const double* c = p[2];
   return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
 }
+
+// Connected components of the triangles (sharing vertices): the shells, numbered in the
+// order of their first triangle.
+struct Shells {
+  int ncomp = 0;
+  std::vector<int> tri_comp;   // shell of each triangle
+  std::vector<int> first_tri;  // each shell's first triangle
+};
+Shells label_shells(const SurfaceMesh& s) {
+  const int n = s.npoint(), nt = s.ntri();
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (int t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(s.tri[3 * t]), b = find(s.tri[3 * t + k]);
+      if (a != b) parent[a] = b;
+    }
+  Shells r;
+  std::vector<int> id(n, -1);
+  r.tri_comp.resize(nt);
+  for (int t = 0; t < nt; ++t) {
+    const int root = find(s.tri[3 * t]);
+    if (id[root] < 0) {
+      id[root] = r.ncomp++;
+      r.first_tri.push_back(t);
+    }
+    r.tri_comp[t] = id[root];
+  }
+  return r;
+}
+
+// Each shell's signed volume, about a vertex of its own: about a far point (a vertex no
+// triangle uses, or one on another shell) the terms grow with the distance squared and
+// their rounding swamps the volume (a 1 m cube about a point 1e9 m away: terms ~1e18).
+std::vector<double> shell_volumes(const SurfaceMesh& s, const Shells& shells) {
+  std::vector<std::array<double, 3>> origin(shells.ncomp);
+  for (int c = 0; c < shells.ncomp; ++c)
+    for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * shells.first_tri[c]] + d];
+  std::vector<double> v(shells.ncomp, 0.0);
+  for (int t = 0; t < s.ntri(); ++t) v[shells.tri_comp[t]] += volume_term(s, t, origin[shells.tri_comp[t]].data());
+  return v;
+}
 }  // namespace
 
 double enclosed_volume(const SurfaceMesh& s) {
-  if (s.xyz.size() < 3) return 0;
-  const double o[3] = {s.xyz[0], s.xyz[1], s.xyz[2]};
   double v = 0;
-  for (int t = 0; t < s.ntri(); ++t) v += volume_term(s, t, o);
+  for (double c : shell_volumes(s, label_shells(s))) v += c;
   return v;
 }
 
@@ -94,46 +138,28 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   // (two cubes sharing a corner): no normal, no inside near it.
   const std::string pinch = triangles_manifold_problem(s.tri, n, [](int v) { return "vertex " + std::to_string(v); }, "surface");
   if (!pinch.empty()) fail(pinch);
-  // A closed surface can still enclose nothing (two copies of a triangle, back to back).
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.xyz[3 * i + k]), hi[k] = std::max(hi[k], s.xyz[3 * i + k]);
-  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
   const ShellNesting nest = shell_nesting(s);
   if (nest.on_other[0] >= 0)
     fail("shell " + std::to_string(nest.on_other[0] + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
          std::to_string(nest.first_tri[nest.on_other[0]]) + ") lies on shell " + std::to_string(nest.on_other[1] + 1) +
          ": shells that coincide or cross bound no solid");
-  if (nest.ncomp <= 1) {
-    const double vol = enclosed_volume(s);
-    if (!std::isfinite(vol) || !(std::fabs(vol) > 1e-9 * diag * diag * diag))
-      fail("the surface encloses no volume (flat or collapsed)");
-    if (vol < 0)
-      for (int t = 0; t < s.ntri(); ++t) std::swap(s.tri[3 * t + 1], s.tri[3 * t + 2]);
-    return;
-  }
-  // Several shells: the whole surface's signed volume before orienting them says nothing
-  // (two equal cubes, one inside out, sum to zero), and against the whole surface's size
-  // it would depend on how far apart the shells lie: each shell is judged on its own.
-  // Outwards at even depth, inwards (into the cavity) at odd depth. Each shell's volume
-  // about a vertex of its own: about a far point (vertex 0 on another shell) the terms
-  // grow with the distance squared and their rounding can swamp a thin shell's volume, as
-  // enclosed_volume's origin on the surface avoids for one shell.
-  std::vector<double> cvol(nest.ncomp, 0.0);
-  std::vector<std::array<double, 3>> origin(nest.ncomp);
-  for (int c = 0; c < nest.ncomp; ++c)
-    for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * nest.first_tri[c]] + d];
-  for (int t = 0; t < s.ntri(); ++t) cvol[nest.tri_comp[t]] += volume_term(s, t, origin[nest.tri_comp[t]].data());
-  // A flat shell's sign is rounding noise, so its orientation would be a coin toss (and
-  // flip again on a second pass): every shell must enclose volume, against its own size.
+  // A closed surface can still enclose nothing (two copies of a triangle, back to back).
+  // Each shell is judged on its own: with several, the whole surface's signed volume
+  // before orienting them says nothing (two equal cubes, one inside out, sum to zero), and
+  // against the whole surface's size it would depend on how far apart the shells lie. A
+  // flat shell's sign is rounding noise, so its orientation would be a coin toss (and flip
+  // again on a second pass): every shell must enclose volume, against its own size.
+  // Outwards at even depth, inwards (into the cavity) at odd depth.
+  const std::vector<double> cvol = shell_volumes(s, Shells{nest.ncomp, nest.tri_comp, nest.first_tri});
   double largest = 0, solid = 0;  // the largest shell's size; solids minus cavities
   for (int c = 0; c < nest.ncomp; ++c) {
     const auto& b = nest.box[c];
     const double dc = std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
-    if (!(std::fabs(cvol[c]) > 1e-9 * dc * dc * dc))
+    if (!std::isfinite(cvol[c]) || !(std::fabs(cvol[c]) > 1e-9 * dc * dc * dc)) {
+      if (nest.ncomp == 1) fail("the surface encloses no volume (flat or collapsed)");
       fail("shell " + std::to_string(c + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
            std::to_string(nest.first_tri[c]) + ") encloses no volume (flat or collapsed)");
+    }
     largest = std::max(largest, dc);
     solid += nest.depth[c] % 2 == 0 ? std::fabs(cvol[c]) : -std::fabs(cvol[c]);
   }
@@ -206,8 +232,14 @@ double generalized_winding_number(const SurfaceMesh& s, const double p[3], const
     const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
     const double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2], ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2],
                  bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
-    const double den = la * lb * lc + ab * lc + ac * lb + bc * la;
-    w += 2 * std::atan2(det, den);
+    // Symmetric in b and c to the last bit, as det is antisymmetric: a triangle turned
+    // over (b, c swapped) gives exactly -w, so |w| and the verdicts of shell_nesting do
+    // not depend on how a shell is oriented (check_and_orient_closed_surface must accept
+    // its own output; a point on another shell once read inside, then outside). A point
+    // in the triangle's plane gets 0: det is then +0 either way round, and atan2(+0, x < 0)
+    // is +pi for both orientations.
+    const double den = (la * (lb * lc) + bc * la) + (ab * lc + ac * lb);
+    if (det != 0) w += 2 * std::atan2(det, den);
   }
   return w / (4 * 3.14159265358979323846);
 }
@@ -224,33 +256,18 @@ void point_off_triangle(const SurfaceMesh& s, int t, double side, double step_fr
   const double longest = std::max({len(e1), len(e2), len(e3)});
   const double height = longest > 0 ? area2 / longest : 0;
   const double step = side * step_fraction * height / (area2 > 0 ? area2 : 1);
-  for (int d = 0; d < 3; ++d) p[d] = (a[d] + b[d] + c[d]) / 3 + step * n[d];
+  // b + c first: the triangle turned over gives the same centroid and the exact negative
+  // of n, so the point on the other side to the last bit.
+  for (int d = 0; d < 3; ++d) p[d] = (a[d] + (b[d] + c[d])) / 3 + step * n[d];
 }
 
 ShellNesting shell_nesting(const SurfaceMesh& s) {
   ShellNesting r;
-  const int n = s.npoint(), nt = s.ntri();
-  std::vector<int> parent(n);
-  for (int i = 0; i < n; ++i) parent[i] = i;
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (int t = 0; t < nt; ++t)
-    for (int k = 1; k < 3; ++k) {
-      const int a = find(s.tri[3 * t]), b = find(s.tri[3 * t + k]);
-      if (a != b) parent[a] = b;
-    }
-  std::vector<int> id(n, -1);
-  r.tri_comp.resize(nt);
-  for (int t = 0; t < nt; ++t) {
-    const int root = find(s.tri[3 * t]);
-    if (id[root] < 0) {
-      id[root] = r.ncomp++;
-      r.first_tri.push_back(t);
-    }
-    r.tri_comp[t] = id[root];
-  }
+  const int nt = s.ntri();
+  Shells shells = label_shells(s);
+  r.ncomp = shells.ncomp;
+  r.tri_comp = std::move(shells.tri_comp);
+  r.first_tri = std::move(shells.first_tri);
   r.depth.assign(r.ncomp, 0);
   r.box.assign(r.ncomp, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
   for (int t = 0; t < nt; ++t)
@@ -267,10 +284,12 @@ ShellNesting shell_nesting(const SurfaceMesh& s) {
     // Just either side of a triangle of shell c: inside shell d both, or outside both,
     // unless shell d passes between them (shells that coincide or cross there; at the
     // centroid itself the winding number of a coinciding shell is 0 or 1 by rounding, and
-    // flips with its orientation).
+    // flips with its orientation). A millionth of the triangle's height off it: a wall
+    // thinner than the step (at 1e-3, a 0.1 mm wall between 1 m triangles) would read as
+    // a crossing, while coordinates round some 1e-16 of their size.
     double p_in[3], p_out[3];
-    point_off_triangle(s, r.first_tri[c], -1, 1e-3, p_in);
-    point_off_triangle(s, r.first_tri[c], +1, 1e-3, p_out);
+    point_off_triangle(s, r.first_tri[c], -1, 1e-6, p_in);
+    point_off_triangle(s, r.first_tri[c], +1, 1e-6, p_out);
     for (int d = 0; d < r.ncomp; ++d) {
       if (d == c) continue;
       bool inside_box = true;

@@ -427,6 +427,31 @@ TEST(TetgenHollow, EveryShellEnclosesVolumeAndOrientingTwiceChangesNothing) {
   EXPECT_NEAR(enclosed_volume(many), 125e-6 - 27e-6 + 1e-6 + 1e-6, 1e-14);
 }
 
+TEST(TetgenHollow, ShellsAreJudgedAlikeInEitherOrientation) {
+  // Two tetrahedra that cross, the first one's first centroid on an edge of the second
+  // (tests/fuzz/crashes/fuzz_obj/shell_through_a_centroid.obj): the points either side of
+  // that triangle lie in the second shell's plane, where the winding number once took its
+  // sign from rounding, so the surface was accepted and its oriented copy refused. Every
+  // orientation of the two shells must now get the same verdict and the same result.
+  const double P[8][3] = {{0, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 0.5}, {5, 5, 5}, {0, 0, 0}, {1, 2, 1}, {0, 0, 1}};
+  const int F[8][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}, {4, 5, 6}, {4, 7, 5}, {4, 6, 7}, {5, 7, 6}};
+  std::vector<int> first;
+  for (int flips = 0; flips < 4; ++flips) {
+    SurfaceMesh s;
+    for (const auto& p : P) s.xyz.insert(s.xyz.end(), {p[0], p[1], p[2]});
+    for (int f = 0; f < 8; ++f) {
+      const bool flip = (flips >> (f / 4)) & 1;
+      s.tri.insert(s.tri.end(), {F[f][0], F[f][flip ? 2 : 1], F[f][flip ? 1 : 2]});
+    }
+    ASSERT_NO_THROW(check_and_orient_closed_surface(s, "crossing tetrahedra")) << "flips " << flips;
+    if (flips == 0) first = s.tri;
+    EXPECT_EQ(s.tri, first) << "flips " << flips;
+    SurfaceMesh again = s;
+    check_and_orient_closed_surface(again, "again");
+    EXPECT_EQ(again.tri, s.tri);
+  }
+}
+
 TEST(TetgenHollow, CoincidentShellsAreRefused) {
   // Two copies of a cube on separate vertices: each lies on the other, so the winding number
   // at a centroid was 0 or 1 by rounding and the depths flipped with the orientation
@@ -458,6 +483,30 @@ TEST(TetgenHollow, TwoSolidsOneInsideOutAreOrientedNotRefused) {
   add_box(far, 300, 0.1);
   check_and_orient_closed_surface(far, "far cubes");
   EXPECT_NEAR(enclosed_volume(far), 2e-3, 1e-8);  // summed about vertex 0, 300 m from the second cube
+}
+
+TEST(TetgenHollow, VolumeDoesNotDependOnWhereVertexZeroLies) {
+  // A 1 m cube whose file lists first a point no triangle uses, 1e9 m away: about that
+  // point the terms are ~1e18 and cancel to 1, so the rounding (~100) chose the cube's
+  // orientation and its volume.
+  for (const bool inward : {false, true}) {
+    SurfaceMesh s;
+    s.xyz = {1e9, 1e9, 1e9};
+    add_box(s, 0, 1, inward);
+    check_and_orient_closed_surface(s, "cube after a far unused point");
+    EXPECT_NEAR(enclosed_volume(s), 1.0, 1e-12) << "inward " << inward;
+  }
+  // A 1 mm cube (vertex 0) and, 1e6 m away, a 1 m cube hollowed to a 0.1 mm wall: about
+  // vertex 0 the big shells' terms are ~1e12 and their rounding (~1e-3) swamps the wall's
+  // 6e-4 m^3. The wall is also thinner than the 1e-3 of a triangle's height that the
+  // nesting test once stepped off a triangle, which read it as shells crossing.
+  SurfaceMesh h;
+  add_box(h, -1e6, 1e-3);
+  add_box(h, 0, 1);
+  add_box(h, 1e-4, 1 - 2e-4, true);
+  check_and_orient_closed_surface(h, "hollow cube far from a small one");
+  const double wall = 1 - (1 - 2e-4) * (1 - 2e-4) * (1 - 2e-4);
+  EXPECT_NEAR(enclosed_volume(h), 1e-9 + wall, 1e-6 * wall);
 }
 
 TEST(TetgenHollow, AThinShellIsJudgedAndOrientedTheSameWhereverItLies) {
