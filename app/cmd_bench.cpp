@@ -134,11 +134,13 @@ StageRow cpu_stages(Simulation& sim, int threads, int reps, bool simd) {
   const std::vector<T> u0 = u, du0 = du;
   auto time_loop = [&](auto&& body) {
     std::vector<double> us;
-    for (int rep = 0; rep < 5; ++rep) {
+    // A signal ends the stage timing too (its numbers are dropped with the rest): with
+    // many more threads than cores it took 83 s to answer SIGTERM here.
+    for (int rep = 0; rep < 5 && !stop_requested(); ++rep) {
       u = u0;
       du = du0;
       const auto t0 = Clock::now();
-      for (int k = 0; k < reps; ++k) body();
+      for (int k = 0; k < reps && !stop_requested(); ++k) body();
       us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / reps);
     }
     return stats_of(us).median;
@@ -181,6 +183,7 @@ struct Opts {
 };
 
 int cpu_threads_for(const Simulation& sim, int requested) {
+  if (const std::string w = cpu_threads_warning(requested); !w.empty()) std::fprintf(stderr, "warning: --threads %s\n", w.c_str());
   return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
 
@@ -247,7 +250,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (steps > 0) {
     chunk = steps / o.samples;
     extra = steps % o.samples;
-    sim.step(std::min(chunk, 500L));
+    for (long k = 0, warm = std::min(chunk, 500L); k < warm && !stop_requested(); k += 50) sim.step(std::min(50L, warm - k));
   } else {
     const double est = std::max(1e-3, timed(20) / 20);
     chunk = std::max(1L, std::lround(25000.0 / est));
@@ -274,7 +277,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
     const double a = (sc.precision == Precision::kFloat ? 1e-3 : 1e-6) * sim.time_step().min_Le;
     solver.estimate_omega_max(AdaptiveStep::kIterations, a, true);  // graphs, warm vector
     std::vector<double> wall, own;
-    for (int s = 0; s < o.samples; ++s) {
+    for (int s = 0; s < o.samples && !stop_requested(); ++s) {
       sync();
       const auto t0 = Clock::now();
       solver.begin_omega_max(AdaptiveStep::kIterations, a);

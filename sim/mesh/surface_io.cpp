@@ -179,21 +179,39 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   int lineno = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    std::istringstream ls(line);
+    std::istringstream ls(line.substr(0, line.find('#')));  // a comment may end any line
     std::string tag;
-    if (!(ls >> tag) || tag[0] == '#') continue;
+    if (!(ls >> tag)) continue;
+    const std::string at = name + ":" + std::to_string(lineno);
     if (tag == "v") {
-      std::string a, b, c;
-      if (!(ls >> a >> b >> c)) throw InputError(name + ":" + std::to_string(lineno) + ": vertex needs 3 coordinates");
+      std::string a, b, c, more;
+      if (!(ls >> a >> b >> c)) throw InputError(at + ": vertex needs 3 coordinates");
       s.xyz.insert(s.xyz.end(), {to_number(a, name, lineno), to_number(b, name, lineno), to_number(c, name, lineno)});
+      // x y z, then an optional w or r g b (vertex colours): numbers, read and unused.
+      for (int k = 0; ls >> more; ++k) {
+        if (k == 4) throw InputError(at + ": vertex with more than 7 numbers (x y z, then w or r g b)");
+        to_number(more, name, lineno);
+      }
     } else if (tag == "f") {
       std::vector<int> poly;
       std::string tok;
       while (ls >> tok) {
         const std::string head = tok.substr(0, tok.find('/'));
+        // v, v/vt, v//vn or v/vt/vn: the texture and normal indices are unused but must be
+        // indices (a corrupt field is not skipped).
+        for (std::size_t p = tok.find('/'), n = 0; p != std::string::npos; p = tok.find('/', p + 1), ++n) {
+          const std::size_t e = tok.find('/', p + 1);
+          const std::string field = tok.substr(p + 1, e == std::string::npos ? std::string::npos : e - p - 1);
+          const bool empty_ok = n == 0 && e != std::string::npos;  // the vt of v//vn
+          if (n >= 2 || (field.empty() ? !empty_ok : field.find_first_not_of("-0123456789") != std::string::npos))
+            throw InputError(at + ": bad face corner '" + tok + "' (v, v/vt, v//vn or v/vt/vn expected)");
+        }
         const double v = to_number(head, name, lineno);
         if (v != std::floor(v) || v == 0 || std::fabs(v) > 1e9)
-          throw InputError(name + ":" + std::to_string(lineno) + ": bad vertex index '" + head + "'");
+          throw InputError(at + ": bad vertex index '" + head + "'");
+        if (v < 0 && -v > s.npoint())
+          throw InputError(at + ": vertex index " + head + " counts back past the first vertex (" +
+                           std::to_string(s.npoint()) + " vertices before this line)");
         int idx = static_cast<int>(v);
         idx = idx > 0 ? idx - 1 : s.npoint() + idx;  // negative: relative to the end
         poly.push_back(idx);
@@ -208,6 +226,7 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   }
   polygons.triangulate_into(s);
   check_and_orient_closed_surface(s, name);
+  drop_unused_vertices(s);
   return s;
 }
 
@@ -336,6 +355,7 @@ SurfaceMesh parse_off(const std::string& data, const std::string& name) {
   if (in.ensure()) throw InputError(in.at() + ": unexpected data after the last face ('" + in.peek() + "')");
   polygons.triangulate_into(s);
   check_and_orient_closed_surface(s, name);
+  drop_unused_vertices(s);
   return s;
 }
 
@@ -423,6 +443,7 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
     s.tri.push_back(it->second);
   }
   check_and_orient_closed_surface(s, name);
+  drop_unused_vertices(s);
   return s;
 }
 

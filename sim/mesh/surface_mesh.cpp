@@ -62,20 +62,38 @@ Shells label_shells(const SurfaceMesh& s) {
 // Each shell's signed volume, about a vertex of its own: about a far point (a vertex no
 // triangle uses, or one on another shell) the terms grow with the distance squared and
 // their rounding swamps the volume (a 1 m cube about a point 1e9 m away: terms ~1e18).
-std::vector<double> shell_volumes(const SurfaceMesh& s, const Shells& shells) {
-  std::vector<std::array<double, 3>> origin(shells.ncomp);
-  for (int c = 0; c < shells.ncomp; ++c)
-    for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * shells.first_tri[c]] + d];
-  std::vector<double> v(shells.ncomp, 0.0);
-  for (int t = 0; t < s.ntri(); ++t) v[shells.tri_comp[t]] += volume_term(s, t, origin[shells.tri_comp[t]].data());
+std::vector<double> shell_volumes(const SurfaceMesh& s, const std::vector<int>& tri_comp, const std::vector<int>& first_tri) {
+  const int ncomp = int(first_tri.size());
+  std::vector<std::array<double, 3>> origin(ncomp);
+  for (int c = 0; c < ncomp; ++c)
+    for (int d = 0; d < 3; ++d) origin[c][d] = s.xyz[3 * s.tri[3 * first_tri[c]] + d];
+  std::vector<double> v(ncomp, 0.0);
+  for (int t = 0; t < s.ntri(); ++t) v[tri_comp[t]] += volume_term(s, t, origin[tri_comp[t]].data());
   return v;
 }
 }  // namespace
 
 double enclosed_volume(const SurfaceMesh& s) {
+  const Shells shells = label_shells(s);
   double v = 0;
-  for (double c : shell_volumes(s, label_shells(s))) v += c;
+  for (double c : shell_volumes(s, shells.tri_comp, shells.first_tri)) v += c;
   return v;
+}
+
+int drop_unused_vertices(SurfaceMesh& s) {
+  std::vector<int> new_of_old(s.npoint(), -1);
+  for (int v : s.tri) new_of_old[v] = 0;
+  int kept = 0;
+  for (int i = 0; i < s.npoint(); ++i)
+    if (new_of_old[i] == 0) {
+      new_of_old[i] = kept;
+      for (int d = 0; d < 3; ++d) s.xyz[3 * kept + d] = s.xyz[3 * i + d];
+      ++kept;
+    }
+  const int dropped = s.npoint() - kept;
+  s.xyz.resize(3 * std::size_t(kept));
+  for (int& v : s.tri) v = new_of_old[v];
+  return dropped;
 }
 
 void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
@@ -150,7 +168,7 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
   // flat shell's sign is rounding noise, so its orientation would be a coin toss (and flip
   // again on a second pass): every shell must enclose volume, against its own size.
   // Outwards at even depth, inwards (into the cavity) at odd depth.
-  const std::vector<double> cvol = shell_volumes(s, Shells{nest.ncomp, nest.tri_comp, nest.first_tri});
+  const std::vector<double> cvol = shell_volumes(s, nest.tri_comp, nest.first_tri);
   double largest = 0, solid = 0;  // the largest shell's size; solids minus cavities
   for (int c = 0; c < nest.ncomp; ++c) {
     const auto& b = nest.box[c];

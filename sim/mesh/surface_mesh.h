@@ -24,6 +24,12 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what);
 
 double enclosed_volume(const SurfaceMesh& s);
 
+// Removes the vertices no triangle uses, renumbering the others in order; returns how many.
+// The loaders call it after check_and_orient_closed_surface (whose messages name the
+// file's vertex numbers): a stray vertex once reached TetGen as a point to mesh (an
+// interior node, or a crash on a face), and sized a mesh obstacle's distance grid.
+int drop_unused_vertices(SurfaceMesh& s);
+
 // "" when the triangles tri (over npoint vertices) form a 2-manifold: every edge on exactly
 // two triangles, and the triangles around every vertex one fan (shells touching at a
 // vertex only give two). Else what is wrong, naming vertices by vertex_name and the

@@ -247,6 +247,15 @@ std::vector<std::string> tet_file_paths(const std::string& path) {
   return {base + ".node", base + ".ele"};
 }
 
+namespace {
+// A UTF-8 byte order mark, which editors on Windows put before text, is not the file's:
+// "$MeshFormat missing at the start" was the message for a .msh that had one.
+std::string without_bom(std::string d) {
+  if (d.size() >= 3 && d.compare(0, 3, "\xEF\xBB\xBF") == 0) d.erase(0, 3);
+  return d;
+}
+}  // namespace
+
 TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetImportReport* report) {
   const std::string ext = lower_ext(path);
   const long max_tets = std::min(limits.max_tets, kMaxTetFileCount);
@@ -257,11 +266,11 @@ TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetI
   TetSoup soup;
   if (ext == "node" || ext == "ele") {
     const std::string base = path.substr(0, path.size() - ext.size() - 1);
-    const std::string node = read_input_file(base + ".node", limits.max_bytes);
-    const std::string ele = read_input_file(base + ".ele", limits.max_bytes);
+    const std::string node = without_bom(read_input_file(base + ".node", limits.max_bytes));
+    const std::string ele = without_bom(read_input_file(base + ".ele", limits.max_bytes));
     soup = parse_tetgen(node, ele, base, max_tets);
   } else {
-    const std::string data = read_input_file(path, limits.max_bytes);
+    const std::string data = without_bom(read_input_file(path, limits.max_bytes));
     if (ext == "msh") soup = parse_msh(data, path, max_tets);
     else if (ext == "vtu") soup = parse_vtu(data, path, max_tets);
     else soup = parse_medit(data, path, max_tets);

@@ -82,8 +82,21 @@ TetSoup parse_medit(const std::string& data, const std::string& name, long max_t
         if (kw == k.keyword) s = &k;
       if (!s) c.fail("unknown keyword '" + kw + "'");
       tet_io::check_count(c, n, 4 * (long long)kMaxTetFileCount, std::size_t(2 * s->per_entry), kw + ": count");
+      // An element section is skipped, but its vertices must be the file's (a triangle on
+      // vertex 99 of 8 is corruption, not a face to skip): its entries are vertices, then
+      // a reference.
+      if (s->kind && !vertices) c.fail(kw + " before Vertices");
       for (long long i = 0; i < n; ++i)
-        for (int k = 0; k < s->per_entry; ++k) c.number(s->keyword);
+        for (int k = 0; k < s->per_entry; ++k) {
+          if (!s->kind || k == s->per_entry - 1) {
+            c.number(s->keyword);
+            continue;
+          }
+          const long long v = c.integer(INT64_MIN, INT64_MAX, kw + " " + std::to_string(i + 1) + ": vertex");
+          if (v < 1 || v > nvert)
+            c.fail(kw + " " + std::to_string(i + 1) + " refers to vertex " + std::to_string(v) + " of " + std::to_string(nvert) +
+                   " (numbered from 1)");
+        }
       if (s->kind) soup.skipped[s->kind] += long(n);
     }
   }

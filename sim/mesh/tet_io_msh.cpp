@@ -139,6 +139,26 @@ class MshReader {
     for (int a = 0; a < 4; ++a) soup_.tet.push_back(node_index(tags[a], element));
   }
 
+  // An element of another type, read to its end and counted: its node count must be its
+  // type's and its nodes in $Nodes (a triangle on node 99 of 8 is corruption, not a face
+  // to skip). Types Gmsh does not define are skipped to the end of their line (ASCII).
+  void skip_ascii_element(long long type, long long tag) {
+    const int k = gmsh_nodes(type);
+    if (k == 0) {
+      c_.skip_line();
+    } else {
+      for (int a = 0; a < k; ++a) {
+        if (!c_.on_this_line())
+          c_.fail("element " + std::to_string(tag) + ": a " + gmsh_kind(type) + " with " + std::to_string(a) + " nodes (" +
+                  std::to_string(k) + " expected)");
+        node_index(c_.integer(1, INT64_MAX, "element " + std::to_string(tag) + ": node"), tag);
+      }
+      if (c_.on_this_line())
+        c_.fail("element " + std::to_string(tag) + ": a " + gmsh_kind(type) + " with more than " + std::to_string(k) + " nodes");
+    }
+    ++soup_.skipped[gmsh_kind(type)];
+  }
+
   void nodes_v2() {
     const long long n = c_.integer(0, kMaxTetFileCount, "$Nodes: node count");
     tet_io::check_count(c_, n, kMaxTetFileCount, binary_ ? 28 : 8, "$Nodes: node count");
@@ -217,6 +237,7 @@ class MshReader {
           for (int a = 0; a < k; ++a) {
             const long long v = c_.binary<int>("element node");
             if (a < 4) nodes[a] = v;
+            if (type != 4) node_index(v, tag);  // a skipped element's nodes exist too
           }
           if (type == 4) add_tet(nodes, tag);
           else ++soup_.skipped[gmsh_kind(type)];
@@ -236,8 +257,7 @@ class MshReader {
         if (c_.on_this_line()) c_.fail("element " + std::to_string(tag) + ": a 4-node tet with more than 4 nodes");
         add_tet(nodes, tag);
       } else {
-        ++soup_.skipped[gmsh_kind(type)];
-        c_.skip_line();
+        skip_ascii_element(type, tag);
       }
     }
   }
@@ -267,6 +287,7 @@ class MshReader {
           for (int a = 0; a < k; ++a) {
             const long long v = (long long)c_.binary<std::uint64_t>("element node");
             if (a < 4) nodes[a] = v;
+            if (type != 4) node_index(v, tag);
           }
           if (type == 4) add_tet(nodes, tag);
           else ++soup_.skipped[gmsh_kind(type)];
@@ -277,9 +298,7 @@ class MshReader {
           if (c_.on_this_line()) c_.fail("element " + std::to_string(tag) + ": a 4-node tet with more than 4 nodes");
           add_tet(nodes, tag);
         } else {
-          c_.integer(1, INT64_MAX, "$Elements: element tag");
-          ++soup_.skipped[gmsh_kind(type)];
-          c_.skip_line();
+          skip_ascii_element(type, c_.integer(1, INT64_MAX, "$Elements: element tag"));
         }
       }
       done += m;

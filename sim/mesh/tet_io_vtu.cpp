@@ -1,7 +1,8 @@
 // VTK XML UnstructuredGrid (.vtu) reader: one Piece, Points and the Cells arrays
 // connectivity / offsets / types, in ASCII, inline binary (base64) or appended data (raw or
 // base64), uncompressed. VTK_TETRA (10) cells are kept, other cell types counted. Other
-// arrays (PointData, CellData: what `softtled mesh --vtu` and `run --vtu` add) are ignored.
+// arrays (PointData, CellData: what `softtled mesh --vtu` and `run --vtu` add) are ignored,
+// and so are XML comments; CDATA sections are read as their text.
 #include <algorithm>
 #include <cstring>
 #include <string_view>
@@ -195,7 +196,18 @@ class VtuReader {
           soup.tet.push_back(int(n));
         }
       } else {
-        ++soup.skipped[kind(ty[std::size_t(c)])];
+        // Skipped, but not unread: a cell of a fixed-size type with another node count, or
+        // on a point the file does not have, is corruption (a 4-node "wedge" was skipped
+        // with a note, and the mesh accepted with a part missing).
+        const long long t = ty[std::size_t(c)], k = fixed_nodes(t);
+        if (k > 0 && end - prev != k)
+          x_.fail("cell " + std::to_string(c) + ": a " + kind(t) + " with " + std::to_string(end - prev) + " nodes (" +
+                  std::to_string(k) + " expected)");
+        for (long long j = prev; j < end; ++j)
+          if (cn[std::size_t(j)] < 0 || cn[std::size_t(j)] >= npoint)
+            x_.fail("cell " + std::to_string(c) + " (" + kind(t) + ") refers to point " + std::to_string(cn[std::size_t(j)]) +
+                    " of " + std::to_string(npoint));
+        ++soup.skipped[kind(t)];
       }
       prev = end;
     }
@@ -203,6 +215,25 @@ class VtuReader {
   }
 
  private:
+  // Nodes of VTK's fixed-size linear and quadratic cell types (vtkCellType.h); 0 for the
+  // others (poly-vertex, polyline, strip, polygon, polyhedron, higher order: any count).
+  static long long fixed_nodes(long long t) {
+    switch (t) {
+      case 1: return 1;
+      case 3: return 2;
+      case 5: return 3;
+      case 8: case 9: case 10: return 4;
+      case 11: case 12: return 8;
+      case 13: return 6;
+      case 14: return 5;
+      case 21: return 3;
+      case 22: return 6;
+      case 23: return 8;
+      case 24: return 10;
+      case 25: return 20;
+      default: return 0;
+    }
+  }
   static std::string kind(long long t) {
     switch (t) {
       case 1: return "vertex";
@@ -366,10 +397,45 @@ class VtuReader {
   std::size_t header_bytes_ = 4;
 };
 
+// The markup that is not the document's: XML comments (<!-- -->) blanked, and CDATA
+// sections (<![CDATA[ ]]>) unwrapped to their text, up to the appended data's raw bytes
+// (which may hold any bytes). Blanked with spaces, so every offset stays where it was. A
+// tag or an array inside a comment was once read as the mesh's (an old <Points> kept in
+// a comment replaced the real one). False when there is none (no copy made).
+bool blank_markup(const std::string& d, const std::string& name, std::string& out) {
+  std::size_t p = 0;
+  bool copied = false;
+  const auto blank = [&](std::size_t b, std::size_t e) {
+    if (!copied) out = d, copied = true;
+    for (std::size_t i = b; i < e; ++i)
+      if (out[i] != '\n') out[i] = ' ';
+  };
+  while ((p = d.find('<', p)) != std::string::npos) {
+    if (d.compare(p, 4, "<!--") == 0) {
+      const std::size_t e = d.find("-->", p + 4);
+      if (e == std::string::npos) throw InputError(name + ": an XML comment (<!--) is not closed (truncated file?)");
+      blank(p, e + 3);
+      p = e + 3;
+    } else if (d.compare(p, 9, "<![CDATA[") == 0) {
+      const std::size_t e = d.find("]]>", p + 9);
+      if (e == std::string::npos) throw InputError(name + ": a CDATA section (<![CDATA[) is not closed (truncated file?)");
+      blank(p, p + 9);
+      blank(e, e + 3);
+      p = e + 3;
+    } else if (d.compare(p, 13, "<AppendedData") == 0) {
+      break;  // raw bytes follow: not markup
+    } else {
+      ++p;
+    }
+  }
+  return copied;
+}
+
 }  // namespace
 
 TetSoup parse_vtu(const std::string& data, const std::string& name, long max_tets) {
-  return VtuReader(data, name, max_tets).read();
+  std::string blanked;
+  return VtuReader(blank_markup(data, name, blanked) ? blanked : data, name, max_tets).read();
 }
 
 }  // namespace softtled

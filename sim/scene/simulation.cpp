@@ -11,6 +11,7 @@
 #include "sim/core/body_view.h"
 #include "sim/fem/step_health.h"
 #include "sim/mesh/mesh_cache.h"
+#include "sim/scene/closing_speeds.h"
 #include "sim/solver/solver_factory.h"
 #include "sim/solver/stable_step.h"
 #include "sim/solver/step_params.h"
@@ -77,6 +78,8 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   solver_ = make_solver(backend, mesh_, scene_.rho, flags_, scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
+  if (const std::string w = cpu_threads_warning(scene_.threads); !w.empty())
+    std::fprintf(stderr, "warning: solver.threads = %s\n", w.c_str());
   params_.E = scene_.E;
   params_.element = scene_.element;
   params_.material_model = scene_.material_model;
@@ -125,6 +128,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
       std::fprintf(stderr, "warning: %s\n", warn.c_str());
     }
   }
+  check_closing_speeds(scene_, mesh_, ts_.dt);
   tracked_ = scene_tracked_nodes(scene_, mesh_);
   apply_initial_state();
 }

@@ -9,6 +9,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <thread>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -365,6 +366,14 @@ int auto_cpu_threads(int ntet) {
   // omp_get_max_threads(): OMP_NUM_THREADS, when set, caps it (callgrind runs use 1).
   const int cap = std::min(cores, omp_get_max_threads());
   return std::clamp(ntet / kTetsPerThread, 1, std::max(1, cap));
+}
+
+std::string cpu_threads_warning(int threads) {
+  const int hw = int(std::thread::hardware_concurrency());
+  if (threads <= 0 || hw <= 0 || threads <= hw) return "";
+  return std::to_string(threads) + " CPU threads on " + std::to_string(hw) +
+         " hardware threads: the extra threads wait for time slices at every barrier of the step, which makes it "
+         "many times slower (use 0, the automatic choice, or at most " + std::to_string(hw) + ")";
 }
 
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,

@@ -276,3 +276,50 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   }
   EXPECT_NE(quad.find("q.obj:6: vertex 2 (0-based) has a NaN or infinite coordinate"), std::string::npos) << quad;
 }
+
+TEST(SurfaceFiles, VerticesNoFaceUsesAreDropped) {
+  // A 1 m cube whose file also lists a vertex on a face, one inside, one on an edge and
+  // one far away that no face uses: they reached TetGen as points to mesh (an interior
+  // node; a crash on a face, reported as co-planar points), and set the size checks and a
+  // mesh obstacle's distance grid. The solid is what the faces bound: the same cube.
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+  const std::string f = "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  const SurfaceMesh plain = parse_obj(v + f, "cube.obj");
+  const SurfaceMesh extra = parse_obj(v + "v 0.5 0.5 0\nv 0.5 0.5 0.5\nv 0.5 0 0\nv 1e9 0 0\n" + f, "extra.obj");
+  ASSERT_EQ(extra.npoint(), 8);
+  EXPECT_EQ(extra.xyz, plain.xyz);
+  EXPECT_NEAR(enclosed_volume(extra), 1.0, 1e-12);
+  const TetgenOptions o;
+  const TetMesh a = tetrahedralize_surface(plain, o), b = tetrahedralize_surface(extra, o);
+  EXPECT_EQ(b.nnode(), a.nnode());
+  EXPECT_EQ(b.ntet(), a.ntet());
+}
+
+TEST(SurfaceFiles, ObjLinesAreReadWholeOrRefused) {
+  // A comment may end any line (it ended "v" lines only, and "f 1 2 3 # c" was refused);
+  // trailing words on a vertex and corrupt texture or normal fields were ignored.
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1 # apex\n";
+  const std::string f = "f 1 3 2 # base\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  const SurfaceMesh t = parse_obj(v + f, "t.obj");
+  EXPECT_EQ(t.ntri(), 4);
+  EXPECT_NEAR(enclosed_volume(t), 1.0 / 6.0, 1e-15);
+  // Vertex colours and every corner form load, giving the same tetrahedron.
+  const SurfaceMesh c = parse_obj("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 1\n"
+                                  "f 1/1 3/2 2/3\nf 1//1 2//1 4//1\nf 2/1/1 3/2/2 4/3/3\nf -2 -4 -1\n", "c.obj");
+  EXPECT_EQ(c.xyz, t.xyz);
+  EXPECT_EQ(c.tri, t.tri);
+  auto error_of = [](const std::string& text) {
+    try {
+      parse_obj(text, "e.obj");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(parsed)");
+  };
+  EXPECT_NE(error_of("v 0 0 0 garbage\n" + v + f).find("e.obj:1: 'garbage' is not a number"), std::string::npos)
+      << error_of("v 0 0 0 garbage\n" + v + f);
+  EXPECT_NE(error_of(v + "f 1/x 3 2\n").find("e.obj:5: bad face corner '1/x'"), std::string::npos) << error_of(v + "f 1/x 3 2\n");
+  EXPECT_NE(error_of(v + "f 1/2/3/4 3 2\n").find("bad face corner"), std::string::npos);
+  EXPECT_NE(error_of(v + "f -9 1 2\n").find("e.obj:5: vertex index -9 counts back past the first vertex (4 vertices"),
+            std::string::npos) << error_of(v + "f -9 1 2\n");
+}

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <unistd.h>
 
@@ -206,6 +207,52 @@ TEST(TetIo, TetgenMeditAndVtuGiveTheSameMesh) {
   expect_same(a, load_tet_mesh(data_dir() + "puck_gmsh.mesh"), 1e-12 * 5);
 }
 
+TEST(TetIo, AByteOrderMarkIsSkippedInEveryFormat) {
+  // A .msh with a UTF-8 byte order mark was "not a Gmsh mesh" (OBJ, OFF, STL, .vtu and
+  // scenes skipped it).
+  const TetMesh a = load_tet_mesh(puck());
+  const std::string base = tmp_dir() + "/bom";
+  auto with_bom = [](const std::string& from, const std::string& to) {
+    std::ifstream in(from, std::ios::binary);
+    write_file(to, "\xEF\xBB\xBF" + std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+  };
+  with_bom(puck(), base + ".msh");
+  expect_same(a, load_tet_mesh(base + ".msh"));
+  with_bom(data_dir() + "puck_v2_bin.msh", base + "_bin.msh");
+  expect_same(load_tet_mesh(data_dir() + "puck_v2_bin.msh"), load_tet_mesh(base + "_bin.msh"));
+  write_tetgen_files(a, base + "_tg");
+  with_bom(base + "_tg.node", base + "2.node");
+  with_bom(base + "_tg.ele", base + "2.ele");
+  expect_same(a, load_tet_mesh(base + "2.node"));
+  write_medit(a, base + "_m.mesh");
+  with_bom(base + "_m.mesh", base + "2.mesh");
+  expect_same(a, load_tet_mesh(base + "2.mesh"));
+}
+
+TEST(TetIo, VtuCommentsAreIgnoredAndCdataIsRead) {
+  // An old <Points> kept in a comment before the real one was read as the mesh (a 2 m cube
+  // for the file's 1 m one, exit 0); a comment with a <Piece> refused the file; CDATA
+  // around ASCII data was "not a number".
+  const TetMesh a = load_tet_mesh(puck());
+  const std::string base = tmp_dir() + "/commented";
+  write_vtu(base + ".vtu", a, nullptr, 1.0, {neo_hookean_from_E_nu<double>(3000, 0.49)});
+  std::ifstream in(base + ".vtu");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t points = text.find("<Points>");
+  ASSERT_NE(points, std::string::npos);
+  text.insert(points, "<!-- old: <Piece NumberOfPoints=\"1\" NumberOfCells=\"1\"><Points><DataArray type=\"Float64\" "
+                      "NumberOfComponents=\"3\" format=\"ascii\">9 9 9</DataArray></Points> -->\n");
+  const std::size_t conn = text.find("Name=\"connectivity\"");
+  ASSERT_NE(conn, std::string::npos);
+  const std::size_t open = text.find('>', conn) + 1, close = text.find("</DataArray>", open);
+  text.insert(close, "]]>");
+  text.insert(open, "<![CDATA[");
+  write_file(base + "_c.vtu", text);
+  expect_same(a, load_tet_mesh(base + "_c.vtu"), 1e-8 * 5);
+  write_file(base + "_open.vtu", text.substr(0, points) + "<!-- not closed");
+  EXPECT_NE(load_error(base + "_open.vtu").find("XML comment (<!--) is not closed"), std::string::npos);
+}
+
 TEST(TetIo, VtuRoundTripOfTheTorusKeepsTableI) {
   // As `softtled mesh --scene torus_coarse.toml --vtu F` does it, then F read back.
   const Scene s = load_scene(test::assets_dir() + "/scenes/torus_coarse.toml");
@@ -323,6 +370,22 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
       {"polydata.vtu", "<VTKFile type=\"PolyData\">", "only UnstructuredGrid"},
       {"no_piece.vtu", "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>", "no <Piece>"},
       {"dim2.node", "3 2 0 0\n", "dimension 2 (3 expected)"},
+      // Elements that are skipped are still read whole: corrupt ones were skipped with a note.
+      {"tri_on_missing_node.msh", msh_head + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n2 2 1 2\n3 1 4 1\n1 1 2 3 4\n"
+                                            "2 1 2 1\n2 1 2 99\n$EndElements\n",
+       "element 2 refers to node 99, which $Nodes does not have"},
+      {"short_tri.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+                        "$Elements\n2\n1 4 0 1 2 3 4\n2 2 0 1 2\n$EndElements\n",
+       "element 2: a triangle with 2 nodes (3 expected)"},
+      {"tri_on_missing_vertex.mesh", cube.substr(0, cube.find("End")) + "Triangles\n1\n1 2 99 0\nEnd\n",
+       "Triangles 1 refers to vertex 99 of 8 (numbered from 1)"},
+      {"short_wedge.vtu",
+       "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"2\"><Points>"
+       "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points><Cells>"
+       "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 0 1 2 3</DataArray>"
+       "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4 8</DataArray>"
+       "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 13</DataArray></Cells></Piece></UnstructuredGrid></VTKFile>",
+       "cell 1: a wedge with 4 nodes (6 expected)"},
   };
   write_file(tmp_dir() + "/dim2.ele", "0 4 0\n");
   for (const Case& c : cases) {

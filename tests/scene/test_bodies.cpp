@@ -16,6 +16,7 @@
 #include "sim/contact/body_contact.h"
 #include "sim/contact/body_contact_tables.h"
 #include "sim/contact/mesh_sdf.h"
+#include "sim/scene/closing_speeds.h"
 #include "sim/scene/simulation.h"
 
 using namespace softtled;
@@ -543,4 +544,42 @@ TEST(Bodies, FrictionActsOnTheRelativeTangentialMotion) {
   EXPECT_GT(vx[0][1], 0.49);
   EXPECT_GT(vx[1][0], 0.05);             // static friction drags the bottom block along
   EXPECT_LT(vx[1][1], 0.45);
+}
+
+TEST(Bodies, DepthIsTwoVolumesOverAreaAndAClosingStepBeyondItIsRefused) {
+  // 2 V / A: the tube radius of a torus (R = 7.5 mm, r = 2.5 mm; a little less for the
+  // faceted mesh).
+  Simulation rings(asset("two_ring_collision.toml", {"time.duration=0.001"}), "cpu");
+  for (int b = 0; b < 2; ++b) EXPECT_NEAR(body_depth(rings.mesh(), b), 2.5e-3, 0.2e-3) << b;
+  // Rings flying at 1e4 m/s each crossed 370 mm per step and passed through each other
+  // with exit 0 and no contact; whatever closes by more than the thinner depth per step
+  // is refused at the start, naming both velocities.
+  const double dt = rings.time_step().dt, depth = std::min(body_depth(rings.mesh(), 0), body_depth(rings.mesh(), 1));
+  const double v_over = 0.51 * depth / dt, v_under = 0.49 * depth / dt;  // each; they close at twice that
+  const auto with_speed = [&](double v) {
+    char a[80], b[80];
+    std::snprintf(a, sizeof a, "body.0.velocity=[%.17g, 0, 0]", v);
+    std::snprintf(b, sizeof b, "body.1.velocity=[%.17g, 0, 0]", -v);
+    return std::vector<std::string>{a, b, "time.duration=0.0001"};
+  };
+  try {
+    Simulation sim(asset("two_ring_collision.toml", with_speed(v_over)), "cpu");
+    ADD_FAILURE() << "closing by more than the depth per step was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body[0].velocity and body[1].velocity: the bodies close at"), std::string::npos)
+        << e.what();
+  }
+  // Just under it the run starts, and the rings meet: contact is seen before they could
+  // pass (at ~250 m/s the crush that follows is the watchdog's business).
+  Simulation under(asset("two_ring_collision.toml", with_speed(v_under)), "cpu");
+  bool met = false;
+  try {
+    for (int k = 0; k < 40 && !met; ++k) under.step(1), met = under.diagnostics().n_contact > 0;
+  } catch (const SimulationDiverged&) {
+  }
+  EXPECT_TRUE(met) << "rings closing at just under one depth per step never touched";
+  // Without body contact there is nothing to miss.
+  std::vector<std::string> off = with_speed(v_over);
+  off.push_back("contact.bodies=false");
+  EXPECT_NO_THROW(Simulation(asset("two_ring_collision.toml", off), "cpu"));
 }
