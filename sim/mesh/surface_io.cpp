@@ -20,19 +20,17 @@
 namespace softtled {
 namespace {
 
-std::string lower_ext(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
-}
 
-// Parses a number and rejects trailing garbage, so "1.0abc" is an error, not 1.0.
+// Parses a number and rejects trailing garbage, so "1.0abc" is an error, not 1.0, and a
+// value that is not finite (nan, inf, 1e400) on its own line: caught later, at the first
+// face that used it, the message named the face's line.
 double to_number(const std::string& tok, const std::string& name, int line) {
   char* end = nullptr;
   const double v = std::strtod(tok.c_str(), &end);
   if (tok.empty() || end != tok.c_str() + tok.size())
     throw InputError(name + ":" + std::to_string(line) + ": '" + tok + "' is not a number");
+  if (!std::isfinite(v))
+    throw InputError(name + ":" + std::to_string(line) + ": '" + tok + "' is NaN or infinite (or beyond the range of a double)");
   return v;
 }
 
@@ -497,12 +495,23 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bo
   return data;
 }
 
+std::string lower_ext(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string e = path.substr(dot + 1);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
 SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes) {
   const std::string ext = lower_ext(path);
   const bool known = ext == "obj" || ext == "off" || ext == "stl";
   // What the path is comes first (a directory or device is named as such), then the format.
   const std::string data = read_input_file(path, known ? max_bytes : 0, !known);
-  if (!known) throw InputError(path + ": unknown surface format '." + ext + "' (use .obj, .off or .stl)");
+  if (!known)
+    throw InputError(path + (ext.empty() ? ": no file extension" : ": unknown surface format '." + ext + "'") +
+                     " (use .obj, .off or .stl)");
   if (ext == "obj") return parse_obj(data, path);
   if (ext == "off") return parse_off(data, path);
   return parse_stl(data, path);

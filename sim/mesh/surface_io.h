@@ -29,6 +29,9 @@ SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes = kDef
 // "PATH: not a regular file (a directory)", "PATH: N bytes, above the limit of M bytes".
 // check_only: only the stat checks (exists, regular file); returns "".
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only = false);
+// The extension of the path's last component, lower case, without the dot ("" for none:
+// "scenes.v2/ring" has none).
+std::string lower_ext(const std::string& path);
 
 // Appends the triangles of a simple polygon (indices into xyz, 3 x npoint) to `out`, by
 // ear clipping in the polygon's best-fit plane (Newell normal), keeping its orientation.

@@ -14,15 +14,6 @@
 namespace softtled {
 namespace {
 
-std::string lower_ext(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string e = path.substr(dot + 1);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
-}
-
 // Faces of tet (0,1,2,3) oriented outward for a positive tet (as tet_mesh.cpp).
 const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
@@ -261,7 +252,8 @@ TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetI
   const long max_tets = std::min(limits.max_tets, kMaxTetFileCount);
   if (!is_tet_file_extension(path)) {
     (void)read_input_file(path, 0, true);  // what the path is comes first
-    throw InputError(path + ": unknown tet mesh format '." + ext + "' (use .msh, .vtu, .node/.ele or .mesh)");
+    throw InputError(path + (ext.empty() ? ": no file extension" : ": unknown tet mesh format '." + ext + "'") +
+                     " (use .msh, .vtu, .node/.ele or .mesh)");
   }
   TetSoup soup;
   if (ext == "node" || ext == "ele") {

@@ -333,7 +333,8 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   // --set sets leaf keys: a whole section (material={E=5}, obstacle=[{...}], obstacle=[])
   // would replace or add tables and drop the file's other keys.
   const std::string one_by_one = ": set its keys one by one (--set " + (section.empty() ? key : section) +
-                                 (section == "body" || section == "obstacle" || key == "body" || key == "obstacle"
+                                 (section == "body" || section == "obstacle" || section == "fixed" || key == "body" ||
+                                          key == "obstacle" || key == "fixed"
                                       ? ".N.key=value)"
                                       : ".key=value)");
   if (section.empty() && kSections.count(key))
@@ -374,20 +375,21 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
     body_sets.insert({n, rest});
     return;
   }
-  // obstacle.N.key: the N-th [[obstacle]] table (0-based, file order). Obstacles are only
-  // changed here, never added: a shape needs several keys at once. Which keys the shape
-  // takes is checked where the tables are read (read_obstacles), as for the file's own keys.
-  if (section == "obstacle") {
-    auto [n, rest] = split_index(kv, leaf, "obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
-    if (rest.find('.') != std::string::npos)
-      throw InputError("--set " + quoted(kv) + ": obstacle keys are 'obstacle.N.key' (N = 0, 1, ... in file order)");
-    auto* arr = root["obstacle"].as_array();
-    if (!arr) throw InputError(source + ": --set " + key + ": the scene has no [[obstacle]] tables");
-    toml::table* obstacle = n < arr->size() ? (*arr)[n].as_table() : nullptr;
-    if (!obstacle)
-      throw InputError(source + ": --set " + key + ": the scene has no obstacle " + std::to_string(n) + " (it has " +
+  // obstacle.N.key, fixed.N.key: the N-th [[obstacle]] or [[fixed]] table (0-based, file
+  // order). They are only changed here, never added: a shape or a region needs several
+  // keys at once. Which keys a table takes is checked where the tables are read
+  // (read_obstacles, read_fixed), as for the file's own keys.
+  if (section == "obstacle" || section == "fixed") {
+    const std::string form = section + " keys are '" + section + ".N.key' (N = 0, 1, ... in file order)";
+    auto [n, rest] = split_index(kv, leaf, form.c_str());
+    if (rest.find('.') != std::string::npos) throw InputError("--set " + quoted(kv) + ": " + form);
+    auto* arr = root[section].as_array();
+    if (!arr) throw InputError(source + ": --set " + key + ": the scene has no [[" + section + "]] tables");
+    toml::table* table = n < arr->size() ? (*arr)[n].as_table() : nullptr;
+    if (!table)
+      throw InputError(source + ": --set " + key + ": the scene has no " + section + " " + std::to_string(n) + " (it has " +
                        std::to_string(arr->size()) + ", numbered from 0)");
-    obstacle->insert_or_assign(rest, v);
+    table->insert_or_assign(rest, v);
     return;
   }
   if (section == "body" && root["body"].as_array())

@@ -267,14 +267,24 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   // Coordinates of 1e308: the products overflow, not a degenerate triangle.
   e = load_error(d + "ovf.obj");
   EXPECT_NE(e.find("ovf.obj: triangle 0: the coordinates overflow"), std::string::npos) << e;
-  // A NaN vertex of a quad face is named as such, not as a polygon that is not simple.
+  // A NaN vertex of a quad face is named as such, on its own line, not as a polygon that is
+  // not simple.
   std::string quad;
   try {
     parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n", "q.obj");
   } catch (const InputError& x) {
     quad = x.what();
   }
-  EXPECT_NE(quad.find("q.obj:6: vertex 2 (0-based) has a NaN or infinite coordinate"), std::string::npos) << quad;
+  EXPECT_NE(quad.find("q.obj:3: 'nan' is NaN or infinite"), std::string::npos) << quad;
+  // A coordinate beyond a double's range is named on its own line too (it was named at line
+  // 9, the first face using it).
+  std::string far;
+  try {
+    parse_obj("v 1e400 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n", "far.obj");
+  } catch (const InputError& x) {
+    far = x.what();
+  }
+  EXPECT_NE(far.find("far.obj:1: '1e400' is NaN or infinite"), std::string::npos) << far;
 }
 
 TEST(SurfaceFiles, VerticesNoFaceUsesAreDropped) {
@@ -322,4 +332,14 @@ TEST(SurfaceFiles, ObjLinesAreReadWholeOrRefused) {
   EXPECT_NE(error_of(v + "f 1/2/3/4 3 2\n").find("bad face corner"), std::string::npos);
   EXPECT_NE(error_of(v + "f -9 1 2\n").find("e.obj:5: vertex index -9 counts back past the first vertex (4 vertices"),
             std::string::npos) << error_of(v + "f -9 1 2\n");
+}
+
+TEST(SurfaceFiles, APathWithoutExtensionIsNamedSo) {
+  // "unknown surface format '.'" for a file without an extension; a dot in a directory
+  // name gave "unknown surface format '.v2/cube'".
+  const std::string dir = ::testing::TempDir() + "/scenes.v2";
+  ::mkdir(dir.c_str(), 0755);
+  write_file(dir + "/cube", "v 0 0 0\n");
+  const std::string e = load_error(dir + "/cube");
+  EXPECT_NE(e.find("scenes.v2/cube: no file extension (use .obj, .off or .stl)"), std::string::npos) << e;
 }

@@ -395,3 +395,21 @@ TEST(Scene, FixedSelectorsAreOneKindAndTyped) {
   EXPECT_FALSE(s.fixed[0].is_box);
   EXPECT_DOUBLE_EQ(s.fixed[0].b[1], 1);
 }
+
+TEST(Scene, SetAddressesFixedRegionsByIndex) {
+  // [[fixed]] tables took no --set ("keys are 'section.key' or 'key'"): now fixed.N.key,
+  // as obstacles, with the file's checks.
+  const std::string two = "[[fixed]]\nbox_min = [-1, -1, -1]\nbox_max = [1, 1, 1]\n"
+                          "[[fixed]]\nplane_point = [0, 0, 0]\nplane_normal = [1, 0, 0]\n";
+  const Scene s = parse_scene(two, "s.toml", {"fixed.0.box_max=[2, 3, 4]", "fixed.1.plane_point=[5, 0, 0]"});
+  ASSERT_EQ(s.fixed.size(), 2u);
+  EXPECT_EQ(s.fixed[0].b, (std::array<double, 3>{2, 3, 4}));
+  EXPECT_EQ(s.fixed[0].a, (std::array<double, 3>{-1, -1, -1})) << "keys not set keep the file's values";
+  EXPECT_EQ(s.fixed[1].a, (std::array<double, 3>{5, 0, 0}));
+  EXPECT_NE(error_of(two, {"fixed.2.box_max=[1, 1, 1]"}).find("--set fixed.2.box_max: the scene has no fixed 2 (it has 2"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"fixed.0.box_max=[1, 1, 1]"}).find("the scene has no [[fixed]] tables"), std::string::npos);
+  const std::string e = error_of(two, {"fixed.box_max=[1, 1, 1]"});
+  EXPECT_NE(e.find("fixed keys are 'fixed.N.key'"), std::string::npos) << e;
+  EXPECT_NE(error_of(two, {"fixed.0.colour=red"}).find("fixed[0].colour"), std::string::npos) << error_of(two, {"fixed.0.colour=red"});
+}
