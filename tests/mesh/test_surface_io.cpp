@@ -46,6 +46,15 @@ std::string parse_error_of_stl(const std::string& data) {
   return "(parsed)";
 }
 
+std::string parse_error_of_obj(const std::string& data, const std::string& name = "e.obj") {
+  try {
+    parse_obj(data, name);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(parsed)";
+}
+
 void write_file(const std::string& path, const std::string& content) {
   std::ofstream o(path, std::ios::binary);
   o << content;
@@ -269,21 +278,12 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   EXPECT_NE(e.find("ovf.obj: triangle 0: the coordinates overflow"), std::string::npos) << e;
   // A NaN vertex of a quad face is named as such, on its own line, not as a polygon that is
   // not simple.
-  std::string quad;
-  try {
-    parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n", "q.obj");
-  } catch (const InputError& x) {
-    quad = x.what();
-  }
+  const std::string quad =
+      parse_error_of_obj("v 0 0 0\nv 1 0 0\nv 1 1 nan\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n", "q.obj");
   EXPECT_NE(quad.find("q.obj:3: 'nan' is NaN or infinite"), std::string::npos) << quad;
   // A coordinate beyond a double's range is named on its own line too (it was named at line
   // 9, the first face using it).
-  std::string far;
-  try {
-    parse_obj("v 1e400 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n", "far.obj");
-  } catch (const InputError& x) {
-    far = x.what();
-  }
+  const std::string far = parse_error_of_obj("v 1e400 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n", "far.obj");
   EXPECT_NE(far.find("far.obj:1: '1e400' is NaN or infinite"), std::string::npos) << far;
 }
 
@@ -318,14 +318,7 @@ TEST(SurfaceFiles, ObjLinesAreReadWholeOrRefused) {
                                   "f 1/1 3/2 2/3\nf 1//1 2//1 4//1\nf 2/1/1 3/2/2 4/3/3\nf -2 -4 -1\n", "c.obj");
   EXPECT_EQ(c.xyz, t.xyz);
   EXPECT_EQ(c.tri, t.tri);
-  auto error_of = [](const std::string& text) {
-    try {
-      parse_obj(text, "e.obj");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(parsed)");
-  };
+  const auto error_of = [](const std::string& text) { return parse_error_of_obj(text); };
   EXPECT_NE(error_of("v 0 0 0 garbage\n" + v + f).find("e.obj:1: 'garbage' is not a number"), std::string::npos)
       << error_of("v 0 0 0 garbage\n" + v + f);
   EXPECT_NE(error_of(v + "f 1/x 3 2\n").find("e.obj:5: bad face corner '1/x'"), std::string::npos) << error_of(v + "f 1/x 3 2\n");
