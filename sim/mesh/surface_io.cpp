@@ -20,7 +20,6 @@
 namespace softtled {
 namespace {
 
-
 // Parses a number and rejects trailing garbage, so "1.0abc" is an error, not 1.0, and a
 // value that is not finite (nan, inf, 1e400) on its own line: caught later, at the first
 // face that used it, the message named the face's line.
