@@ -183,7 +183,6 @@ struct Opts {
 };
 
 int cpu_threads_for(const Simulation& sim, int requested) {
-  if (const std::string w = cpu_threads_warning(requested); !w.empty()) std::fprintf(stderr, "warning: --threads %s\n", w.c_str());
   return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
 
@@ -453,6 +452,8 @@ Command add_bench_command(CLI::App& app) {
     const Scene sc = load_scene(o->scene, set);
     if (!o->json.empty()) check_not_scene_input(sc, "--scene", {o->json, "--json", true});
     install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop after the current sample, write nothing
+    if (const std::string w = cpu_threads_warning(o->threads); !w.empty() && o->backend != "cuda")
+      std::fprintf(stderr, "warning: --threads %s\n", w.c_str());
     auto stopped = [&]() {
       std::fprintf(stderr, "softtled: stopped by signal %d before the benchmark finished; wrote nothing\n", stop_signal());
       return exit_code_for_signal(stop_signal());

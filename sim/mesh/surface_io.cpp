@@ -33,8 +33,6 @@ double to_number(const std::string& tok, const std::string& name, int line) {
   return v;
 }
 
-// A UTF-8 byte order mark some editors write before the first line.
-bool has_bom(const std::string& d) { return d.size() >= 3 && d.compare(0, 3, "\xEF\xBB\xBF") == 0; }
 
 constexpr std::size_t kMaxElements = 50'000'000;  // refuse absurd counts before allocating
 
@@ -176,7 +174,12 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
   int lineno = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    std::istringstream ls(line.substr(0, line.find('#')));  // a comment may end any line
+    // A comment may end any line: '#' at the start of a word ("1.#QNAN" is a bad number,
+    // not a comment).
+    std::size_t hash = line.find('#');
+    while (hash != std::string::npos && hash > 0 && !std::isspace(static_cast<unsigned char>(line[hash - 1])))
+      hash = line.find('#', hash + 1);
+    std::istringstream ls(line.substr(0, hash));
     std::string tag;
     if (!(ls >> tag)) continue;
     const std::string at = name + ":" + std::to_string(lineno);
@@ -184,9 +187,9 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
       std::string a, b, c, more;
       if (!(ls >> a >> b >> c)) throw InputError(at + ": vertex needs 3 coordinates");
       s.xyz.insert(s.xyz.end(), {to_number(a, name, lineno), to_number(b, name, lineno), to_number(c, name, lineno)});
-      // x y z, then an optional w or r g b (vertex colours): numbers, read and unused.
+      // x y z, then an optional w, or r g b [a] (vertex colours): numbers, read and unused.
       for (int k = 0; ls >> more; ++k) {
-        if (k == 4) throw InputError(at + ": vertex with more than 7 numbers (x y z, then w or r g b)");
+        if (k == 4) throw InputError(at + ": vertex with more than 7 numbers (x y z, then w, or r g b, or r g b a)");
         to_number(more, name, lineno);
       }
     } else if (tag == "f") {
@@ -195,12 +198,11 @@ SurfaceMesh parse_obj(const std::string& data, const std::string& name) {
       while (ls >> tok) {
         const std::string head = tok.substr(0, tok.find('/'));
         // v, v/vt, v//vn or v/vt/vn: the texture and normal indices are unused but must be
-        // indices (a corrupt field is not skipped).
+        // indices or empty (some exporters write "1//" or "1/"); a corrupt field is not skipped.
         for (std::size_t p = tok.find('/'), n = 0; p != std::string::npos; p = tok.find('/', p + 1), ++n) {
           const std::size_t e = tok.find('/', p + 1);
           const std::string field = tok.substr(p + 1, e == std::string::npos ? std::string::npos : e - p - 1);
-          const bool empty_ok = n == 0 && e != std::string::npos;  // the vt of v//vn
-          if (n >= 2 || (field.empty() ? !empty_ok : field.find_first_not_of("-0123456789") != std::string::npos))
+          if (n >= 2 || field.find_first_not_of("-0123456789") != std::string::npos)
             throw InputError(at + ": bad face corner '" + tok + "' (v, v/vt, v//vn or v/vt/vn expected)");
         }
         const double v = to_number(head, name, lineno);
@@ -493,6 +495,8 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bo
   ::close(fd);
   return data;
 }
+
+bool has_bom(const std::string& d) { return d.size() >= 3 && d.compare(0, 3, "\xEF\xBB\xBF") == 0; }
 
 std::string lower_ext(const std::string& path) {
   const auto dot = path.find_last_of('.');

@@ -29,6 +29,9 @@ SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes = kDef
 // "PATH: not a regular file (a directory)", "PATH: N bytes, above the limit of M bytes".
 // check_only: only the stat checks (exists, regular file); returns "".
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only = false);
+// Whether the text starts with a UTF-8 byte order mark (which editors on Windows write);
+// every text reader skips it.
+bool has_bom(const std::string& d);
 // The extension of the path's last component, lower case, without the dot ("" for none:
 // "scenes.v2/ring" has none).
 std::string lower_ext(const std::string& path);

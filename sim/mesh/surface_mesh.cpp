@@ -34,6 +34,8 @@ struct Shells {
 };
 Shells label_shells(const SurfaceMesh& s) {
   const int n = s.npoint(), nt = s.ntri();
+  for (int v : s.tri)
+    if (v < 0 || v >= n) throw InputError("surface: a triangle refers to vertex " + std::to_string(v) + " of " + std::to_string(n));
   std::vector<int> parent(n);
   for (int i = 0; i < n; ++i) parent[i] = i;
   auto find = [&](int x) {
@@ -82,7 +84,10 @@ double enclosed_volume(const SurfaceMesh& s) {
 
 int drop_unused_vertices(SurfaceMesh& s) {
   std::vector<int> new_of_old(s.npoint(), -1);
-  for (int v : s.tri) new_of_old[v] = 0;
+  for (int v : s.tri) {
+    if (v < 0 || v >= s.npoint()) throw InputError("surface: a triangle refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()));
+    new_of_old[v] = 0;
+  }
   int kept = 0;
   for (int i = 0; i < s.npoint(); ++i)
     if (new_of_old[i] == 0) {

@@ -22,12 +22,15 @@ struct SurfaceMesh {
 // solid's volume: shells of even depth outwards, those of odd depth (cavities) inwards.
 void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what);
 
+// Sum of the shells' signed volumes (InputError for an index out of range).
 double enclosed_volume(const SurfaceMesh& s);
 
-// Removes the vertices no triangle uses, renumbering the others in order; returns how many.
-// The loaders call it after check_and_orient_closed_surface (whose messages name the
-// file's vertex numbers): a stray vertex once reached TetGen as a point to mesh (an
-// interior node, or a crash on a face), and sized a mesh obstacle's distance grid.
+// Removes the vertices no triangle uses, renumbering the others in order; returns how many
+// (InputError for an index out of range). The loaders call it after
+// check_and_orient_closed_surface, whose messages name the file's vertex numbers; later
+// messages (the meshing checks) count only the vertices kept. A stray vertex once reached
+// TetGen as a point to mesh (an interior node, or a crash on a face), and sized a mesh
+// obstacle's distance grid.
 int drop_unused_vertices(SurfaceMesh& s);
 
 // "" when the triangles tri (over npoint vertices) form a 2-manifold: every edge on exactly

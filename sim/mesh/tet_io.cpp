@@ -242,7 +242,7 @@ namespace {
 // A UTF-8 byte order mark, which editors on Windows put before text, is not the file's:
 // "$MeshFormat missing at the start" was the message for a .msh that had one.
 std::string without_bom(std::string d) {
-  if (d.size() >= 3 && d.compare(0, 3, "\xEF\xBB\xBF") == 0) d.erase(0, 3);
+  if (has_bom(d)) d.erase(0, 3);
   return d;
 }
 }  // namespace

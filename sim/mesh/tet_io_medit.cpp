@@ -85,7 +85,7 @@ TetSoup parse_medit(const std::string& data, const std::string& name, long max_t
       // An element section is skipped, but its vertices must be the file's (a triangle on
       // vertex 99 of 8 is corruption, not a face to skip): its entries are vertices, then
       // a reference.
-      if (s->kind && !vertices) c.fail(kw + " before Vertices");
+      if (s->kind && n > 0 && !vertices) c.fail(kw + " before Vertices");
       for (long long i = 0; i < n; ++i)
         for (int k = 0; k < s->per_entry; ++k) {
           if (!s->kind || k == s->per_entry - 1) {

@@ -1,6 +1,7 @@
 #include "sim/scene/closing_speeds.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -31,23 +32,51 @@ double body_depth(const TetMesh& m, int b) {
 void check_closing_speeds(const Scene& s, const TetMesh& m, double dt) {
   const int nb = m.nbody();
   if (nb < 2 || !s.body_contact()) return;
-  std::vector<double> depth(nb);
+  // Each body's bounding sphere about the mean of its nodes.
+  std::vector<std::array<double, 3>> centre(nb, {0, 0, 0});
+  std::vector<double> radius(nb, 0), depth(nb);
+  std::vector<int> count(nb, 0);
+  const auto body_of_node = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
+  for (int i = 0; i < m.nnode(); ++i) {
+    ++count[body_of_node(i)];
+    for (int k = 0; k < 3; ++k) centre[body_of_node(i)][k] += m.X[3 * i + k];
+  }
+  for (int b = 0; b < nb; ++b)
+    for (int k = 0; k < 3; ++k) centre[b][k] /= std::max(1, count[b]);
+  for (int i = 0; i < m.nnode(); ++i) {
+    const auto& c = centre[body_of_node(i)];
+    const double d[3] = {m.X[3 * i] - c[0], m.X[3 * i + 1] - c[1], m.X[3 * i + 2] - c[2]};
+    radius[body_of_node(i)] = std::max(radius[body_of_node(i)], std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
   for (int b = 0; b < nb; ++b) depth[b] = body_depth(m, b);
-  const auto relative_speed = [](const double* u, const double* v) {
-    return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) + (u[2] - v[2]) * (u[2] - v[2]));
-  };
   for (int i = 0; i < nb; ++i)
     for (int j = i + 1; j < nb; ++j) {
-      const double v = relative_speed(s.body(i).velocity.data(), s.body(j).velocity.data());
-      const double thin = std::min(depth[i], depth[j]);
+      // Relative position and velocity of j seen from i [m, m/s]. Only a pair on a
+      // collision course within the run counts: approaching (p.w < 0), its bounding
+      // spheres meeting on the straight relative path, before time.duration. Bodies
+      // flying apart or past each other were refused as well, whatever the geometry.
+      double p[3], w[3], pw = 0, ww = 0, pp = 0;
+      for (int k = 0; k < 3; ++k) {
+        p[k] = centre[j][k] - centre[i][k];
+        w[k] = s.body(j).velocity[k] - s.body(i).velocity[k];  // [m/s]
+        pw += p[k] * w[k], ww += w[k] * w[k], pp += p[k] * p[k];
+      }
+      if (!(pw < 0) || !(ww > 0)) continue;
+      const double reach = radius[i] + radius[j];
+      // |p + w t| = reach: t^2 ww + 2 t pw + pp - reach^2 = 0; the earlier root.
+      const double disc = pw * pw - ww * (pp - reach * reach);
+      if (disc < 0) continue;  // the spheres pass each other
+      const double t_meet = std::max(0.0, (-pw - std::sqrt(disc)) / ww);
+      if (t_meet > s.duration) continue;
+      const double v = std::sqrt(ww), thin = std::min(depth[i], depth[j]);
       if (v * dt > thin) {
-        char buf[600];
+        char buf[700];
         std::snprintf(buf, sizeof buf,
-                      ": %s.velocity and %s.velocity: the bodies close at %.4g m/s, so a step of time.dt = %.4g s moves "
-                      "them %.4g mm against each other, more than the thinner body is deep (2 volume / area = %.4g mm): "
-                      "contact between them would be missed (they would pass through each other); lower the speeds or "
-                      "time.dt",
-                      s.body(i).key.c_str(), s.body(j).key.c_str(), v, dt, v * dt * 1e3, thin * 1e3);
+                      ": %s.velocity and %s.velocity: the bodies are on a collision course at %.4g m/s (they meet "
+                      "after about %.3g s), so a step of time.dt = %.4g s moves them %.4g mm against each other, more "
+                      "than the thinner body is deep (2 volume / area = %.4g mm): contact between them would be missed "
+                      "(they would pass through each other); lower the speeds or time.dt",
+                      s.body(i).key.c_str(), s.body(j).key.c_str(), v, t_meet, dt, v * dt * 1e3, thin * 1e3);
         throw InputError(s.source + buf);
       }
     }

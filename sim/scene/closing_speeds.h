@@ -17,8 +17,10 @@ namespace softtled {
 // 2 V / A of the body (V its volume, A its boundary area): the tube radius of a torus, 2/3
 // of a sphere's radius, a slab's thickness.
 double body_depth(const TetMesh& m, int b);
-// InputError naming both velocities when, at the first step dt, two bodies (with body
-// contact on) close by more than the thinner one's depth, from their initial velocities.
+// InputError naming both velocities when two bodies (with body contact on) are, at their
+// initial velocities, on a collision course within time.duration (approaching, their
+// bounding spheres meeting on the straight relative path) and a step of dt moves them by
+// more than the thinner one's depth against each other.
 void check_closing_speeds(const Scene& s, const TetMesh& m, double dt);
 
 }  // namespace softtled

@@ -78,7 +78,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   solver_ = make_solver(backend, mesh_, scene_.rho, flags_, scene_.precision, &note);
   if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
   solver_->set_cpu_threads(scene_.threads);
-  if (const std::string w = cpu_threads_warning(scene_.threads); !w.empty())
+  if (const std::string w = cpu_threads_warning(scene_.threads); !w.empty() && solver_->backend().rfind("cpu", 0) == 0)
     std::fprintf(stderr, "warning: solver.threads = %s\n", w.c_str());
   params_.E = scene_.E;
   params_.element = scene_.element;

@@ -9,7 +9,6 @@
 #include <sched.h>
 
 #include <algorithm>
-#include <thread>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -369,10 +368,13 @@ int auto_cpu_threads(int ntet) {
 }
 
 std::string cpu_threads_warning(int threads) {
-  const int hw = int(std::thread::hardware_concurrency());
+  // The CPUs this process may run on (taskset, a container's limit), as auto_cpu_threads.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  const int hw = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : omp_get_num_procs();
   if (threads <= 0 || hw <= 0 || threads <= hw) return "";
-  return std::to_string(threads) + " CPU threads on " + std::to_string(hw) +
-         " hardware threads: the extra threads wait for time slices at every barrier of the step, which makes it "
+  return std::to_string(threads) + " CPU threads on the " + std::to_string(hw) +
+         " CPUs this process may use: the extra threads wait for time slices at every barrier of the step, which makes it "
          "many times slower (use 0, the automatic choice, or at most " + std::to_string(hw) + ")";
 }
 

@@ -257,8 +257,8 @@ class Solver {
 // --threads / solver.threads to choose.
 constexpr int kTetsPerThread = 2048;
 int auto_cpu_threads(int ntet);
-// "" when `threads` (solver.threads, bench --threads; 0 = automatic) is at most the
-// machine's hardware threads; else a warning saying so: OpenMP threads beyond the cores
+// "" when `threads` (solver.threads, bench --threads; 0 = automatic) is at most the CPUs
+// this process may run on; else a warning saying so: OpenMP threads beyond the cores
 // wait for time slices at every barrier (1,024 threads on 2 cores: ~1,000x slower steps).
 std::string cpu_threads_warning(int threads);
 std::unique_ptr<Solver> make_cpu_solver(const TetMesh& mesh, double rho,

@@ -318,9 +318,14 @@ TEST(SurfaceFiles, ObjLinesAreReadWholeOrRefused) {
                                   "f 1/1 3/2 2/3\nf 1//1 2//1 4//1\nf 2/1/1 3/2/2 4/3/3\nf -2 -4 -1\n", "c.obj");
   EXPECT_EQ(c.xyz, t.xyz);
   EXPECT_EQ(c.tri, t.tri);
+  // Empty texture or normal fields, as some exporters write them.
+  EXPECT_EQ(parse_obj(v + "f 1// 3// 2//\nf 1/ 2/ 4/\nf 2 3 4\nf 3 1 4\n", "empty.obj").tri, t.tri);
   const auto error_of = [](const std::string& text) { return parse_error_of_obj(text); };
   EXPECT_NE(error_of("v 0 0 0 garbage\n" + v + f).find("e.obj:1: 'garbage' is not a number"), std::string::npos)
       << error_of("v 0 0 0 garbage\n" + v + f);
+  // '#' inside a word is not a comment: MSVC's "1.#QNAN" is a bad number, not "v 1.".
+  EXPECT_NE(error_of("v 1.#QNAN 0 0\n").find("e.obj:1: '1.#QNAN' is not a number"), std::string::npos)
+      << error_of("v 1.#QNAN 0 0\n");
   EXPECT_NE(error_of(v + "f 1/x 3 2\n").find("e.obj:5: bad face corner '1/x'"), std::string::npos) << error_of(v + "f 1/x 3 2\n");
   EXPECT_NE(error_of(v + "f 1/2/3/4 3 2\n").find("bad face corner"), std::string::npos);
   EXPECT_NE(error_of(v + "f -9 1 2\n").find("e.obj:5: vertex index -9 counts back past the first vertex (4 vertices"),

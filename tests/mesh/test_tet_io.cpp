@@ -227,6 +227,9 @@ TEST(TetIo, AByteOrderMarkIsSkippedInEveryFormat) {
   write_medit(a, base + "_m.mesh");
   with_bom(base + "_m.mesh", base + "2.mesh");
   expect_same(a, load_tet_mesh(base + "2.mesh"));
+  write_vtu(base + "_v.vtu", a, nullptr, 1.0, {neo_hookean_from_E_nu<double>(3000, 0.49)});
+  with_bom(base + "_v.vtu", base + "2.vtu");
+  expect_same(load_tet_mesh(base + "_v.vtu"), load_tet_mesh(base + "2.vtu"));
 }
 
 TEST(TetIo, VtuCommentsAreIgnoredAndCdataIsRead) {
@@ -379,6 +382,8 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
        "element 2: a triangle with 2 nodes (3 expected)"},
       {"tri_on_missing_vertex.mesh", cube.substr(0, cube.find("End")) + "Triangles\n1\n1 2 99 0\nEnd\n",
        "Triangles 1 refers to vertex 99 of 8 (numbered from 1)"},
+      {"tri_before_vertices.mesh", "MeshVersionFormatted 2\nDimension 3\nTriangles\n1\n1 2 3 0\n" + cube.substr(cube.find("Vertices")),
+       "Triangles before Vertices"},
       {"short_wedge.vtu",
        "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"2\"><Points>"
        "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points><Cells>"

@@ -566,7 +566,7 @@ TEST(Bodies, DepthIsTwoVolumesOverAreaAndAClosingStepBeyondItIsRefused) {
     Simulation sim(asset("two_ring_collision.toml", with_speed(v_over)), "cpu");
     ADD_FAILURE() << "closing by more than the depth per step was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("body[0].velocity and body[1].velocity: the bodies close at"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("body[0].velocity and body[1].velocity: the bodies are on a collision course at"), std::string::npos)
         << e.what();
   }
   // Just under it the run starts, and the rings meet: contact is seen before they could
@@ -578,6 +578,21 @@ TEST(Bodies, DepthIsTwoVolumesOverAreaAndAClosingStepBeyondItIsRefused) {
   } catch (const SimulationDiverged&) {
   }
   EXPECT_TRUE(met) << "rings closing at just under one depth per step never touched";
+  // Flying apart, or past each other 400 mm apart, as fast: nothing to miss (both were
+  // refused while the check looked at |v_i - v_j| alone).
+  const auto with = [&](std::vector<std::string> set) {
+    set.push_back("time.duration=0.0001");
+    return asset("two_ring_collision.toml", set);
+  };
+  EXPECT_NO_THROW(Simulation(with({"body.0.velocity=[-5000, 0, 0]", "body.1.velocity=[5000, 0, 0]"}), "cpu"));
+  EXPECT_NO_THROW(Simulation(with({"body.1.position=[400, 0, 0]", "body.0.velocity=[0, 5000, 0]",
+                                   "body.1.velocity=[0, 5000, 3000]"}), "cpu"));
+  // On a collision course but meeting only after time.duration: the run ends first.
+  std::vector<std::string> late = with_speed(v_over);
+  late.push_back("body.1.position=[1000, 0, 0]");
+  EXPECT_NO_THROW(Simulation(asset("two_ring_collision.toml", late), "cpu"));
+  late.back() = "body.1.position=[20, 0, 0]";  // meets within the 0.1 ms
+  EXPECT_THROW(Simulation(asset("two_ring_collision.toml", late), "cpu"), InputError);
   // Without body contact there is nothing to miss.
   std::vector<std::string> off = with_speed(v_over);
   off.push_back("contact.bodies=false");
