@@ -402,6 +402,8 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
       ++lineno;
       std::istringstream in(line);
       while (in >> tok) {
+        // Keywords in any case: some CAD exporters write SOLID / FACET / VERTEX.
+        std::transform(tok.begin(), tok.end(), tok.begin(), [](unsigned char ch) { return std::tolower(ch); });
         if (!started) {
           if (tok != "solid") {
             throw InputError(name + ":" + std::to_string(lineno) +

@@ -3,6 +3,8 @@
 // the wild (colour columns, COFF, comments, short counts line).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -264,6 +266,21 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   // ASCII STL errors give the real line.
   const std::string stl = "solid t\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 x 0\n";
   EXPECT_NE(parse_error_of_stl(stl).find(":5: 'x' is not a number"), std::string::npos) << parse_error_of_stl(stl);
+  // Keywords in upper case (some CAD exporters) read as in lower case.
+  std::string tet_stl = "solid t\n";
+  const double P[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& f : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}}) {
+    tet_stl += " facet normal 0 0 0\n  outer loop\n";
+    for (int k : f) tet_stl += "   vertex " + std::to_string(P[k][0]) + " " + std::to_string(P[k][1]) + " " + std::to_string(P[k][2]) + "\n";
+    tet_stl += "  endloop\n endfacet\n";
+  }
+  tet_stl += "endsolid t\n";
+  std::string upper = tet_stl;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char ch) { return std::toupper(ch); });
+  const SurfaceMesh lo = parse_stl(tet_stl, "lower.stl"), up = parse_stl(upper, "upper.stl");
+  EXPECT_EQ(up.xyz, lo.xyz);
+  EXPECT_EQ(up.tri, lo.tri);
+  EXPECT_NEAR(enclosed_volume(up), 1.0 / 6.0, 1e-12);
   // A text file without "solid" is still called what it is, whatever its size.
   const std::string text = "facet normal 0 0 0\n" + std::string(100, ' ') + "\n";
   EXPECT_NE(parse_error_of_stl(text).find("a.stl:1: neither binary STL"), std::string::npos) << parse_error_of_stl(text);
