@@ -141,7 +141,10 @@ class VtuReader {
       x_.fail("VTKFile type '" + v + "': only UnstructuredGrid (.vtu) is supported");
     if (x_.attr(b, e, "compressor", v) && !v.empty())
       x_.fail("compressed data (" + v + ") is not supported: save the .vtu uncompressed");
-    if (x_.attr(b, e, "byte_order", v) && v != "LittleEndian") big_endian_ = true;
+    if (x_.attr(b, e, "byte_order", v) && v != "LittleEndian") {
+      if (v != "BigEndian") x_.fail("byte_order '" + v + "' (LittleEndian or BigEndian expected)");
+      big_endian_ = true;
+    }
     if (x_.attr(b, e, "header_type", v)) {
       if (v == "UInt64") header_bytes_ = 8;
       else if (v != "UInt32") x_.fail("header_type '" + v + "' (UInt32 or UInt64 expected)");

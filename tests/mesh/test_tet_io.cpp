@@ -371,6 +371,8 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
       {"v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "MSH version '3.0' is not supported"},
       {"compressed.vtu", "<VTKFile type=\"UnstructuredGrid\" compressor=\"vtkZLibDataCompressor\">", "compressed data"},
       {"polydata.vtu", "<VTKFile type=\"PolyData\">", "only UnstructuredGrid"},
+      {"middle_endian.vtu", "<VTKFile type=\"UnstructuredGrid\" byte_order=\"MiddleEndian\">",
+       "byte_order 'MiddleEndian' (LittleEndian or BigEndian expected)"},
       {"no_piece.vtu", "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>", "no <Piece>"},
       {"dim2.node", "3 2 0 0\n", "dimension 2 (3 expected)"},
       // Elements that are skipped are still read whole: corrupt ones were skipped with a note.
