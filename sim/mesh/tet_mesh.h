@@ -27,6 +27,9 @@ struct TetMesh {
   // element's and node's body as an index into the live law table (element_law.h).
   bool per_body_law = false;
   int nbody() const;                  // 1 when node_body is empty
+  // The body of node i and of element e (0 for a one-body mesh).
+  int body_of_node(int i) const { return node_body.empty() ? 0 : node_body[i]; }
+  int body_of_tet(int e) const { return tet_body.empty() ? 0 : tet_body[e]; }
   int nnode() const { return static_cast<int>(X.size() / 3); }
   int ntet() const { return static_cast<int>(tet.size() / 4); }
   int nbtri() const { return static_cast<int>(boundary_tri.size() / 3); }

@@ -8,25 +8,23 @@
 
 namespace softtled {
 
-double body_depth(const TetMesh& m, int b) {
-  const auto body_of_tet = [&](int e) { return m.tet_body.empty() ? 0 : m.tet_body[e]; };
-  const auto body_of_node = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
-  double V = 0, A = 0;
+std::vector<double> body_depths(const TetMesh& m) {
+  std::vector<double> V(m.nbody(), 0.0), A(m.nbody(), 0.0);
   for (int e = 0; e < m.ntet(); ++e)
-    if (body_of_tet(e) == b)
-      V += tet_signed_volume(&m.X[3 * m.tet[4 * e]], &m.X[3 * m.tet[4 * e + 1]], &m.X[3 * m.tet[4 * e + 2]],
-                             &m.X[3 * m.tet[4 * e + 3]]);
+    V[m.body_of_tet(e)] += tet_signed_volume(&m.X[3 * m.tet[4 * e]], &m.X[3 * m.tet[4 * e + 1]],
+                                             &m.X[3 * m.tet[4 * e + 2]], &m.X[3 * m.tet[4 * e + 3]]);
   for (int t = 0; t < m.nbtri(); ++t) {
     const int* v = &m.boundary_tri[3 * t];
-    if (body_of_node(v[0]) != b) continue;
     const double* p = &m.X[3 * v[0]];
     const double* q = &m.X[3 * v[1]];
     const double* r = &m.X[3 * v[2]];
     const double e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
     const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    A += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    A[m.body_of_node(v[0])] += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
   }
-  return A > 0 ? 2 * V / A : 0;
+  std::vector<double> depth(m.nbody());
+  for (int b = 0; b < m.nbody(); ++b) depth[b] = A[b] > 0 ? 2 * V[b] / A[b] : 0;
+  return depth;
 }
 
 void check_closing_speeds(const Scene& s, const TetMesh& m, double dt) {
@@ -34,21 +32,20 @@ void check_closing_speeds(const Scene& s, const TetMesh& m, double dt) {
   if (nb < 2 || !s.body_contact()) return;
   // Each body's bounding sphere about the mean of its nodes.
   std::vector<std::array<double, 3>> centre(nb, {0, 0, 0});
-  std::vector<double> radius(nb, 0), depth(nb);
+  std::vector<double> radius(nb, 0);
   std::vector<int> count(nb, 0);
-  const auto body_of_node = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
   for (int i = 0; i < m.nnode(); ++i) {
-    ++count[body_of_node(i)];
-    for (int k = 0; k < 3; ++k) centre[body_of_node(i)][k] += m.X[3 * i + k];
+    ++count[m.body_of_node(i)];
+    for (int k = 0; k < 3; ++k) centre[m.body_of_node(i)][k] += m.X[3 * i + k];
   }
   for (int b = 0; b < nb; ++b)
     for (int k = 0; k < 3; ++k) centre[b][k] /= std::max(1, count[b]);
   for (int i = 0; i < m.nnode(); ++i) {
-    const auto& c = centre[body_of_node(i)];
-    const double d[3] = {m.X[3 * i] - c[0], m.X[3 * i + 1] - c[1], m.X[3 * i + 2] - c[2]};
-    radius[body_of_node(i)] = std::max(radius[body_of_node(i)], std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    const int b = m.body_of_node(i);
+    const double d[3] = {m.X[3 * i] - centre[b][0], m.X[3 * i + 1] - centre[b][1], m.X[3 * i + 2] - centre[b][2]};
+    radius[b] = std::max(radius[b], std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
   }
-  for (int b = 0; b < nb; ++b) depth[b] = body_depth(m, b);
+  const std::vector<double> depth = body_depths(m);
   for (int i = 0; i < nb; ++i)
     for (int j = i + 1; j < nb; ++j) {
       // Relative position and velocity of j seen from i [m, m/s]. Only a pair on a

@@ -13,10 +13,10 @@
 
 namespace softtled {
 
-// How deep a point can get inside body b of m before the nearest surface is the far one:
-// 2 V / A of the body (V its volume, A its boundary area): the tube radius of a torus, 2/3
-// of a sphere's radius, a slab's thickness.
-double body_depth(const TetMesh& m, int b);
+// How deep a point can get inside each body of m before the nearest surface is the far
+// one: 2 V / A of the body (V its volume, A its boundary area): the tube radius of a
+// torus, 2/3 of a sphere's radius, a slab's thickness.
+std::vector<double> body_depths(const TetMesh& m);
 // InputError naming both velocities when two bodies (with body contact on) are, at their
 // initial velocities, on a collision course within time.duration (approaching, their
 // bounding spheres meeting on the straight relative path) and a step of dt moves them by

@@ -291,7 +291,7 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
     }
     if (worst < -1e-9) {
       // With several bodies, the one that is in it (body.position is refused there).
-      const int b = m.node_body.empty() ? 0 : m.node_body[deepest];
+      const int b = m.body_of_node(deepest);
       const std::string who = m.nbody() > 1 ? s.body(b).key : std::string("the body");
       char buf[320];
       std::snprintf(buf, sizeof buf, ": %s starts %.4g mm inside the %s plane; move %s.position or the plane", who.c_str(),
@@ -312,7 +312,7 @@ void surface_edges(const TetMesh& m, std::vector<std::array<int, 2>>& nodes, std
     }
   for (const auto& e : nodes) {
     seg.push_back({m.X[3 * e[0]], m.X[3 * e[0] + 1], m.X[3 * e[0] + 2], m.X[3 * e[1]], m.X[3 * e[1] + 1], m.X[3 * e[1] + 2]});
-    body.push_back(m.node_body.empty() ? 0 : m.node_body[e[0]]);
+    body.push_back(m.body_of_node(e[0]));
   }
 }
 
@@ -345,7 +345,7 @@ std::vector<BodyPoint> body_points(const TetMesh& m, bool every_node) {
       for (int i : nodes) v += m.X[3 * i + k];
       p.x[k] = v / double(nodes.size());
     }
-    p.body = m.node_body.empty() ? 0 : m.node_body[*nodes.begin()];
+    p.body = m.body_of_node(*nodes.begin());
   };
   auto node = [&](int i) {
     BodyPoint p{{}, 0, 0, i, -1, -1};
@@ -442,10 +442,9 @@ std::vector<double> placed_vertices(const ObstacleSpec& o) {
 // mesh: a surface edge crossing one of its triangles, or one of its edges crossing a
 // surface triangle. `body` gets the body of the nodes named.
 std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, int& body) {
-  auto node_body = [&](int v) { return m.node_body.empty() ? 0 : m.node_body[v]; };
   auto face = [&](int f) {
     const int* t = &m.boundary_tri[3 * f];
-    body = node_body(t[0]);
+    body = m.body_of_node(t[0]);
     return "the surface triangle of nodes " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + " and " +
            std::to_string(t[2]);
   };
@@ -502,7 +501,6 @@ std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, in
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles) {
   // "the body", or with several bodies the one the node or element belongs to.
   const auto body_name = [&](int b) { return m.nbody() > 1 ? s.body(b).key : std::string("the body"); };
-  const auto node_body = [&](int i) { return m.node_body.empty() ? 0 : m.node_body[i]; };
   if (obstacles.empty()) return;
   const BoundaryFaces boundary(m);  // a point on the body's boundary touches it
   // Every node, and the body's other points (body_points: a body that meets an obstacle
@@ -565,7 +563,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     }
     const std::array<int, 2> hit = first_point_in_element(m, boundary, xs, std::vector<int>(xs.size(), -1));
     if (hit[0] >= 0) {
-      const int b = node_body(m.tet[4 * hit[0]]);
+      const int b = m.body_of_node(m.tet[4 * hit[0]]);
       throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + what[hit[1]] + " lies in element " +
                        std::to_string(hit[0]) + "); move " + s.body(b).key + ".position or the obstacle");
     }

@@ -340,12 +340,17 @@ class CpuSolver final : public Solver {
 
 }  // namespace
 
+// The CPUs this process may run on (taskset, a container's limit); false when unknown.
+static bool allowed_cpus(cpu_set_t& set) {
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof set, &set) == 0;
+}
+
 static int physical_cores() {
   // Distinct (package, core) pairs among the CPUs this process may run on: SMT siblings
   // share a core's SIMD units, so a second thread per core only adds barrier time.
   cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return omp_get_num_procs();
+  if (!allowed_cpus(set)) return omp_get_num_procs();
   std::set<std::pair<int, int>> cores;
   for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
     if (!CPU_ISSET(cpu, &set)) continue;
@@ -368,10 +373,8 @@ int auto_cpu_threads(int ntet) {
 }
 
 std::string cpu_threads_warning(int threads) {
-  // The CPUs this process may run on (taskset, a container's limit), as auto_cpu_threads.
   cpu_set_t set;
-  CPU_ZERO(&set);
-  const int hw = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : omp_get_num_procs();
+  const int hw = allowed_cpus(set) ? CPU_COUNT(&set) : omp_get_num_procs();
   if (threads <= 0 || hw <= 0 || threads <= hw) return "";
   return std::to_string(threads) + " CPU threads on the " + std::to_string(hw) +
          " CPUs this process may use: the extra threads wait for time slices at every barrier of the step, which makes it "
