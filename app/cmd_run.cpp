@@ -176,7 +176,12 @@ Command add_run_command(CLI::App& app) {
       return stop_requested();
     });
     // One output time: its frame, row and summary figures, from the state checked there.
+    // The adaptive step stops within half a step of an output time, so a duration less
+    // than half a step past the last output time takes no step: that state has its row.
+    double last_out_t = sim.time();
     auto output = [&](long done, const Diagnostics& dd, const HostState& st) {
+      if (!(dd.t > last_out_t)) return;
+      last_out_t = dd.t;
       d = dd;
       write_frame(d.t, st);
       write_row(d);

@@ -36,5 +36,15 @@ ts = [l.split(",")[0] for l in lines]
 assert len(ts) == len(set(ts)), f"a time appears twice: {ts}"
 assert abs(float(ts[-1]) - float(sys.argv[2])) < 1e-9, f"last row t = {ts[-1]}, rolled back to {sys.argv[2]}"
 PY
-[ $status -eq 0 ] && echo "ok: no partial row after a write error, no repeated row after a watchdog stop"
+# The adaptive step stops within half a step of each output time: a duration less than
+# half a step past the last one (this scene steps 24.9 us) adds no step, and no row.
+"$exe" run --scene "$data/surface.toml" --set time.dt=adaptive time.duration=0.010005 --csv "$tmp/ad.csv" \
+  >/dev/null 2>&1 || { echo "FAIL: adaptive run exit $?"; status=1; }
+python3 - "$tmp/ad.csv" <<'PY' || { echo "FAIL: adaptive rows"; cut -d, -f1 "$tmp/ad.csv"; status=1; }
+import sys
+ts = [float(l.split(",")[0]) for l in open(sys.argv[1]).read().splitlines()[1:]]
+assert all(b > a for a, b in zip(ts, ts[1:])), f"times not strictly increasing: {ts}"
+assert abs(ts[-1] - 0.01) < 3e-5, f"last row at {ts[-1]}"
+PY
+[ $status -eq 0 ] && echo "ok: no partial row after a write error, no repeated row after a watchdog stop or an adaptive end"
 exit $status
