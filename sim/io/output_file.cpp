@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 #include "sim/core/input_error.h"
 
@@ -110,6 +111,17 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
 }
 
 namespace {
+constexpr const char* kStdoutName = "standard output";
+constexpr const char* kStderrName = "standard error";
+// "standard output" or "standard error" when st is the file or pipe that stream goes to
+// (same device and inode), else nullptr. Standard output is named first.
+const char* standard_stream_of(const struct stat& st) {
+  for (const auto& [fd, name] : {std::pair<int, const char*>{STDOUT_FILENO, kStdoutName}, {STDERR_FILENO, kStderrName}}) {
+    struct stat ss;
+    if (::fstat(fd, &ss) == 0 && ss.st_dev == st.st_dev && ss.st_ino == st.st_ino) return name;
+  }
+  return nullptr;
+}
 std::string parent_of(const std::string& path) {
   const std::filesystem::path p(path);
   const std::string parent = p.parent_path().string();
@@ -134,13 +146,15 @@ void check_output_file(const std::string& path, const std::string& what, bool al
   struct stat st;
   if (::stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw InputError(where + "is a directory; give a file name");
-    // The file or pipe standard output already goes to (--csv /dev/stdout, or --csv f > f):
-    // the command's messages and this output would overwrite or interleave. A device
-    // (/dev/null, a terminal) takes both.
-    struct stat so;
-    if (!S_ISCHR(st.st_mode) && ::fstat(STDOUT_FILENO, &so) == 0 && so.st_dev == st.st_dev && so.st_ino == st.st_ino)
-      throw InputError(where + "is where standard output goes, and the messages would mix with it" +
-                       (allow_stdout ? " (give - to write it to standard output)" : ""));
+    // The file or pipe standard output or standard error already goes to (--csv
+    // /dev/stdout, --csv f > f, --csv f 2> f, --csv /dev/stderr): the command's messages and
+    // this output would overwrite or interleave. A device (/dev/null, a terminal) takes both.
+    if (!S_ISCHR(st.st_mode)) {
+      const char* stream = standard_stream_of(st);
+      if (stream)
+        throw InputError(where + "is where " + stream + " goes, and the messages would mix with it" +
+                         (allow_stdout && stream == kStdoutName ? " (give - to write it to standard output)" : ""));
+    }
     if (::access(path.c_str(), W_OK) != 0) throw InputError(where + "cannot write: " + std::strerror(errno));
     if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its directory
       const std::string dir = parent_of(path);
@@ -224,25 +238,27 @@ bool written_in_dir(const std::string& file, const std::string& dir) {
 }  // namespace
 
 void check_distinct_paths(const std::vector<PathUse>& paths) {
-  // Standard output sent to a regular file (> f, >> f) is an output too: not an input, nor
-  // a file a directory output writes.
-  struct stat so;
-  if (::fstat(STDOUT_FILENO, &so) == 0 && S_ISREG(so.st_mode))
+  // Standard output or standard error sent to a regular file (> f, >> f, 2> f) is an output
+  // too: not an input, nor a file a directory output writes.
+  for (const auto& [fd, stream] : {std::pair<int, const char*>{STDOUT_FILENO, kStdoutName}, {STDERR_FILENO, kStderrName}}) {
+    struct stat so;
+    if (::fstat(fd, &so) != 0 || !S_ISREG(so.st_mode)) continue;
     for (const PathUse& u : paths) {
       if (!comparable(u)) continue;
-      auto is_stdout = [&](const std::string& p) {
+      auto is_stream = [&](const std::string& p) {
         struct stat st;
         return ::stat(p.c_str(), &st) == 0 && st.st_dev == so.st_dev && st.st_ino == so.st_ino;
       };
-      std::string hit = u.output_dir ? "" : (is_stdout(u.path) ? u.path : "");
+      std::string hit = u.output_dir ? "" : (is_stream(u.path) ? u.path : "");
       std::error_code ec;
       if (u.output_dir)
         for (const auto& e : std::filesystem::directory_iterator(u.path, ec))
-          if (written_in_dir(e.path().string(), u.path) && is_stdout(e.path().string())) hit = e.path().string();
+          if (written_in_dir(e.path().string(), u.path) && is_stream(e.path().string())) hit = e.path().string();
       if (!hit.empty())
-        throw InputError(u.what + " " + u.path + ": standard output goes to " + hit + ", which " +
-                         (u.output ? "this output writes" : "is an input") + "; send standard output elsewhere");
+        throw InputError(u.what + " " + u.path + ": " + stream + " goes to " + hit + ", which " +
+                         (u.output ? "this output writes" : "is an input") + "; send " + stream + " elsewhere");
     }
+  }
   for (std::size_t i = 0; i < paths.size(); ++i)
     for (std::size_t j = 0; j < paths.size(); ++j) {
       const PathUse &a = paths[i], &b = paths[j];

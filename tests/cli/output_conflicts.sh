@@ -57,6 +57,33 @@ fi
 rc=$?; { [ $rc -eq 2 ] && grep -q "is where standard output goes" so.err; } || { echo "FAIL: --csv onto stdout's file (exit $rc)"; status=1; }
 out=$("$exe" run --scene surface.toml --csv /dev/stdout 2>&1 | cat)
 grep -q "is where standard output goes" <<<"$out" || { echo "FAIL: --csv /dev/stdout into a pipe: $out"; status=1; }
+# The same for standard error (the messages, the watchdog's among them): --csv f 2> f,
+# --csv /dev/stderr (opening it truncated the lines written), the other outputs onto the
+# file standard error goes to, and standard error into --vtu's index or into an input.
+"$exe" run --scene surface.toml --csv se.csv 2> se.csv
+rc=$?; { [ $rc -eq 2 ] && grep -q "^softtled: error: --csv se.csv: is where standard error goes" se.csv && [ "$(wc -l <se.csv)" -eq 1 ]; } ||
+  { echo "FAIL: --csv onto stderr's file (exit $rc): $(head -c 300 se.csv)"; status=1; }
+"$exe" run --scene surface.toml --csv /dev/stderr 2> se2.csv
+rc=$?; { [ $rc -eq 2 ] && grep -q "is where standard error goes" se2.csv; } || { echo "FAIL: --csv /dev/stderr (exit $rc)"; status=1; }
+out=$("$exe" run --scene surface.toml --csv /dev/stderr 2>&1 >/dev/null | cat)
+grep -q "is where standard error goes" <<<"$out" || { echo "FAIL: --csv /dev/stderr into a pipe: $out"; status=1; }
+"$exe" mesh --scene surface.toml --vtu se.vtu 2> se.vtu
+rc=$?; { [ $rc -eq 2 ] && grep -q "^softtled: error: --vtu se.vtu: is where standard error goes" se.vtu; } || { echo "FAIL: mesh --vtu onto stderr's file (exit $rc)"; status=1; }
+"$exe" mesh --scene surface.toml --write se 2> se.node
+rc=$?; { [ $rc -eq 2 ] && grep -q "^softtled: error: --write se.node: is where standard error goes" se.node; } || { echo "FAIL: mesh --write onto stderr's file (exit $rc)"; status=1; }
+"$exe" bench --scene surface.toml --steps 30 --samples 3 --json se.json 2> se.json
+rc=$?; { [ $rc -eq 2 ] && grep -q "^softtled: error: --json se.json: is where standard error goes" se.json; } || { echo "FAIL: bench --json onto stderr's file (exit $rc)"; status=1; }
+mkdir v2
+"$exe" run --scene surface.toml --vtu v2 2> v2/series.pvd
+rc=$?; { [ $rc -eq 2 ] && grep -q "standard error goes to v2/series.pvd, which this output writes; send standard error elsewhere" v2/series.pvd; } ||
+  { echo "FAIL: stderr into --vtu's index (exit $rc)"; status=1; }
+cp surface.toml app2.toml
+"$exe" run --scene app2.toml --csv se3.csv 2>> app2.toml
+rc=$?; { [ $rc -eq 2 ] && grep -q "standard error goes to app2.toml, which is an input" app2.toml && [ ! -e se3.csv ]; } ||
+  { echo "FAIL: stderr appended onto the scene (exit $rc)"; status=1; }
+# Control: standard error to another file.
+"$exe" run --scene surface.toml --csv ctl.csv 2> ctl.err
+rc=$?; { [ $rc -eq 0 ] && [ "$(wc -l <ctl.csv)" -ge 3 ] && ! grep -q error ctl.err; } || { echo "FAIL: control, stderr elsewhere (exit $rc)"; status=1; }
 # The names written on the way: PATH.tmp of a replaced output, a first frame staged as
 # .new beside an earlier series; and standard output sent into a file that is an input or
 # that --vtu writes. Each was consumed (the scene gone) or lost (the CSV) with exit 0.
