@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "sim/core/input_error.h"
+#include "sim/solver/solver_factory.h"
 #if defined(SOFTTLED_HAVE_CUDA)
 #include "sim/solver/cuda/device_info.h"
 #endif
@@ -70,7 +71,10 @@ int exit_code_for_signal(int sig) {
 }
 
 std::string resolve_backend(const std::string& requested) {
-  if (requested != "auto") return requested;
+  if (requested != "auto") {
+    check_backend_available(requested);  // "cuda" without CUDA or a device: refused here, before any work
+    return requested;
+  }
 #if defined(SOFTTLED_HAVE_CUDA)
   std::string why;
   if (cuda::device_count(&why) > 0) return "cuda";

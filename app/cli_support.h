@@ -42,8 +42,8 @@ inline bool stop_requested() { return stop_signal() != 0; }
 int exit_code_for_signal(int sig);
 
 // "auto" becomes "cuda" when a CUDA device is usable (every stage runs on both backends),
-// else "cpu"; the reason is printed only with -v (asking for "cuda" explicitly reports it
-// as an error).
+// else "cpu"; the reason is printed only with -v. Asking for "cuda" where there is none is
+// an InputError at once (check_backend_available), before any meshing or output.
 std::string resolve_backend(const std::string& requested);
 
 // The Simulation of a scene on a backend (resolve_backend). InputErrors from meshing that

@@ -136,6 +136,9 @@ Command add_accuracy_command(CLI::App& app) {
     // ---- every argument first: the reference run takes hours on a CPU ----
     if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
     if (out_opt->count() && o->out.empty()) throw InputError("--out: empty path");
+    // The backend first: "cuda" on a build or machine without one is refused before the
+    // scene is read, any level meshed or --out created.
+    const std::string backend = resolve_backend(o->backend);
     if (o->scene.empty()) o->scene = default_scene();
     auto parse_lambdas = [](const std::string& flag, const std::string& list) {
       std::vector<double> out;
@@ -203,7 +206,6 @@ Command add_accuracy_command(CLI::App& app) {
       std::filesystem::create_directories(o->out, ec);
       if (ec) throw InputError("--out " + o->out + ": cannot create directory: " + ec.message());
     }
-    const std::string backend = resolve_backend(o->backend);
     const std::string csv_path = o->out + "/accuracy.csv", md_path = o->out + "/accuracy.md";
     check_output_file(csv_path, "--out");
     check_output_file(md_path, "--out");

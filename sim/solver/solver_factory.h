@@ -7,7 +7,11 @@
 
 namespace softtled {
 
-// Throws InputError for an unknown or unavailable backend. `note` receives a one-line
+// InputError for an unknown backend, or "cuda" where this build has no CUDA backend or no
+// device is usable; cheap, so callers ask it before meshing or creating outputs.
+void check_backend_available(const std::string& backend);
+
+// Throws InputError for an unknown or unavailable backend (check_backend_available). `note` receives a one-line
 // message when "auto" falls back to the CPU.
 std::unique_ptr<Solver> make_solver(const std::string& backend, const TetMesh& mesh, double rho,
                                     const std::vector<std::uint8_t>& flags, Precision prec,

@@ -18,6 +18,18 @@ bash "$expect" 2 "--t-end: must be finite" "$exe" accuracy --scene "$scene" --t-
 bash "$expect" 2 "--ref-lambda: value 2 not in" "$exe" accuracy --scene "$scene" --ref-lambda 2 || status=1
 bash "$expect" 2 "body.segments" "$exe" accuracy --scene "$scene" --ref 2x2 || status=1
 [ -z "$(ls)" ] || { echo "FAIL: a refused run created $(ls)"; status=1; }
+# --backend cuda where there is none (no CUDA in the build, or no device) is refused
+# before the reference is meshed and before --out is created; with a device it runs.
+"$exe" accuracy --scene "$scene" --backend cuda --out acc_cuda --ref 12x5 --levels 10x4 --lambdas 0.5 --precisions float \
+  --elements T4 --t-end 0.01 >out.txt 2>err.txt
+rc=$?
+if [ $rc -eq 2 ]; then
+  grep -q "^softtled: error: backend 'cuda': " err.txt && ! grep -q '^\[1/' err.txt && [ ! -e acc_cuda ] ||
+    { echo "FAIL: --backend cuda without CUDA: not refused first"; cat err.txt; ls acc_cuda 2>/dev/null; status=1; }
+elif [ $rc -ne 0 ]; then
+  echo "FAIL: --backend cuda exited with $rc"; cat err.txt; status=1
+fi
+rm -rf acc_cuda out.txt err.txt
 "$exe" accuracy --scene "$scene" --ref 12x5 --levels 10x4 --lambdas 0.5 --adaptive-lambdas 0.5 --precisions float \
   --elements T4 --t-end 0.01 >out.txt 2>err.txt || { echo "FAIL: accuracy exited with $?"; cat err.txt; exit 1; }
 dir=$(ls -d accuracy-* 2>/dev/null | head -1)
