@@ -101,13 +101,11 @@ Command add_mesh_command(CLI::App& app) {
       check_output_file(o->write + ".ele", "--write");
     }
     if (!o->vtu.empty()) check_output_file(o->vtu, "--vtu");
-    Scene s = o->scene.empty() ? parse_scene("", "(defaults)", o->set) : load_scene(o->scene, o->set);
-    if (!o->surface.empty()) {  // the surface replaces the scene's bodies
-      s.more_bodies.clear();
-      s.shape = "file";
-      s.file = o->surface;
-      s.source = "--surface";  // no directory: the path is used as given
-    }
+    // The surface replaces the scene's bodies: one file body, read as such (body.scale
+    // applies to it; body.shape or a torus key given with it is refused, not ignored).
+    Scene s = o->scene.empty() ? parse_scene("", o->surface.empty() ? "(defaults)" : "--surface " + o->surface, o->set, o->surface)
+                               : load_scene(o->scene, o->set, o->surface);
+    if (!o->surface.empty()) s.source = "--surface";  // no directory: the path is used as given
     {  // no output onto an input or another output
       std::vector<PathUse> paths =
           o->surface.empty() ? scene_inputs(s, "--scene") : std::vector<PathUse>{{o->surface, "--surface"}};

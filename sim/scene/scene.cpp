@@ -180,7 +180,7 @@ class Reader {
         }
       } else if (!used_.count(key)) {
         if (v.is_array_of_tables())
-          fail(key, "[[" + key + "]] repeats a table; only [[body]] and [[obstacle]] may repeat (write [" + key + "])");
+          fail(key, "[[" + key + "]] repeats a table; only [[body]], [[obstacle]] and [[fixed]] may repeat (write [" + key + "])");
         fail(key, "unknown key (see README, 'Scene format')");
       }
     }
@@ -394,11 +394,14 @@ void apply_override(toml::table& root, const std::string& kv, const std::string&
   }
   if (section == "body" && root["body"].as_array())
     throw InputError(source + ": --set " + key + ": the scene has [[body]] tables: use body.N." + leaf);
+  if (section == "body" && first == "material" && leaf != first)  // body.material.E: which body is not said
+    throw InputError("--set " + quoted(kv) + ": a body's own material is set with 'body.N.material.key' (N = 0, 1, ... " +
+                     "in file order: --set body.0." + leaf + "=...); the scene's [material] with 'material.key'");
   if (leaf.empty() || leaf.find('.') != std::string::npos)
     throw InputError("--set " + quoted(kv) + ": keys are 'section.key' or 'key'");
   if (section == "body" && leaf == "material")
-    throw InputError(source + ": --set " + key + ": 'material' is a table, not a key: set its keys one by one (--set " +
-                     key + ".key=value)");
+    throw InputError(source + ": --set " + key + ": 'material' is a table, not a key: set its keys one by one " +
+                     "(--set body.0.material.key=value)");
   toml::table* target = &root;
   if (!section.empty()) {
     if (!root.contains(section)) root.insert(section, toml::table{});
@@ -573,7 +576,7 @@ std::set<std::string> shape_keys(const std::string& shape) {
 // One body's keys (body.* in table t, under the name label), into b. set_here: the keys
 // --set gave this body.
 void read_body(const toml::table& t, const std::string& source, const std::string& label, BodyDesc& b,
-               const std::set<std::string>& set_here) {
+               const std::set<std::string>& set_here, const std::string& surface = "") {
   toml::table root;
   root.insert("body", t);
   Reader r(root, source, label == "body" ? "" : label);
@@ -582,6 +585,14 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   b.radius = r.num("body.radius", b.radius, 0, INFINITY, true);
   b.subdivisions = r.integer("body.subdivisions", b.subdivisions, 0, 7);
   b.file = r.str("body.file", "");
+  if (!surface.empty()) {  // `mesh --surface`: the surface file is this body, whatever the scene says
+    for (const char* k : {"shape", "file"})
+      if (set_here.count(k))
+        r.fail(std::string("body.") + k, "not used with --surface: the surface file " + quoted(surface) +
+                                             " is the body (without --surface, mesh meshes the scene's body)");
+    b.shape = "file";
+    b.file = surface;
+  }
   b.major_radius = r.num("body.major_radius", b.major_radius, 0, INFINITY, true);
   b.tube_radius = r.num("body.tube_radius", b.tube_radius, 0, INFINITY, true);
   b.segments = r.ivec<2>("body.segments", b.segments, 3, 4096);
@@ -621,12 +632,17 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   }
   // A key of another shape does nothing. Asked for with --set it is refused; in the file
   // (say, left over when --set changed the shape) it is reported and left.
+  // With --surface the scene's own shape keys are replaced with the body, silently.
   const std::set<std::string> own = shape_keys(b.shape);
   for (const std::string& name : kShapeKeys) {
     if (!t.contains(name) || own.count(name)) continue;
+    if (!surface.empty() && !set_here.count(name)) continue;
     std::string uses;
     for (const std::string& k : own) uses += (uses.empty() ? "" : ", ") + k;
-    const std::string why = "not used by a " + b.shape + " body (its shape keys: " + uses + ")";
+    const std::string why = surface.empty()
+                                ? "not used by a " + b.shape + " body (its shape keys: " + uses + ")"
+                                : "not used with --surface: the body is the surface file " + quoted(surface) +
+                                      " (its shape key: scale)";
     if (set_here.count(name)) r.fail("body." + name, why);
     std::fprintf(stderr, "warning: %s: %s.%s is %s; ignored\n", source.c_str(), label.c_str(), name.c_str(),
                  why.c_str());
@@ -635,7 +651,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
 
 // [body] (one body) or [[body]] tables (at most kMaxBodies), each with body.* keys and
 // optionally [body.material]. Body 0 goes into the Scene's own BodyDesc.
-void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& body_sets) {
+void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& body_sets, const std::string& surface) {
   const toml::node* node = r.get("body");
   std::vector<const toml::table*> tables;
   bool array = false;
@@ -658,13 +674,20 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& b
     r.fail("body", "expected a [body] table or [[body]] tables");
   }
   (void)root;
+  if (!surface.empty()) {  // one body, the surface: the others are replaced, and a key set for one would do nothing
+    for (const auto& [n, key] : body_sets)
+      if (n > 0)
+        r.fail("body[" + std::to_string(n) + "]." + key,
+               "not used with --surface: the surface file " + quoted(surface) + " replaces the scene's bodies with one (body 0)");
+    tables.resize(1);
+  }
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string label = array ? "body[" + std::to_string(i) + "]" : "body";
     std::set<std::string> set_here;
     for (const auto& [n, key] : body_sets)
       if (n == i) set_here.insert(key);
     if (i == 0) {
-      read_body(*tables[i], s.source, label, s, set_here);
+      read_body(*tables[i], s.source, label, s, set_here, surface);
     } else {
       BodyDesc b;
       read_body(*tables[i], s.source, label, b, set_here);
@@ -674,7 +697,8 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& b
 }
 }  // namespace
 
-Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
+                  const std::string& surface) {
   toml::table root;
   check_dotted_keys(text, source);
   try {
@@ -692,7 +716,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   const std::string units = r.str("units", "mm", {"m", "mm"});
   s.length_unit = units == "mm" ? 1e-3 : 1.0;
 
-  read_bodies(r, root, s, body_sets);
+  read_bodies(r, root, s, body_sets, surface);
   read_mesh_keys(r, s);
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
@@ -873,7 +897,7 @@ void check_not_scene_input(const Scene& s, const std::string& scene_flag, const 
   check_distinct_paths(paths);
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, const std::string& surface) {
   // Regular files only, size-capped (a directory or FIFO is refused before it is opened).
   std::string text;
   try {
@@ -881,7 +905,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   } catch (const InputError& e) {
     throw InputError(std::string("scene file ") + e.what());
   }
-  return parse_scene(text, path, overrides);
+  return parse_scene(text, path, overrides, surface);
 }
 
 }  // namespace softtled

@@ -151,13 +151,17 @@ struct Scene : BodyDesc {
 
 // Parses TOML text. overrides are "dotted.key=value" strings applied before validation;
 // a value that is not valid TOML is taken as a string (contact.mode=sliding).
+// surface (`mesh --surface F`): F replaces the scene's bodies as one file body (body 0's
+// position, scale, material... stay); overrides of body.shape, body.file, another shape's
+// keys or a body other than 0 are refused, since they would do nothing.
 Scene parse_scene(const std::string& toml_text, const std::string& source,
-                  const std::vector<std::string>& overrides = {});
+                  const std::vector<std::string>& overrides = {}, const std::string& surface = "");
 // Scene files larger than this are refused before they are read.
 constexpr std::uint64_t kMaxSceneBytes = 4ull << 20;
 // Reads a regular file of at most kMaxSceneBytes (read_input_file); errors name the path
 // and the OS reason ("scene file PATH: cannot open file: No such file or directory").
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
+                 const std::string& surface = "");
 
 // The files a scene reads, for check_distinct_paths (no output may overwrite one): the
 // scene file itself (as `scene_flag`, when it came from a file), every body's file

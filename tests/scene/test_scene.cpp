@@ -64,7 +64,7 @@ TEST(Scene, NamedModesParseToTheirEnumsAndBack) {
 TEST(Scene, BadInputNamesTheKey) {
   EXPECT_NE(error_of("[material]\nEE = 3\n").find("material.EE: unknown key"), std::string::npos);
   EXPECT_NE(error_of("colour = 3\n").find("colour: unknown key"), std::string::npos);
-  EXPECT_NE(error_of("[[material]]\nE = 3000\n").find("material: [[material]] repeats a table; only [[body]] and [[obstacle]]"),
+  EXPECT_NE(error_of("[[material]]\nE = 3000\n").find("material: [[material]] repeats a table; only [[body]], [[obstacle]] and [[fixed]] may repeat"),
             std::string::npos)
       << error_of("[[material]]\nE = 3000\n");
   EXPECT_NE(error_of("[output]\ntrack_points = [[1e30, 0, 0]]\n").find("output.track_points: element 0 lies beyond 10000 m"),
