@@ -72,11 +72,24 @@ int main(int argc, char** argv) {
     }
     break;
   }
+  // What went to standard output (the summary and tables, --help, --version) is output
+  // too: a full disk or a closed pipe must not pass silently.
+  // earlier: the errno of a write that already failed (CLI11 flushes --version's line itself).
+  auto stdout_failed = [](int earlier = 0) {
+    errno = 0;
+    if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return false;
+    const int e = errno ? errno : earlier;
+    std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", e ? ": " : "", e ? std::strerror(e) : "");
+    return true;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; every usage error (CLI11's 101..) is bad input.
+    // --help and --version exit 0 (5 when their text could not be written); every usage
+    // error (CLI11's 101..) is bad input.
+    errno = 0;
     const int rc = app.exit(e);
+    if (rc == 0 && stdout_failed(errno)) return kExitResource;
     return rc == 0 ? kExitOk : kExitInput;
   }
   auto stopped = [](const char* what) {
@@ -87,13 +100,7 @@ int main(int argc, char** argv) {
   try {
     for (auto* sub : app.get_subcommands()) {
       const int rc = commands.at(sub->get_name())();
-      // The summary and tables on stdout are output too: a full disk must not pass silently.
-      errno = 0;
-      if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-        std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", errno ? ": " : "",
-                     errno ? std::strerror(errno) : "");
-        return kExitResource;
-      }
+      if (stdout_failed()) return kExitResource;
       return rc;
     }
   } catch (const InputError& e) {
