@@ -321,12 +321,20 @@ PYBIND11_MODULE(_softtled, m) {
           "advance_to", [](PySimulation& s, double t) {
             if (!std::isfinite(t)) throw InputError("advance_to: t must be finite");
             const std::string what = "advance_to(" + number_text(t) + ")";
+            // The facade steps to t within half a step (Simulation::step_to): a t further
+            // back cannot be reached, and doing nothing would hide that.
+            const double now = s.sim().time();
+            if (t < now - 0.5 * s.sim().params().dt)
+              throw InputError(what + ": t = " + number_text(t) + " s is earlier than the current time " + number_text(now) +
+                               " s; the simulation only goes forward (reset() starts again from t = 0)");
             if (s.sim().params().dt_adaptive)
               run_adaptive(s, t, what);
             else if (t > s.sim().time())
               run_steps(s, s.steps_for(t - s.sim().time(), what));
           },
-          py::arg("t"), "To simulated time t (as `softtled run` reaches its output times).")
+          py::arg("t"),
+          "To simulated time t (as `softtled run` reaches its output times); a t more than half a step before the "
+          "current time raises InputError (the simulation only goes forward).")
       .def(
           "reset", [](PySimulation& s) {
             s.sim().reset();

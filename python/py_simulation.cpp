@@ -76,12 +76,12 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
   PhysicsParams p = sim_->params();
   bool floor = floor_, slope = slope_, planes = false;
   double deg = slope_deg_;
-  auto number = [](const std::string& key, const ParamValue& v, double lo, double hi, bool lo_open) {
+  auto number = [](const std::string& key, const ParamValue& v, double lo, double hi, bool lo_open, bool hi_open = false) {
     if (v.kind != ParamValue::kNumber) throw std::invalid_argument("set_params: " + key + " takes a number");
     const double x = v.number;
-    if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo))
+    if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo) || (hi_open && x == hi))
       throw InputError("set_params: " + key + " = " + number_text(x) + ": must be finite and in " +
-                       (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + "]");
+                       (lo_open ? "(" : "[") + number_text(lo) + ", " + number_text(hi) + (hi_open ? ")" : "]"));
     return x;
   };
   auto flag = [](const std::string& key, const ParamValue& v) {
@@ -91,7 +91,7 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
   constexpr double kBig = 1e300;
   for (const auto& [key, v] : changes) {
     if (key == "E") p.E = number(key, v, 0, kMaxYoungsModulus, true);  // the scene file's ranges
-    else if (key == "nu") p.nu = number(key, v, -1, 0.4999, true);  // the panel's cap
+    else if (key == "nu") p.nu = number(key, v, kMinPoisson, kMaxPoisson, true, true);  // the scene file's range
     else if (key == "alpha") p.alpha = number(key, v, 0, kMaxAlpha, false);
     else if (key == "beta") p.beta = number(key, v, 0, kMaxBeta, false);
     else if (key == "mu") p.mu = number(key, v, 0, kMaxMu, false);

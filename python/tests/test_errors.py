@@ -197,3 +197,50 @@ def test_wrong_types_are_type_errors_and_init_runs_once():
     with pytest.raises(RuntimeError, match="already initialised"):
         sim.__init__(scene("cube_rest.toml"), backend="cpu")
     assert sim.source == scene("torus_coarse.toml")
+
+
+def test_set_params_nu_has_the_scene_files_range():
+    """nu live is refused or taken as in a scene file, (-1, 0.5) (it capped at 0.4999)."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    sim.set_params(nu=0.49995)
+    assert sim.params()["nu"] == 0.49995
+    softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=["material.nu=0.49995"])  # the file agrees
+    for nu in (0.5, -1.0):
+        with pytest.raises(softtled.InputError, match=r"nu = .*: must be finite and in \(-1, 0\.5\)"):
+            sim.set_params(nu=nu)
+        with pytest.raises(softtled.InputError, match="material.nu"):
+            softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=[f"material.nu={nu}"])
+
+
+@pytest.mark.parametrize("sets", [[], ["time.dt=adaptive"]])
+def test_advance_to_an_earlier_time_is_refused(sets):
+    """The simulation only goes forward: advance_to(t) with t behind the current time
+    raises, naming t and the time (it returned having done nothing); the current time
+    itself is reached already (no step, no error)."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=sets)
+    sim.advance(0.002)
+    now, steps = sim.time, sim.steps
+    sim.advance_to(now)
+    assert sim.steps == steps
+    with pytest.raises(softtled.InputError, match=r"advance_to\(0\.001\): t = 0\.001 s is earlier than the current time 0\.00"):
+        sim.advance_to(0.001)
+    assert sim.time == now and sim.steps == steps
+    sim.advance_to(now + 0.001)  # forward still works
+    assert sim.time > now
+
+
+def test_toml_text_has_the_scene_files_size_limit(exe, tmp_path):
+    """from_toml (and a dict scene) take at most kMaxSceneBytes (4 MiB), as a scene file,
+    refused with the file's message (they took 5 MiB)."""
+    text = "# padding\n" * ((4 << 20) // 10) + "[time]\nduration = 0.001\n"
+    assert len(text) > 4 << 20
+    limit = f": {len(text)} bytes, above the limit of {4 << 20} bytes for input files"
+    with pytest.raises(softtled.InputError) as e:
+        softtled.Simulation.from_toml(text, backend="cpu")
+    assert str(e.value) == "scene <toml>" + limit
+    path = tmp_path / "big.toml"
+    path.write_text(text)
+    assert py_message(str(path)) == cli_message(exe, "--scene", str(path)) == f"scene file {path}" + limit
+    just_under = "#" * ((4 << 20) - 40) + "\n[time]\nduration = 0.001\n"
+    assert len(just_under) <= 4 << 20
+    softtled.Simulation.from_toml(just_under, backend="cpu")  # the limit itself is allowed

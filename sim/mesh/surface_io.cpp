@@ -448,6 +448,12 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
   return s;
 }
 
+void check_input_size(const std::string& name, std::uint64_t size, std::uint64_t max_bytes) {
+  if (size > max_bytes)
+    throw InputError(name + ": " + std::to_string(size) + " bytes, above the limit of " + std::to_string(max_bytes) +
+                     " bytes for input files");
+}
+
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only) {
   check_no_nul(path, "");
   auto os_error = [&](const char* what) { return InputError(path + ": " + what + ": " + std::strerror(errno)); };
@@ -457,9 +463,7 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bo
   };
   auto check = [&](const struct stat& st) {
     if (!S_ISREG(st.st_mode)) throw InputError(path + ": not a regular file (" + kind(st.st_mode) + ")");
-    if (std::uint64_t(st.st_size) > max_bytes)
-      throw InputError(path + ": " + std::to_string(st.st_size) + " bytes, above the limit of " + std::to_string(max_bytes) +
-                       " bytes for input files");
+    check_input_size(path, std::uint64_t(st.st_size), max_bytes);
   };
   struct stat st;
   if (::stat(path.c_str(), &st) != 0) throw os_error("cannot open file");

@@ -29,6 +29,9 @@ SurfaceMesh load_surface(const std::string& path, std::uint64_t max_bytes = kDef
 // "PATH: not a regular file (a directory)", "PATH: N bytes, above the limit of M bytes".
 // check_only: only the stat checks (exists, regular file); returns "".
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, bool check_only = false);
+// InputError "NAME: N bytes, above the limit of M bytes for input files" when size > max_bytes
+// (read_input_file's own check; also for input given as text, e.g. a scene from Python).
+void check_input_size(const std::string& name, std::uint64_t size, std::uint64_t max_bytes);
 // Whether the text starts with a UTF-8 byte order mark (which editors on Windows write);
 // every text reader skips it.
 bool has_bom(const std::string& d);

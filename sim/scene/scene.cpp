@@ -619,8 +619,8 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
     }
     b.own_E = r.num("body.material.E", -1, 0, kMaxYoungsModulus, true);
     b.own_rho = r.num("body.material.rho", -1, 0, kMaxDensity, true);
-    b.own_nu = r.num("body.material.nu", -2, -1, 0.5, false);
-    if (b.own_nu > -2 && !(b.own_nu > -1 && b.own_nu < 0.5)) r.fail("body.material.nu", "must lie in (-1, 0.5)");
+    b.own_nu = r.num("body.material.nu", -2, kMinPoisson, kMaxPoisson, false);
+    if (b.own_nu > -2 && !(b.own_nu > kMinPoisson && b.own_nu < kMaxPoisson)) r.fail("body.material.nu", "must lie in (-1, 0.5)");
     if (r.get("body.material.model")) b.own_model = r.choice("body.material.model", kTaylorNeoHookean, kMaterialModels);
     if (r.get("body.material.element")) b.own_element = r.choice("body.material.element", kT4, kElements);
   }
@@ -700,6 +700,8 @@ void read_bodies(Reader& r, const toml::table& root, Scene& s, const BodySets& b
 Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
                   const std::string& surface) {
   toml::table root;
+  // Text (Python's from_toml or a dict) has the limit of a scene file (load_scene).
+  check_input_size("scene " + source, text.size(), kMaxSceneBytes);
   check_dotted_keys(text, source);
   try {
     root = toml::parse(text, source);
@@ -771,8 +773,8 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (s.element == kT4ANP && s.material_model != kTaylorNeoHookean)
     r.fail("material.element", "T4ANP is implemented for the neo_hookean model only");
   s.E = r.num("material.E", s.E, 0, kMaxYoungsModulus, true);
-  s.nu = r.num("material.nu", s.nu, -1, 0.5, false);
-  if (!(s.nu > -1 && s.nu < 0.5)) r.fail("material.nu", "must lie in (-1, 0.5)");
+  s.nu = r.num("material.nu", s.nu, kMinPoisson, kMaxPoisson, false);
+  if (!(s.nu > kMinPoisson && s.nu < kMaxPoisson)) r.fail("material.nu", "must lie in (-1, 0.5)");
   s.rho = r.num("material.rho", s.rho, 0, kMaxDensity, true);
   // T4ANP is implemented for the Taylor form only (anp.h), body by body: a body's own
   // element or model against its own or the scene's other one.

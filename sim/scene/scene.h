@@ -55,6 +55,10 @@ constexpr double kMaxGravity = 1e6;         // m/s^2 per component: 1e5 g (the c
 constexpr double kMaxSpeed = 1e4;           // m/s per component: 30x the speed of sound in air
 constexpr double kMaxMu = 1e3;              // friction coefficient: above ~10 Coulomb is static anyway
 constexpr double kMaxDuration = 1e7;        // s of simulated time
+// Poisson's ratio nu lies in the open interval (kMinPoisson, kMaxPoisson): 0.5 is
+// incompressible (lambda infinite), -1 has no bulk stiffness (K = 0).
+constexpr double kMinPoisson = -1.0;
+constexpr double kMaxPoisson = 0.5;
 
 // Body 0's keys are the Scene's own (a one-body scene reads and edits them as before);
 // bodies 1.. are in more_bodies.
@@ -156,7 +160,8 @@ struct Scene : BodyDesc {
 // keys or a body other than 0 are refused, since they would do nothing.
 Scene parse_scene(const std::string& toml_text, const std::string& source,
                   const std::vector<std::string>& overrides = {}, const std::string& surface = "");
-// Scene files larger than this are refused before they are read.
+// Scene files larger than this are refused before they are read; scene text (parse_scene)
+// larger than this is refused too.
 constexpr std::uint64_t kMaxSceneBytes = 4ull << 20;
 // Reads a regular file of at most kMaxSceneBytes (read_input_file); errors name the path
 // and the OS reason ("scene file PATH: cannot open file: No such file or directory").
