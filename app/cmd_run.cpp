@@ -106,11 +106,15 @@ Command add_run_command(CLI::App& app) {
     if (s.duration / std::max(s.output_every, dt) > kMaxOutputRows)
       throw InputError(s.source + ": time.output_every: " + std::to_string(s.duration / std::max(s.output_every, dt)) +
                        " output rows for time.duration " + std::to_string(s.duration) + " s, above the limit of 1e8");
+    char damping_bound[64] = "";  // named where it is the bound that holds (Simulation::set_params)
+    if (ts.dt_cr == ts.dt_alpha) std::snprintf(damping_bound, sizeof damping_bound, ", 2/alpha = %.4g us", ts.dt_alpha * 1e6);
     std::fprintf(stderr,
                  "mesh: %d nodes, %d tets, %zu surface nodes; c = %.3g m/s, Le_min = %.4g mm\n"
-                 "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
+                 "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us%s), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
-                 ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6, ts.dt * 1e6, ts.dt / ts.dt_cr,
+                 ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6,
+                 damping_bound,
+                 ts.dt * 1e6, ts.dt / ts.dt_cr,
                  sim.backend().c_str(), precision_name(s.precision));
     const int t_dec = time_decimals(dt);
     std::unique_ptr<OutputFile> csv;

@@ -115,9 +115,9 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
     if (!scene_.dt_auto && requested > ts_.dt_cr) {
       char buf[400];
       std::snprintf(buf, sizeof buf,
-                    "time.dt = %.4g s exceeds the stable step %.4g s (Le/c = %.4g s, 2/omega_max = %.4g s); "
-                    "use time.dt = \"auto\" or at most %.4g s%s",
-                    requested, ts_.dt_cr, ts_.dt_le, ts_.dt_eigen, ts_.dt_cr,
+                    "time.dt = %.4g s exceeds the stable step %.4g s (Le/c = %.4g s, 2/omega_max = %.4g s, "
+                    "2/damping.alpha = %.4g s); use time.dt = \"auto\" or at most %.4g s%s",
+                    requested, ts_.dt_cr, ts_.dt_le, ts_.dt_eigen, ts_.dt_alpha, ts_.dt_cr,
                     scene_.allow_unstable ? " (running anyway: time.allow_unstable = true)"
                                           : ", or set time.allow_unstable = true to run anyway");
       if (!scene_.allow_unstable) throw InputError(scene_.source + ": " + buf);
@@ -130,8 +130,26 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
     }
   }
   check_closing_speeds(scene_, mesh_, ts_.dt);
+  warn_float_far_from_origin();
   tracked_ = scene_tracked_nodes(scene_, mesh_);
   apply_initial_state();
+}
+
+void Simulation::warn_float_far_from_origin() const {
+  // In float a position |x| rounds to |x| 2^-24 (contact gaps, the planes' and obstacles'
+  // distances are taken at X0 + u): a 10 mm cube 10 km out rested 0.45 mm above the floor
+  // it was reported in contact with. Where that rounding reaches 1 % of the smallest
+  // element, say so.
+  if (scene_.precision != Precision::kFloat || mesh_.nnode() == 0) return;
+  double far = 0;
+  for (double x : mesh_.X) far = std::max(far, std::fabs(x));
+  const double ulp = far * std::ldexp(1.0, -24);
+  if (!(ulp > 0.01 * ts_.min_Le)) return;
+  std::fprintf(stderr,
+               "warning: %s: float precision: nodes up to %.4g m from the origin round to %.3g mm, %.2g %% of the "
+               "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
+               "set solver.precision = \"double\"\n",
+               scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
 }
 
 std::vector<NeoHookean<double>> Simulation::materials() const {
@@ -148,7 +166,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   const bool same_step = params_.dt > 0 && params_.dt_adaptive && p.dt_adaptive && p.E == params_.E &&
                          p.nu == params_.nu && p.material_model == params_.material_model &&
                          p.element == params_.element && p.body_laws == params_.body_laws &&
-                         p.lambda == params_.lambda && p.beta == params_.beta && p.dt_max == params_.dt_max;
+                         p.lambda == params_.lambda && p.beta == params_.beta && p.dt_max == params_.dt_max &&
+                         p.alpha == params_.alpha;
   if (!same_step) drop_estimate();  // of the old parameters
   PhysicsParams q = p;
   // Body-body contact: only between several bodies.
@@ -196,11 +215,18 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     eigen_laws_ = laws;
   }
   ts_.dt_eigen = 2.0 / std::sqrt(eigen_scale_ * q.E / scene_.rho);
-  ts_.dt_cr = rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
+  // Mass damping D = alpha M in the increment form scales du by c = (2 - alpha dt) /
+  // (2 + alpha dt) each step (central_difference.h; Belytschko, Liu & Moran §6.2.1): stable
+  // for any alpha, but below zero above alpha dt = 2, where the velocity flips sign every
+  // step and more damping means more motion. The step stays below 2 / alpha.
+  ts_.dt_alpha = q.alpha > 0 ? 2.0 / q.alpha : std::numeric_limits<double>::infinity();
+  ts_.dt_cr = std::min(rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta), ts_.dt_alpha);
   std::string warning;
   if (!(q.lambda > 0 && q.lambda <= 1)) throw InputError("lambda must lie in (0, 1]");
   if (!(q.dt_max > 0)) throw InputError("dt_max must be positive");
   const double dt_old = params_.dt;
+  const bool start_changed = at_start_ && (q.g[0] != params_.g[0] || q.g[1] != params_.g[1] ||
+                                           q.g[2] != params_.g[2] || q.alpha != params_.alpha);
   bool estimate_now = false;
   if (q.dt_adaptive) {
     // The step follows the live state: 2/omega_max (not Le/c, README "Adaptive step"); the
@@ -208,7 +234,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     q.dt_auto = false;
     ladder_ref_ = ts_.dt_eigen;
     if (!(dt_old > 0)) {
-      rung_ = ladder_rung(std::min(q.lambda * rayleigh_stable_step(ts_.dt_eigen, q.beta), q.dt_max));
+      rung_ = ladder_rung(std::min(q.lambda * std::min(rayleigh_stable_step(ts_.dt_eigen, q.beta), ts_.dt_alpha), q.dt_max));
       q.dt = ladder(rung_);
     } else if (same_step) {
       q.dt = dt_old;
@@ -217,7 +243,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
       rung_ = ladder_rung(q.dt);
       estimate_now = true;  // the material or lambda may have changed: follow at once
     }
-    ts_.dt_cr = rayleigh_stable_step(ts_.dt_eigen, q.beta);
+    ts_.dt_cr = std::min(rayleigh_stable_step(ts_.dt_eigen, q.beta), ts_.dt_alpha);
   } else if (q.dt_auto) {
     q.dt = q.lambda * ts_.dt_cr;
   } else if (q.dt > ts_.dt_cr && !(scene_.allow_unstable && q.dt == dt_old)) {
@@ -293,6 +319,10 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   if (dt_old > 0 && q.dt != dt_old) solver_->change_step(q.dt / dt_old, 0.5 * (dt_old + q.dt));
   state_changed();
   if (estimate_now) adapt_step(5 * AdaptiveStep::kIterations, false);
+  // Before the first step the start's du (apply_initial_state) is rebuilt from the new g,
+  // alpha and dt: rescaled by change_step it would keep the old g's half step, and a body
+  // at rest in zero gravity would drift at g_old dt / 2.
+  if (start_changed || (at_start_ && q.dt != dt_old)) apply_initial_state();
   return warning;
 }
 
@@ -350,8 +380,8 @@ void Simulation::finish_estimate(bool apply) {
     estimate_every_ = std::min<long>(AdaptiveStep::kEvery, 2 * estimate_every_);
   omega_prev_ = w;
   ts_.dt_live = rayleigh_stable_step(2.0 / w, params_.beta);
-  ts_.dt_cr = ts_.dt_live;
-  const double target = std::min(params_.lambda * lambda_scale_ * ts_.dt_live, params_.dt_max);
+  ts_.dt_cr = std::min(ts_.dt_live, ts_.dt_alpha);
+  const double target = std::min(params_.lambda * lambda_scale_ * ts_.dt_cr, params_.dt_max);
   const int k = ladder_rung(target);
   const int rung = k < rung_ ? k : std::min(k, rung_ + 1);  // down at once, up one rung at a time
   if (!apply) {
@@ -454,6 +484,7 @@ void Simulation::apply_initial_state() {
   }
   solver_->set_state(s);
   state_changed();
+  at_start_ = true;
   // A slope still turning towards its angle is at that angle for the body dropped again
   // (the parameters as set now), unless that pose cuts into the body at the start.
   bool turned = false;
@@ -517,6 +548,7 @@ void Simulation::account_work() {
 }
 
 void Simulation::set_state(const HostState& s) {
+  at_start_ = false;
   drop_estimate();
   queued_.clear();
   solver_->set_state(s);
@@ -722,6 +754,7 @@ void Simulation::step(long n) {
     long k = move_planes(n - done);
     k = std::min(k, steps_to_estimate_event());
     solver_->step(k);
+    at_start_ = false;
     nsteps_ += k;
     total_steps_ += k;
     if (obstacles_moving()) pose_obstacles();  // where they are now (diagnostics)

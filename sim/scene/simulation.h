@@ -26,7 +26,10 @@ struct TimeStepInfo {
   double min_Le = 0;    // smallest element characteristic length [m]
   double dt_le = 0;     // min_Le / c (eq. 9) [s]
   double dt_eigen = 0;  // 2 / omega_max of M^-1 K at rest, by power iteration [s]
-  double dt_cr = 0;     // min of the two: the bound we enforce [s] (adaptive: dt_live)
+  // 2 / alpha: above it the mass damping's factor (2 - alpha dt) / (2 + alpha dt) is
+  // negative and the velocity flips sign every step [s] (infinite without damping)
+  double dt_alpha = 0;
+  double dt_cr = 0;     // min of these: the bound we enforce [s] (adaptive: dt_live, dt_alpha)
   double dt = 0;        // step in use [s]
   // Adaptive step: 2 / omega_max of the live state (with beta), from the last estimate [s]
   double dt_live = 0;
@@ -178,6 +181,8 @@ class Simulation {
   friend class SolverAccess;  // the bench's and backend tests' hatch (solver_access.h)
 
   void apply_initial_state();
+  // A warning where float precision rounds node positions to 1 % of the smallest element.
+  void warn_float_far_from_origin() const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
   // and the adaptive step goes on (check_state).
   bool check_health();
@@ -293,6 +298,10 @@ class Simulation {
   int eigen_model_ = -1;
   std::vector<BodyLaw> eigen_laws_;
   long total_steps_ = 0, last_good_total_ = 0;
+  // The state is the scene's start (apply_initial_state), no step taken and no state set
+  // since: its du holds v0 dt - a0 dt^2 / 2 of the parameters then, so set_params
+  // rebuilds it for new ones (a body at rest must not start moving when g changes at t = 0).
+  bool at_start_ = false;
   double dt_lo_ = 0, dt_hi_ = 0;
   // Adaptive step: steps since the last estimate, the ladder's reference step (2/omega_max
   // at rest for the scene's E, nu), the current rung, the watchdog's lambda factor, trips

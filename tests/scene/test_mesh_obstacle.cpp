@@ -237,6 +237,21 @@ TEST(MeshObstacle, BadInputNamesTheKey) {
                                 temp_path("bad.toml"));
   EXPECT_NE(error_of(one).find("the body starts inside this mesh obstacle (the centre of element"), std::string::npos)
       << error_of(one);
+  // A body wholly inside a large mesh box, shallower than the grid's tolerance (a 10 mm
+  // cube 1-11 mm under the top face of a 1 m box: 15.6 mm cells), crosses nothing; it was
+  // accepted and the run then stopped as "element inverted". Just above the face it runs.
+  auto in_big_box = [&](double y_mm) {
+    char body[200];
+    std::snprintf(body, sizeof body, "units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\n"
+                  "divisions = [2, 2, 2]\nposition = [0, %.17g, 0]\n", y_mm);
+    return parse_scene(std::string(body) + "[floor]\nenabled = false\n[[obstacle]]\nshape = \"mesh\"\nfile = \"" +
+                           box_obj(1, 1, 1) + "\"\nscale = 1000\ncenter = [0, -500, 0]\n",
+                       temp_path("big_box.toml"));
+  };
+  const std::string inside = error_of(in_big_box(-6));
+  EXPECT_NE(inside.find("obstacle[0]: the body starts inside this mesh obstacle"), std::string::npos) << inside;
+  EXPECT_EQ(error_of(in_big_box(5.5)), "") << "0.5 mm above the box's top face";
+  EXPECT_EQ(error_of(in_big_box(5)), "") << "resting on the box's top face";
   // The missing file's message carries the OS reason.
   EXPECT_NE(error_of(scene("no_such_mesh.obj")).find("No such file or directory"), std::string::npos);
 }
