@@ -23,9 +23,6 @@
 #include "commands.h"
 #include "sim/io/output_file.h"
 #include "sim/solver/cpu_simd.h"
-#include "sim/solver/cpu_step.h"
-#include "sim/solver/rest_state.h"
-#include "sim/solver/step_params.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
 #include "sim/scene/solver_access.h"
@@ -103,73 +100,35 @@ double step_bytes(long ntet, long nnode, long ncontact, int real, StepLayout lay
   return ntet * (4 * 4 + 12 * T + T + 12 * T) + nnode * 3 * T + ntet * (4 * 4.0 + 12 * T) + nodes;
 }
 
-// The CPU backend's stages (sim/solver/cpu_step.h: the functions CpuSolver::step runs
-// inside one parallel region), each timed alone in a region of its own, on the rest state
-// the run uses: build_rest_state with the run's node flags (contact-tested and fixed) and
-// the run's step parameters (step_config_from, as Solver::set_params). simd: the SIMD
-// stages (cpu_simd.h) on the element blocks the solver builds, else the scalar ones.
-template <class T>
-StageRow cpu_stages(Simulation& sim, int threads, int reps, bool simd) {
-  const RestArrays<T> r = build_rest_state<T>(sim.mesh(), sim.scene().rho, sim.node_flags());
-  const TetMeshView<T> m = r.view();
-  const CpuBlocks<T> blk = build_cpu_blocks(m);
-  std::vector<T> fblk(blk.force_size()), vol_blk(blk.padded()), F_blk(blk.padded() * kBlockFFields);
-  const HostState& hs = sim.state();
-  std::vector<T> u(hs.u.begin(), hs.u.end()), du(hs.du.begin(), hs.du.end()), fc(12 * std::size_t(r.ntet));
-  std::vector<T> vol_now(r.ntet), p_node(r.nnode);
-  std::vector<std::uint8_t> contact(hs.contact);
-  BodyStateView<T> b;
-  b.u = u.data();
-  b.du = du.data();
-  b.fcorner = fc.data();
-  b.contact = contact.data();
-  const StepConfig<T> c = step_config_from<T>(sim.params());
-  const AnpScratch<T> anp{vol_now.data(), p_node.data()};
-  const SimdAnpScratch<T> sanp{vol_blk.data(), p_node.data(), F_blk.data()};
-  BodyStateView<T> bb = b;
-  bb.fcorner = fblk.data();
-  StepParams<T> sp_free = c.step;
-  sp_free.contact.nplanes = 0;
-  sp_free.contact.nobstacles = 0;
-  const std::vector<T> u0 = u, du0 = du;
+// The CPU backend's stages, each timed alone (one OpenMP region per call), run by the
+// solver itself (Solver::run_cpu_stage): the loops its step runs (SIMD, or scalar where
+// it runs those: --cpu-path scalar, or a body with its own law) on its rest state,
+// per-body laws, parameters and obstacle grids, starting from the live state the timed
+// steps left, which is put back afterwards.
+StageRow cpu_stages(Simulation& sim, Solver& solver, int reps) {
+  HostState keep;
+  solver.get_state(keep);
   auto time_loop = [&](auto&& body) {
     std::vector<double> us;
     // A signal ends the stage timing too (its numbers are dropped with the rest): with
     // many more threads than cores it took 83 s to answer SIGTERM here.
     for (int rep = 0; rep < 5 && !stop_requested(); ++rep) {
-      u = u0;
-      du = du0;
+      solver.set_state(keep);
       const auto t0 = Clock::now();
       for (int k = 0; k < reps && !stop_requested(); ++k) body();
       us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / reps);
     }
     return stats_of(us).median;
   };
+  auto stage = [&](Solver::CpuStage st) { return time_loop([&] { solver.run_cpu_stage(st); }); };
   StageRow s;
-  s.forces = time_loop([&] {
-#pragma omp parallel num_threads(threads)
-    if (simd)
-      cpu_simd_element_stage(m, blk, c.mat, c.element, b.u, sanp, bb.fcorner);
-    else
-      cpu_element_stage(m, c.mat, c.element, b.u, anp, b.fcorner);
-  });
-  s.update = time_loop([&] {
-#pragma omp parallel num_threads(threads)
-    if (simd)
-      cpu_simd_node_stage(m, blk, bb, sp_free);
-    else
-      cpu_node_stage(m, b, sp_free);
-  });
-  const double with_contact = time_loop([&] {
-#pragma omp parallel num_threads(threads)
-    if (simd)
-      cpu_simd_node_stage(m, blk, bb, c.step);
-    else
-      cpu_node_stage(m, b, c.step);
-  });
-  s.contact = std::max(0.0, with_contact - s.update);
+  // The element stage first: the node stages gather the corner forces it leaves.
+  s.forces = stage(Solver::CpuStage::kElement);
+  s.update = stage(Solver::CpuStage::kNodeFree);
+  s.contact = std::max(0.0, stage(Solver::CpuStage::kNode) - s.update);
   std::vector<float> buf(std::size_t(kRenderFloatsPerVertex) * sim.mesh().surface_nodes.size() + 8);
   s.render = time_loop([&] { sim.write_render_vertices(buf.data(), RenderScalar::kDisplacement); });  // the |u| map
+  solver.set_state(keep);
   s.valid = true;
   return s;
 }
@@ -347,9 +306,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   if (!full) return r;
   if (!gpu) {
     const int reps = std::max(1, int(std::min<long>(o.stage_reps, 200000 / std::max(1, r.ntet / 100 + 1))));
-    const bool simd = o.cpu_path == "simd";
-    r.stages = sc.precision == Precision::kFloat ? cpu_stages<float>(sim, r.threads, reps, simd)
-                                                 : cpu_stages<double>(sim, r.threads, reps, simd);
+    r.stages = cpu_stages(sim, solver, reps);
   }
   return r;
 }

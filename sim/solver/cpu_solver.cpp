@@ -69,6 +69,7 @@ class CpuSolver final : public Solver {
   // Per-body laws (element_law.h) run the scalar loops: the SIMD element stage holds one
   // material for a whole block of elements.
   void set_cpu_simd(bool on) override { simd_ = on && !mesh_.tet_law; }
+  bool cpu_simd() const override { return simd_; }
   void set_cpu_threads(int threads) override {
     if (threads > 0) {
       threads_ = threads;
@@ -144,6 +145,39 @@ class CpuSolver final : public Solver {
       cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
       cpu_node_stage(m, b, s == 0 ? first : c.step);
     }
+  }
+
+  // One stage of step() (solver.h, the bench hatch), with its arguments built as step() builds them.
+  bool run_cpu_stage(CpuStage stage) override {
+    const TetMeshView<T> m = mesh_;
+    const BodyStateView<T> b = view();
+    const StepConfig<T> c = cfg_;
+    StepParams<T> p = c.step;
+    if (stage == CpuStage::kNodeFree) {
+      p.contact.nplanes = 0;
+      p.contact.nobstacles = 0;
+    }
+    const T* ue = element_displacement(b);
+    const bool element = stage == CpuStage::kElement;
+    if (simd_) {
+      const CpuBlocks<T>& k = blocks_;
+      const SimdAnpScratch<T> sa = simd_scratch();
+      BodyStateView<T> bb = b;
+      bb.fcorner = fblk_.data();
+#pragma omp parallel num_threads(threads_)
+      if (element)
+        cpu_simd_element_stage(m, k, c.mat, c.element, ue, sa, bb.fcorner);
+      else
+        cpu_simd_node_stage(m, k, bb, p);
+      return true;
+    }
+    const AnpScratch<T> anp{vol_now_.data(), p_node_.data()};
+#pragma omp parallel num_threads(threads_)
+    if (element)
+      cpu_element_stage(m, c.mat, c.element, ue, anp, b.fcorner);
+    else
+      cpu_node_stage(m, b, p);
+    return true;
   }
 
   void change_step(double scale, double dt_mid) override {

@@ -236,7 +236,20 @@ class Solver {
   // OpenMP threads of the CPU backend (0 = automatic); other backends ignore it.
   virtual void set_cpu_threads(int /*threads*/) {}
   // The CPU backend's SIMD stages (default) or its scalar reference stages; others ignore it.
+  // A mesh with per-body laws runs the scalar stages whatever is asked (cpu_simd says which run).
   virtual void set_cpu_simd(bool /*on*/) {}
+  // Whether the CPU backend's step runs its SIMD stages; false on other backends.
+  virtual bool cpu_simd() const { return false; }
+
+  // ---- bench hatch (`softtled bench`'s per-stage rows, through solver_access.h) ----
+  // Runs one stage of the CPU backend's step once, in an OpenMP region of its own, exactly
+  // as step() runs it: the same loops (SIMD or scalar), rest state, per-body laws,
+  // parameters and obstacle grids, on the live state, which it changes (keep it with
+  // get_state and put it back with set_state). kNodeFree: the node stage with the planes
+  // and obstacles left out. Body-body contact (a stage of its own) is not run. Returns
+  // false, doing nothing, on a backend that is not the CPU.
+  enum class CpuStage { kElement, kNode, kNodeFree };
+  virtual bool run_cpu_stage(CpuStage /*stage*/) { return false; }
 
  private:
   struct HostSnapshot {

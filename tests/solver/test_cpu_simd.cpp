@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "scene_helpers.h"
@@ -336,6 +338,62 @@ TEST(CpuSimd, BitwiseIdenticalForOneAndTwoThreadsWithAllOptions) {
     EXPECT_TRUE(st[0].du == st[1].du) << element;
     EXPECT_TRUE(st[0].contact == st[1].contact) << element;
   }
+}
+
+// The bench hatch (Solver::run_cpu_stage, what `softtled bench` times per stage): its
+// element stage then its node stage advance the state exactly as one step() does, bit for
+// bit, where the old bench copy of the stages crashed: bodies with laws of their own (the
+// per-body law table; the step runs the scalar loops there, whatever set_cpu_simd asks)
+// and a mesh obstacle (its distance grid in the solver's precision). The node stage
+// without contact differs from it once nodes are in contact.
+TEST(CpuStages, RunCpuStageIsTheStep) {
+  const std::string box = "shape = \"box\"\nsize = [4, 4, 4]\ndivisions = [1, 1, 1]\n";
+  // Four boxes on the floor: the scene's law, an own nu, an own model, an own element.
+  const std::string laws = "units = \"mm\"\n[contact]\nbodies = false\n"
+                           "[[body]]\n" + box +
+                           "[[body]]\n" + box + "position = [10, 0, 0]\nmaterial = {nu = 0.3}\n"
+                           "[[body]]\n" + box + "position = [20, 0, 0]\nmaterial = {model = \"stable_neo_hookean\"}\n"
+                           "[[body]]\n" + box + "position = [30, 0, 0]\nmaterial = {element = \"T4ANP\"}\n";
+  // A box dropped into torus_on_mesh's bowl (a mesh obstacle: the inside of a sphere of
+  // radius 12 mm about the origin), its corners 0.66 mm above it.
+  const std::string bowl = "units = \"mm\"\n[body]\n" + box + "position = [0, -9, 0]\n[floor]\nenabled = false\n"
+                           "[contact]\nmode = \"coulomb\"\nmu = 0.3\n[[obstacle]]\nshape = \"mesh\"\nfile = \"" +
+                           test::assets_dir() + "/meshes/bowl.obj\"\nresolution = 64\n";
+  for (bool body_laws : {true, false})
+    for (const char* prec : {"float", "double"})
+      for (bool simd : {true, false}) {
+        const std::string what = std::string(body_laws ? "body laws" : "mesh obstacle") + ", " + prec +
+                                 (simd ? ", simd asked" : ", scalar");
+        const Scene sc = parse_scene(body_laws ? laws : bowl, "stages", {std::string("solver.precision=") + prec});
+        // Stepped until nodes touch the floor or the bowl (the same steps for each copy).
+        long steps = 0;
+        auto make = [&] {
+          auto s = std::make_unique<Simulation>(sc, "cpu");
+          SolverAccess::of(*s).set_cpu_simd(simd);
+          if (steps > 0) s->step(steps);
+          else
+            while (s->diagnostics().n_contact == 0 && s->steps() < 20000) s->step(10);
+          steps = s->steps();
+          return s;
+        };
+        auto stepped = make(), staged = make(), free = make();
+        ASSERT_GT(stepped->diagnostics().n_contact, 0) << what << ": nothing in contact";
+        Solver& st = SolverAccess::of(*staged);
+        EXPECT_EQ(st.cpu_simd(), simd && !body_laws) << what;
+        stepped->step(1);
+        ASSERT_TRUE(st.run_cpu_stage(Solver::CpuStage::kElement)) << what;
+        ASSERT_TRUE(st.run_cpu_stage(Solver::CpuStage::kNode)) << what;
+        HostState a = stepped->state(), b, f;
+        st.get_state(b);
+        EXPECT_TRUE(a.u == b.u) << what;
+        EXPECT_TRUE(a.du == b.du) << what;
+        EXPECT_TRUE(a.contact == b.contact) << what;
+        Solver& fr = SolverAccess::of(*free);
+        fr.run_cpu_stage(Solver::CpuStage::kElement);
+        fr.run_cpu_stage(Solver::CpuStage::kNodeFree);
+        fr.get_state(f);
+        EXPECT_FALSE(a.u == f.u) << what << ": the node stage without contact moved the nodes as with it";
+      }
 }
 
 // The automatic thread count depends on the mesh and the machine only (no load average):
