@@ -196,7 +196,9 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
     r.threads = cpu_threads_for(sim, o.threads);
     solver.set_cpu_threads(r.threads);
     solver.set_cpu_simd(o.cpu_path == "simd");
-    r.mode = "openmp x" + std::to_string(r.threads) + ", " + (o.cpu_path == "simd" ? cpu_simd_target() : "scalar");
+    // The path the step runs: a body with its own law runs the scalar loops (cpu_solver.cpp).
+    r.mode = "openmp x" + std::to_string(r.threads) + ", " +
+             (solver.cpu_simd() ? cpu_simd_target() : o.cpu_path == "simd" ? "scalar (per-body laws)" : "scalar");
   }
 
   // Warm-up (module load, graph instantiation, caches), then the chunk size.
