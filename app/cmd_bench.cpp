@@ -141,6 +141,7 @@ struct Opts {
   bool sweep = false, compare_modes = true;
 };
 
+// solver.threads (--threads sets it), 0: the backend's automatic choice.
 int cpu_threads_for(const Simulation& sim, int requested) {
   return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
@@ -193,7 +194,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   }
 #endif
   if (!gpu) {
-    r.threads = cpu_threads_for(sim, o.threads);
+    r.threads = cpu_threads_for(sim, sc.threads);
     solver.set_cpu_threads(r.threads);
     solver.set_cpu_simd(o.cpu_path == "simd");
     // The path the step runs: a body with its own law runs the scalar loops (cpu_solver.cpp).
@@ -381,13 +382,15 @@ Command add_bench_command(CLI::App& app) {
       c->add_option("--precision", o->precision, "float or double")->check(CLI::IsMember({"float", "double"}));
   c->add_option("--mode", o->mode, "CUDA execution: auto, multi, fused, halo, graph-pdl, graph")
       ->check(CLI::IsMember({"auto", "multi", "fused", "halo", "graph-pdl", "graph"}))->capture_default_str();
-  c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice)")->check(int_range(0, 1024));
+  CLI::Option* threads_opt =
+      c->add_option("--threads", o->threads, "CPU threads (0: the backend's automatic choice; default: the scene's solver.threads)")
+          ->check(int_range(0, 1024));
   c->add_option("--cpu-path", o->cpu_path, "CPU stages: simd (the product) or scalar (the reference they are tested against)")
       ->check(CLI::IsMember({"simd", "scalar"}))->capture_default_str();
   c->add_option("--samples", o->samples, "timed chunks per measurement")->check(int_range(3, 1000))->capture_default_str();
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
-  return [o, c, scene_opt, json_opt, prec_opt]() {
+  return [o, c, scene_opt, json_opt, prec_opt, threads_opt]() {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
     if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
     if (json_opt->count() && o->json.empty()) throw InputError("--json: empty path");
@@ -401,18 +404,22 @@ Command add_bench_command(CLI::App& app) {
       for (const char* flag : {"--mode", "--no-compare"})
         if (c->count(flag)) throw InputError(std::string(flag) + " is for the CUDA backend (here: cpu)");
     std::vector<std::string> set = o->set;
+    auto in_set = [&set](const char* key) {
+      return std::any_of(set.begin(), set.end(), [key](const std::string& kv) { return kv.rfind(key, 0) == 0; });
+    };
     // --precision (default float) unless --set gives solver.precision; both: which one?
-    const bool set_precision = std::any_of(set.begin(), set.end(), [](const std::string& kv) {
-      return kv.rfind("solver.precision=", 0) == 0;
-    });
+    const bool set_precision = in_set("solver.precision=");
     if (set_precision && prec_opt->count())
       throw InputError("--precision and --set solver.precision both given: give one");
     if (!set_precision) set.push_back("solver.precision=" + o->precision);
+    // --threads is solver.threads (no default of its own: else the scene's); both: which one?
+    if (threads_opt->count()) {
+      if (in_set("solver.threads=")) throw InputError("--threads and --set solver.threads both given: give one");
+      set.push_back("solver.threads=" + std::to_string(o->threads));
+    }
     const Scene sc = load_scene(o->scene, set);
     if (!o->json.empty()) check_not_scene_input(sc, "--scene", {o->json, "--json", true});
     install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop after the current sample, write nothing
-    if (const std::string w = cpu_threads_warning(o->threads); !w.empty() && o->backend != "cuda")
-      std::fprintf(stderr, "warning: --threads %s\n", w.c_str());
     auto stopped = [&]() {
       std::fprintf(stderr, "softtled: stopped by signal %d before the benchmark finished; wrote nothing\n", stop_signal());
       return exit_code_for_signal(stop_signal());
