@@ -2,7 +2,7 @@
 // The health tests of one node: what the CUDA step kernels check on every node they
 // update and the state kernel on every node at a check (the device watchdog), and what
 // the host watchdog (watchdog.cpp) checks where no backend did. (The third test, J <= 0
-// under the Taylor model, is volume_ratio of tet_kinematics.h.)
+// or J zero to rounding under the Taylor model, is element_volume_ok of tet_kinematics.h.)
 //
 // The speed bound comes from energy conservation. With alpha, beta >= 0, passive contact
 // and no user force or moving wall, the total energy ke + se + pe can only fall, so no
@@ -22,7 +22,7 @@ namespace softtled {
 
 enum StepHealthBits : unsigned {
   kHealthNonFinite = 1,  // a NaN or Inf in a node's u or du
-  kHealthInverted = 2,   // an element with J <= 0 under the Taylor model
+  kHealthInverted = 2,   // an element inverted or collapsed under the Taylor model (element_volume_ok)
   kHealthSpeed = 4,      // a node faster than the energy bound
 };
 

@@ -51,6 +51,19 @@ SIM_HD inline T volume_ratio(const Mat3<T>& F) {
   return det3(F);
 }
 
+// Whether the Taylor model's element can go on: false where J = det F is not clearly
+// positive, i.e. inverted (J <= 0) or collapsed to a J within the rounding of the
+// determinant in the run's precision (64 eps max|F_ij|^3; eps of float or double). A
+// crushed cube's flat elements had J between -1e-17 and 1e-16 in double, the sign set by
+// rounding, so whether the watchdog stopped the run depended on which check saw them.
+template <class T>
+SIM_HD inline bool element_volume_ok(const Mat3<T>& F, T eps) {
+  T mx = T(0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) mx = F(r, c) > mx ? F(r, c) : (-F(r, c) > mx ? -F(r, c) : mx);
+  return volume_ratio(F) > T(64) * eps * mx * mx * mx;
+}
+
 // F of the tet with rest corners X and corner displacements u, for code that holds
 // positions rather than the rest state (export, diagnostics): the same two functions.
 template <class T>

@@ -41,6 +41,8 @@ double dilatational_wave_speed(double E, double nu, double rho) {
 
 Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(scene) {
   check_backend_available(backend);  // before meshing, which may take minutes
+  watchdog_.set_precision(scene_.precision == Precision::kFloat ? double(std::numeric_limits<float>::epsilon())
+                                                                : std::numeric_limits<double>::epsilon());
   // Each body meshed by itself (TetGen, cached), then one mesh of disconnected bodies.
   auto mesh_body = [&](int b) {
     if (scene_.body(b).shape == "tet_file") {  // a volume mesh of the user's: read, not meshed

@@ -27,7 +27,10 @@ WatchdogFinding non_finite(const TetMesh& m, int node, bool unstable_dt) {
 
 WatchdogFinding inverted(int e, double J, bool unstable_dt) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
+  if (J > 0)  // element_volume_ok: zero to the run's precision
+    std::snprintf(buf, sizeof buf, "element %d has collapsed flat (J = %.3g, zero to rounding)", e, J);
+  else
+    std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
   return {buf, e,
           unstable_dt ? kDtCause
                       : "the load crushes elements inside out; use material.model = \"stable_neo_hookean\", a stiffer "
@@ -69,12 +72,14 @@ std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState&
   const int n = m.nnode();
   for (std::size_t j = 0; j < s.u.size(); ++j)
     if (!std::isfinite(s.u[j]) || !std::isfinite(s.du[j])) return non_finite(m, int(j % n), unstable_dt);
-  // Inverted elements: J <= 0 is unphysical for the Taylor model (its guard keeps forces
-  // finite but not meaningful); the stable Neo-Hookean model handles inversion itself.
+  // Inverted or collapsed elements (element_volume_ok, in the run's precision): J <= 0 is
+  // unphysical for the Taylor model (its guard keeps forces finite but not meaningful); the
+  // stable Neo-Hookean model handles inversion itself.
   // models: one per body, or one for all.
   for (int e = 0; e < m.ntet(); ++e)
     if (models[models.size() == 1 ? 0 : std::size_t(m.tet_body[e])] == kTaylorNeoHookean)
-      if (const double J = mesh_element_J(m, s.u, e); !(J > 0)) return inverted(e, J, unstable_dt);
+      if (const Mat3<double> F = mesh_element_F(m, &s.u, e); !element_volume_ok(F, eps_))
+        return inverted(e, volume_ratio(F), unstable_dt);
   // The speed test: the device's node_step_ok (step_health.h), in double.
   if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0) {
     const double bound = speed_du2_bound<double>(speed.node_energy_max, speed.dt);

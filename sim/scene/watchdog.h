@@ -4,6 +4,7 @@
 // scene's energy allows (step_health.h) and energy gained from nowhere. A finding names the problem, the element and the likely cause; the Simulation
 // rolls back to the last healthy check and throws SimulationDiverged with
 // watchdog_message().
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ class Watchdog {
   // model, gravity) or something did work the watchdog cannot count (a moving plane).
   void rebase() { have_min_ = false; }
   double scale() const { return scale_; }
+  // The machine epsilon of the run's numbers (float or double): an element's J within the
+  // determinant's rounding in it counts as collapsed (element_volume_ok), as on the device.
+  void set_precision(double eps) { eps_ = eps; }
 
   // Checks state s (with its diagnostics d, and W = work the external forces have done
   // so far); nothing when healthy. unstable_dt: the step is above dt_cr, which then is the
@@ -61,6 +65,7 @@ class Watchdog {
   std::optional<WatchdogFinding> scan(const TetMesh& m, const HostState& s, const std::vector<int>& models,
                                       bool unstable_dt, const SpeedTest& speed) const;
   double h_min_ = 0, scale_ = 0;
+  double eps_ = std::numeric_limits<double>::epsilon();  // the run's precision (set_precision)
   bool have_min_ = false;
 };
 

@@ -262,6 +262,27 @@ TEST_P(Extremes, ExtremeDampingCreepsWithoutRinging) {
   EXPECT_NEAR(v, terminal, 1e-3 * std::fabs(terminal));
 }
 
+// 10^5 g crushes a 10 mm cube (classic Neo-Hookean) flat onto the floor in its first
+// steps: its elements' J end between -1e-17 and 1e-16, the sign set by rounding. The run
+// must stop with the watchdog whichever steps it checks at (it passed, exit 0 with
+// 1e20 Pa stresses, where the checks happened to see J > 0).
+TEST_P(Extremes, CrushedFlatStopsWhateverTheCheckCadence) {
+  for (long every : {1L, 2L, 7L, 14L}) {
+    Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n"
+                               "[material]\nnu = 0.3\n[floor]\npoint = [0, -5, 0]\n[gravity]\ng = [0, -1e6, 0]\n",
+                               "crush"),
+                   backend());
+    try {
+      sim.advance(14, every);
+      ADD_FAILURE() << "checks every " << every << " steps: the crushed cube ran on";
+    } catch (const SimulationDiverged& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what.find("has collapsed flat") != std::string::npos || what.find("is inverted") != std::string::npos)
+          << every << ": " << what;
+    }
+  }
+}
+
 // Float rounds a position |x| to |x| 2^-24: a 10 mm cube 10 km from the origin rested
 // (9,990 m up) 0.45 mm above the floor it was reported in contact with (exit 0). It says so at the
 // start; at the origin, or in double, it does not.

@@ -2,6 +2,8 @@
 // terms (per element; for T4ANP also per node, anp.h), the deterministic sum that totals
 // them (fixed blocks, fixed tree: the same number every run), and the device watchdog's
 // test of a state (step_health.h).
+#include <limits>
+
 #include "sim/fem/anp.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
@@ -52,7 +54,8 @@ __global__ void state_terms_kernel(const TetMeshView<T> m, const NeoHookean<T> m
     T g[12], ue[4][3];
     load_dhdX(m, t, g);
     load_corner_u(m, u, t, ue);
-    if (!(volume_ratio(deformation_gradient(g, ue)) > T(0))) raise_health(h, kHealthInverted, -1, t);
+    if (!element_volume_ok(deformation_gradient(g, ue), std::numeric_limits<T>::epsilon()))
+      raise_health(h, kHealthInverted, -1, t);
   }
 }
 
