@@ -40,8 +40,12 @@ __global__ void probe_displace_kernel(int n3, const T* __restrict__ u, const T* 
 }
 
 // f0 = the summed internal force at u (the product's reference). kProbeLanes per node.
+// __launch_bounds__(kProbeThreads, 4) on the two lane-gather kernels: ptxas may plan for
+// 64 registers (they had 40 and 32) and issues a lane's corner loads before summing them,
+// as the node stage's lane kernel (tled_stages.cu). H100: the estimate 39-45 -> 30-33 us
+// (T4), 56-62 -> 47-53 us (T4ANP); bench/NOTES.md, "The lane kernels' registers".
 template <class T>
-__global__ void probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0) {
+__global__ void __launch_bounds__(kProbeThreads, 4) probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, T* __restrict__ f0) {
   const LaneSlots<kProbeLanes> g = lane_slots<T, kProbeLanes>(m, blockIdx.x * blockDim.x + threadIdx.x);
   T f[3];
   lane_gather_force<T, kProbeLanes>(m, fcorner, g, f);
@@ -55,7 +59,7 @@ __global__ void probe_f0_kernel(const TetMeshView<T> m, const T* __restrict__ fc
 // finishes last (a ticket counter) adds the partials in block order. Which block is last
 // changes from run to run, the order of the additions does not: deterministic.
 template <class T>
-__global__ void __launch_bounds__(kProbeThreads)
+__global__ void __launch_bounds__(kProbeThreads, 4)
     probe_product_kernel(const TetMeshView<T> m, const T* __restrict__ fcorner, const T* __restrict__ f0,
                          const T* __restrict__ v, const double* __restrict__ mass, T inv_a, T* __restrict__ w,
                          double* __restrict__ partials, unsigned* __restrict__ ticket, double* __restrict__ sums) {
