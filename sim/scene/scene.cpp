@@ -756,6 +756,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       if (plane && !t->contains("plane_point")) r.fail(key + ".plane_point", "required with plane_normal");
       if (get3("box_min", f.a)) {
         if (!get3("box_max", f.b)) r.fail(key + ".box_max", "required with box_min");
+        for (int k = 0; k < 3; ++k)  // an empty box would only be reported as selecting no node
+          if (f.a[k] > f.b[k])
+            r.fail(key + ".box_min", std::string("exceeds box_max along ") + "xyz"[k] + ": the box is empty");
         f.is_box = true;
       } else if (get3("plane_point", f.a)) {
         if (!get3("plane_normal", f.b)) r.fail(key + ".plane_normal", "required with plane_point");

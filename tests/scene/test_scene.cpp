@@ -409,6 +409,11 @@ TEST(Scene, SetAddressesFixedRegionsByIndex) {
   EXPECT_NE(error_of(two, {"fixed.2.box_max=[1, 1, 1]"}).find("--set fixed.2.box_max: the scene has no fixed 2 (it has 2"),
             std::string::npos);
   EXPECT_NE(error_of("", {"fixed.0.box_max=[1, 1, 1]"}).find("the scene has no [[fixed]] tables"), std::string::npos);
+  // An inverted box is named as such (it was "fixed[0] selects no node" once meshed).
+  EXPECT_NE(error_of(two, {"fixed.0.box_min=[0, 5, 0]", "fixed.0.box_max=[1, 1, 1]"})
+                .find("fixed[0].box_min: exceeds box_max along y: the box is empty"),
+            std::string::npos)
+      << error_of(two, {"fixed.0.box_min=[0, 5, 0]", "fixed.0.box_max=[1, 1, 1]"});
   const std::string e = error_of(two, {"fixed.box_max=[1, 1, 1]"});
   EXPECT_NE(e.find("fixed keys are 'fixed.N.key'"), std::string::npos) << e;
   EXPECT_NE(error_of(two, {"fixed.0.colour=red"}).find("fixed[0].colour"), std::string::npos) << error_of(two, {"fixed.0.colour=red"});
