@@ -275,7 +275,11 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // A step outside [1e-15, 1e3] s is no simulation anyone meant: it comes from an absurd
   // material (E = 1e-300 gave 3e146 s, rho = 1e-300 a zero step) or lambda, so the message
   // names those rather than the run's duration or step count, which would fail next.
-  if (!(q.dt >= 1e-15 && q.dt <= 1e3)) {
+  // The material's own bound is checked apart from the damping's 2/alpha, which would
+  // otherwise hide an absurd material behind a sane step (E = 1e-300 with alpha = 10).
+  const double elastic = rayleigh_stable_step(q.dt_adaptive ? ts_.dt_eigen : std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
+  const bool elastic_bad = !(q.lambda * elastic >= 1e-15 && q.lambda * elastic <= 1e3);
+  if (elastic_bad || !(q.dt >= 1e-15 && q.dt <= 1e3)) {
     char buf[500], extra[160] = "";
     // What else shortens or caps it: Rayleigh damping's beta, the adaptive step's cap.
     if (q.beta > 0) std::snprintf(extra, sizeof extra, ", shortened by damping.beta = %.4g s", q.beta);
@@ -285,7 +289,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     std::snprintf(buf, sizeof buf,
                   "time step dt = %.4g s is outside [1e-15, 1000] s: the stable step is %.4g s for material.E = %.4g Pa, "
                   "material.rho = %.4g kg/m^3 and the smallest element edge %.4g m%s, times time.lambda = %.4g%s",
-                  q.dt, ts_.dt_cr, q.E, scene_.rho, ts_.min_Le, extra, q.lambda,
+                  elastic_bad ? q.lambda * elastic : q.dt, elastic_bad ? elastic : ts_.dt_cr, q.E, scene_.rho,
+                  ts_.min_Le, extra, q.lambda,
                   q.dt_auto || q.dt_adaptive ? "" : " (or the time.dt given)");
     throw InputError(buf);
   }
