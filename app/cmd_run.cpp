@@ -84,7 +84,7 @@ Command add_run_command(CLI::App& app) {
     if (vtu_opt->count() && o->vtu.empty()) throw InputError("--vtu: empty path");
     if (o->vtu.empty() && c->count("--every")) throw InputError("--every thins --vtu frames: give --vtu DIR too");
     if (!o->csv.empty()) check_output_file(o->csv, "--csv", true, true);
-    if (!o->vtu.empty()) check_output_dir(o->vtu, "--vtu");
+    if (!o->vtu.empty()) check_series_dir(o->vtu, "--vtu");
     const Scene s = load_scene(o->scene, o->set);
     {  // no output onto an input or another output
       std::vector<PathUse> paths = scene_inputs(s, "--scene");

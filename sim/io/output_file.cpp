@@ -237,6 +237,19 @@ bool written_in_dir(const std::string& file, const std::string& dir) {
 }
 }  // namespace
 
+void check_series_dir(const std::string& path, const std::string& what) {
+  check_output_dir(path, what);
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(path, ec)) {
+    const std::string f = e.path().string();
+    struct stat st;
+    if (written_in_dir(f, path) && ::stat(f.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw InputError(what + " " + path + ": " + f + " is not a regular file (" +
+                       (S_ISDIR(st.st_mode) ? "a directory" : "a special file") +
+                       "), and the series writes a file of that name; move it away");
+  }
+}
+
 void check_distinct_paths(const std::vector<PathUse>& paths) {
   // Standard output or standard error sent to a regular file (> f, >> f, 2> f) is an output
   // too: not an input, nor a file a directory output writes.

@@ -81,5 +81,9 @@ void check_distinct_paths(const std::vector<PathUse>& paths);
 // InputError unless path is a writable directory or can be created as one (its nearest
 // existing ancestor is a writable directory).
 void check_output_dir(const std::string& path, const std::string& what);
+// check_output_dir for a VTU series' directory (vtu_writer.h), and none of the names the
+// series writes there (series.pvd, frame_*.vtu, their .tmp and .new) is taken by anything
+// but a regular file: a directory named series.pvd failed the run after meshing (exit 5).
+void check_series_dir(const std::string& path, const std::string& what);
 
 }  // namespace softtled

@@ -117,6 +117,13 @@ if [ $ro_ok -eq 1 ]; then
   t 0 "simulated" "${asn[@]}" "$exe" run --scene surface.toml --csv ro2/r.csv
   [ ! -s ro/m.vtu ] && [ ! -s ro/b.json ] || { echo "FAIL: files in ro/ written"; status=1; }
 fi
+# A name the series writes taken by a directory is refused before any work (it was exit 5
+# after meshing), the directory left as it was.
+mkdir -p sdir/series.pvd fdir/frame_00003.vtu
+t 2 "--vtu sdir: sdir/series.pvd is not a regular file (a directory)" "$exe" run --scene surface.toml --vtu sdir
+t 2 "--vtu fdir: fdir/frame_00003.vtu is not a regular file (a directory)" "$exe" run --scene surface.toml --vtu fdir
+[ -d sdir/series.pvd ] && [ -z "$(ls sdir/series.pvd)" ] && [ "$(ls fdir)" = frame_00003.vtu ] ||
+  { echo "FAIL: sdir or fdir changed"; status=1; }
 # Empty values are refused, not taken as "no output" or "the default scene".
 t 2 "--csv: empty path" "$exe" run --scene surface.toml --csv ""
 t 2 "--vtu: empty path" "$exe" run --scene surface.toml --vtu ""
