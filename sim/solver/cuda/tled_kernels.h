@@ -99,11 +99,12 @@ struct LaunchShape {
   bool cooperative = false;
 };
 
-// Threads per block for n items on nsm multiprocessors: 256, halved (down to 32) while
-// that would leave multiprocessors idle, so a small mesh spreads over the whole chip.
+// Threads per block for n items on nsm multiprocessors: kShapeMaxThreads, halved (down to
+// 32) while that would leave multiprocessors idle, so a small mesh spreads over the whole chip.
+constexpr int kShapeMaxThreads = 256;
 inline LaunchShape shape_for(int n, int nsm, bool pdl, bool prefetch = false) {
   LaunchShape s;
-  s.block = 256;
+  s.block = kShapeMaxThreads;
   while (s.block > 32 && (n + s.block - 1) / s.block < nsm) s.block /= 2;
   s.grid = n > 0 ? (n + s.block - 1) / s.block : 1;
   s.pdl = pdl;

@@ -152,15 +152,15 @@ __device__ __forceinline__ void lane_finish(const StepArgs<T>& a, const LaneSlot
     update_and_check_node(a, f, a.b.u, a.b.du, a.b.u, a.b.du, g.i, a.b.ub);
 }
 
-// __launch_bounds__(256, 3) on the two lane kernels: the blocks are at most 256 threads
-// (shape_for). Without the bound ptxas kept the float 4-lane kernel at 64 registers and
+// __launch_bounds__(kShapeMaxThreads, 3) on the two lane kernels (shape_for's blocks: at most 256
+// threads). Without the bound ptxas kept the float 4-lane kernel at 64 registers and
 // started summing after about 30 of a lane's 48 corner loads, so the rest waited for a
 // second L2 round trip; allowed 80 (three blocks per SM), it issues all of them first.
 // H100, 100k tets: node stage 4.86 -> 4.19 us, step 9.46 -> 8.69 us, T4ANP 17.0 -> 15.5 us;
 // (256, 2) gave 92 registers and was slower (10.3 us). bench/NOTES.md, "The lane kernels'
 // registers". Scheduling only: the same loads and additions in the same order.
 template <class T, int G, bool kPrefetch>
-__global__ void __launch_bounds__(256, 3) node_lanes_kernel(const StepArgs<T> a) {
+__global__ void __launch_bounds__(kShapeMaxThreads, 3) node_lanes_kernel(const StepArgs<T> a) {
   pdl_launch_dependents();
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
@@ -211,7 +211,7 @@ __device__ __forceinline__ void anp_pressure_lanes(const StepArgs<T>& a, const L
 }
 
 template <class T, int G, bool kPrefetch>
-__global__ void __launch_bounds__(256, 3) anp_pressure_lanes_kernel(const StepArgs<T> a) {  // (see node_lanes_kernel)
+__global__ void __launch_bounds__(kShapeMaxThreads, 3) anp_pressure_lanes_kernel(const StepArgs<T> a) {  // (see node_lanes_kernel)
   pdl_launch_dependents();
   const int t = blockIdx.x * blockDim.x + threadIdx.x;
   const LaneSlots<G> g = lane_slots<T, G>(a.m, t);
