@@ -80,11 +80,12 @@ SIM_HD inline T anp_node_energy(const NeoHookean<T>& mat, T v, T v0) {
 // ---- the backends' loop bodies on the struct-of-arrays views ----
 
 template <class T>
+SIM_HD inline T anp_element_volume(const TetMeshView<T>& m, const ElementRest<T>& r, const T* u) {
+  return anp_element_volume(element_deformation_gradient(m, r, u), r.V0);
+}
+template <class T>
 SIM_HD inline void anp_element_volume(const TetMeshView<T>& m, const T* u, T* vol_now, int e) {
-  T g[12], ue[4][3];
-  load_dhdX(m, e, g);
-  load_corner_u(m, u, e, ue);
-  vol_now[e] = anp_element_volume(g, m.vol[e], ue);
+  vol_now[e] = anp_element_volume(m, load_element_rest(m, e), u);
 }
 
 // Current and rest volume of node i's elements, summed in gather order (one slot per
@@ -110,23 +111,20 @@ SIM_HD inline void anp_node_pressure(const TetMeshView<T>& m, const NeoHookean<T
 }
 
 template <class T>
-SIM_HD inline void anp_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u,
-                                           const T* p_node, int e, T f[4][3]) {
-  T g[12], ue[4][3];
-  load_dhdX(m, e, g);
-  if (!element_uses_anp(m, e)) return element_corner_force_values(m, mat, g, u, e, f);  // a T4 body's
-  load_corner_u(m, u, e, ue);
+SIM_HD inline void anp_corner_force_values(const TetMeshView<T>& m, const NeoHookean<T>& mat, const ElementRest<T>& r,
+                                           const T* u, const T* p_node, T f[4][3]) {
+  if (!law_uses_anp(m, r.law)) return element_corner_force_values(m, mat, r, u, f);  // a T4 body's
   T p = T(0);
-  for (int a = 0; a < 4; ++a) p += p_node[m.tet[a * m.ntet + e]];
+  for (int a = 0; a < 4; ++a) p += p_node[r.node[a]];
   p *= T(0.25);
-  const Mat3<T> F = deformation_gradient(g, ue);
-  corner_forces(m.tet_law ? anp_stress(m.laws[m.tet_law[e]].mat, F, p) : anp_stress(mat, F, p), m.vol[e], g, f);
+  const Mat3<T> F = element_deformation_gradient(m, r, u);
+  corner_forces(m.tet_law ? anp_stress(m.laws[r.law].mat, F, p) : anp_stress(mat, F, p), r.V0, r.g, f);
 }
 template <class T>
 SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, const T* p_node,
                                      T* fcorner, int e) {
   T f[4][3];
-  anp_corner_force_values(m, mat, u, p_node, e, f);
+  anp_corner_force_values(m, mat, load_element_rest(m, e), u, p_node, f);
   store_corner_forces(m, f, fcorner, e);
 }
 
@@ -135,14 +133,12 @@ SIM_HD inline void anp_corner_forces(const TetMeshView<T>& m, const NeoHookean<T
 // elements (element_law.h) count their whole energy and its nodes none.
 template <class T>
 SIM_HD inline T anp_element_energy(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, T* vol_now, int e) {
-  T g[12], ue[4][3];
-  load_dhdX(m, e, g);
-  load_corner_u(m, u, e, ue);
-  const Mat3<T> F = deformation_gradient(g, ue);
-  vol_now[e] = anp_element_volume(F, m.vol[e]);
+  const ElementRest<T> r = load_element_rest(m, e);
+  const Mat3<T> F = element_deformation_gradient(m, r, u);
+  vol_now[e] = anp_element_volume(F, r.V0);
   const NeoHookean<T>& me = element_material(m, mat, e);
-  if (!element_uses_anp(m, e)) return m.vol[e] * neo_hookean_energy_density(me, F);
-  return anp_element_energy(me, F, m.vol[e]);
+  if (!law_uses_anp(m, r.law)) return r.V0 * neo_hookean_energy_density(me, F);
+  return anp_element_energy(me, F, r.V0);
 }
 
 template <class T>

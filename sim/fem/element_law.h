@@ -27,6 +27,12 @@ struct ElementLaw {
   int element = 0;
 };
 
+// Element e's body's entry in m.laws (0 where no body has a law of its own).
+template <class T>
+SIM_HD inline int element_law_index(const TetMeshView<T>& m, int e) {
+  return m.tet_law ? m.tet_law[e] : 0;
+}
+
 // The material of element e (mat: the scene's law, what a mesh without a table uses).
 // Hot loops branch on m.tet_law themselves and pass mat on its own path: a reference
 // that may be either (this function's) makes the GPU read the scene's law through a
@@ -42,9 +48,14 @@ SIM_HD inline const NeoHookean<T>& node_material(const TetMeshView<T>& m, const 
 }
 // Whether element e / node i takes its volumetric response from the nodes (T4ANP) in a
 // step that runs the T4ANP stages: with a table, a T4 body's elements keep their own.
+// law: element_law_index.
+template <class T>
+SIM_HD inline bool law_uses_anp(const TetMeshView<T>& m, int law) {
+  return !m.tet_law || m.laws[law].element == kT4ANP;
+}
 template <class T>
 SIM_HD inline bool element_uses_anp(const TetMeshView<T>& m, int e) {
-  return !m.tet_law || m.laws[m.tet_law[e]].element == kT4ANP;
+  return law_uses_anp(m, element_law_index(m, e));
 }
 template <class T>
 SIM_HD inline bool node_uses_anp(const TetMeshView<T>& m, int i) {

@@ -62,10 +62,9 @@ SIM_HD inline T element_E_scale(const T dhdX[12], T vol) {
 // sigma_vM of element e at the displacements u, with the element's own E and law.
 template <class T>
 SIM_HD inline T element_von_mises(const TetMeshView<T>& m, const NeoHookean<T>& mat, const T* u, int e) {
-  T g[12], ue[4][3];
-  load_dhdX(m, e, g);
-  load_corner_u(m, u, e, ue);
-  return von_mises_stress(element_material(m, mat, e), deformation_gradient(g, ue)) * element_E_scale(g, m.vol[e]);
+  const ElementRest<T> r = load_element_rest(m, e);
+  return von_mises_stress(element_material(m, mat, e), element_deformation_gradient(m, r, u)) *
+         element_E_scale(r.g, r.V0);
 }
 
 // Node i's value: the mean of sigma_vM over the elements around it, in gather order

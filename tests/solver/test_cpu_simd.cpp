@@ -79,10 +79,7 @@ Worst compare_element_stage(const NeoHookean<T>& mat, int element, const std::ve
   Worst w;
   const int ne = m.ntet;
   for (int e = 0; e < ne; ++e) {
-    T g[12], ue[4][3];
-    load_dhdX(m, e, g);
-    load_corner_u(m, u.data(), e, ue);
-    const T J = volume_ratio(deformation_gradient(g, ue));
+    const T J = volume_ratio(element_deformation_gradient(m, load_element_rest(m, e), u.data()));
     w.inverted += J < 0;
     w.guarded += J < mat.J_floor;
     double fmax = 0, dmax = 0;

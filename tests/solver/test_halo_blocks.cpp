@@ -98,9 +98,8 @@ TEST(HaloBlocks, BlockSumsAreTheNodeStagesGatherBitForBit) {
     std::vector<float> fs(12 * std::size_t(cap), std::nanf(""));
     for (int l = 0; l < h.elem_start[b + 1] - h.elem_start[b]; ++l) {
       const int e = h.elem[std::size_t(h.elem_start[b] + l)];
-      float g[12], f[4][3];
-      load_dhdX(m, e, g);
-      element_corner_force_values(m, mat, g, u.data(), e, f);
+      float f[4][3];
+      element_corner_force_values(m, mat, load_element_rest(m, e), u.data(), f);
       for (int k = 0; k < 3; ++k)
         for (int a = 0; a < 4; ++a) fs[(4 * k + a) * cap + l] = f[a][k];
     }

@@ -840,8 +840,9 @@ class CudaSolver final : public CudaSolverApi {
   int auto_lanes() const { return small_mesh() ? 8 : 4; }
 
   // A step that is one small wave (about one element per thread of a 128-thread block per
-  // SM) is bound by launch and memory latency: prefetching its rest data before the PDL
-  // wait hides part of that; on larger meshes the extra instructions cost more.
+  // SM) is bound by launch and memory latency: prefetching the node stage's rest data
+  // before the PDL wait hides part of that; on larger meshes the extra instructions cost
+  // more.
   bool small_mesh() const { return ne_ <= 128 * nsm_; }
   LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
   LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }

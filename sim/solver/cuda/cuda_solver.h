@@ -17,7 +17,7 @@
 //   graph-pdl   the two-kernel step (tled_stages.cu): element kernel (for T4ANP three,
 //               anp.h) then node kernel, K steps captured once in a CUDA graph and
 //               replayed, with PDL between the kernels (each is scheduled while its
-//               predecessor runs and prefetches its rest data before waiting). auto on
+//               predecessor runs and loads its rest data before waiting). auto on
 //               meshes between fused and halo
 //   graph       graph-pdl without PDL: what graph-pdl falls back to on a driver that
 //               cannot capture programmatic launches

@@ -61,14 +61,14 @@ __global__ void __launch_bounds__(kHaloMaxThreads)
   const HaloBlock hb = halo_block(a);
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
+  // The first pass's rest data before the wait (load_element_rest).
+  ElementRest<T> r;
+  if (tid < hb.ne) r = load_element_rest(m, a.helem[hb.e0 + tid]);
   pdl_wait();  // ue_prev is written by the previous step
   for (int l = tid; l < hb.ne; l += nt) {
-    const int e = a.helem[hb.e0 + l];
-    T g[12], ue[4][3];
-    load_dhdX(m, e, g);
-    load_corner_u(m, ue_prev, e, ue);
-    vs[l] = anp_element_volume(g, m.vol[e], ue);
-    v0s[l] = m.vol[e];
+    if (l != tid) r = load_element_rest(m, a.helem[hb.e0 + l]);
+    vs[l] = anp_element_volume(m, r, ue_prev);
+    v0s[l] = r.V0;
   }
   __syncthreads();
   const int mask = a.hcap - 1;
@@ -100,24 +100,20 @@ __global__ void __launch_bounds__(kHaloMaxThreads)
   const HaloBlock hb = halo_block(a);
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x), C = a.hcap;
-  // The first pass's rest data before the wait (T4: anp_corner_force_values reads its own).
-  // dh/dX is read from the table even where the two-kernel step derives it (StepArgs::X0d):
-  // derived on 1.6-1.9x the elements, its double divisions cost more than the table's
-  // bytes (1M tets: 140 against 82.5 us/step, bench/NOTES.md).
-  int e = tid < hb.ne ? a.helem[hb.e0 + tid] : 0;
-  T g[12];
-  if (!kAnp && tid < hb.ne) load_dhdX(m, e, g);
+  // The first pass's rest data before the wait (load_element_rest). dh/dX is read from
+  // the table even where the two-kernel step derives it (StepArgs::X0d): derived on
+  // 1.6-1.9x the elements, its double divisions cost more than the table's bytes (1M tets:
+  // 140 against 82.5 us/step, bench/NOTES.md).
+  ElementRest<T> r;
+  if (tid < hb.ne) r = load_element_rest(m, a.helem[hb.e0 + tid]);
   pdl_wait();  // u_prev is written by the previous step (T4ANP: p_node by the pressure kernel)
   for (int l = tid; l < hb.ne; l += nt) {
-    if (l != tid) {
-      e = a.helem[hb.e0 + l];
-      if (!kAnp) load_dhdX(m, e, g);
-    }
+    if (l != tid) r = load_element_rest(m, a.helem[hb.e0 + l]);
     T f[4][3];
     if constexpr (kAnp)
-      anp_corner_force_values(m, a.mat, ue_prev, a.p_node, e, f);
+      anp_corner_force_values(m, a.mat, r, ue_prev, a.p_node, f);
     else
-      element_corner_force_values(m, a.mat, g, ue_prev, e, f);
+      element_corner_force_values(m, a.mat, r, ue_prev, f);
 #pragma unroll
     for (int k = 0; k < 3; ++k)
 #pragma unroll

@@ -91,8 +91,9 @@ struct LaunchShape {
   // Programmatic dependent launch (sm_90): the next kernel in the stream may be
   // scheduled while this one runs; it waits (griddepcontrol.wait) before touching data.
   bool pdl = false;
-  // With pdl: pull this kernel's rest-state data into L1 before the wait (pays off when
-  // the whole grid is one small wave; costs instructions on large meshes).
+  // With pdl: the node-stage kernels pull their rest-state data into L1 before the wait
+  // (pays off when the whole grid is one small wave; costs instructions on large meshes).
+  // The element kernels always load theirs into registers there (load_element_rest).
   bool prefetch = false;
   std::size_t smem_bytes = 0;  // dynamic shared memory per block
   // Every block resident at once (a grid barrier inside: multi_step_kernel).

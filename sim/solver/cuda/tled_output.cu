@@ -51,10 +51,8 @@ __global__ void state_terms_kernel(const TetMeshView<T> m, const NeoHookean<T> m
   }
   // Inversion is a failure of the Taylor model only: the stable model handles it.
   if (t < m.ntet && element_material(m, mat, t).model == kTaylorNeoHookean) {
-    T g[12], ue[4][3];
-    load_dhdX(m, t, g);
-    load_corner_u(m, u, t, ue);
-    if (!element_volume_ok(deformation_gradient(g, ue), std::numeric_limits<T>::epsilon()))
+    if (!element_volume_ok(element_deformation_gradient(m, load_element_rest(m, t), u),
+                           std::numeric_limits<T>::epsilon()))
       raise_health(h, kHealthInverted, -1, t);
   }
 }

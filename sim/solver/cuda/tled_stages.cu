@@ -19,13 +19,6 @@ namespace softtled::cuda {
 namespace {
 
 template <class T>
-__device__ __forceinline__ void prefetch_element_rest(const TetMeshView<T>& m, int e) {
-  for (int a = 0; a < 4; ++a) prefetch_l1(m.tet + a * m.ntet + e);
-  for (int c = 0; c < 12; ++c) prefetch_l1(m.dhdX + c * m.ntet + e);
-  prefetch_l1(m.vol + e);
-}
-
-template <class T>
 __device__ __forceinline__ void prefetch_node_rest(const TetMeshView<T>& m, int i) {
   const int j0 = m.gather_start[i], j1 = m.gather_start[i + 1];
   for (int j = j0; j < j1; j += 128 / int(sizeof(int))) prefetch_l1(m.gather_slot + j);
@@ -58,24 +51,19 @@ __device__ __forceinline__ void warp_store_corner_forces(const TetMeshView<T>& m
 }
 
 // X0d: null, or the rest positions in double, from which the shape gradients are derived
-// (derive_dhdX) instead of read.
-template <class T, bool kPrefetch>
+// (derive_dhdX) instead of read. The element's rest data is loaded before the wait
+// (load_element_rest), so that after it only u's loads precede the arithmetic.
+template <class T>
 __global__ void element_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
                                       const double* __restrict__ X0d, T* __restrict__ fcorner) {
   pdl_launch_dependents();
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
-  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
-  T g[12];
-  if (e < m.ntet) {  // rest data only: before the wait
-    if (X0d)
-      derive_dhdX(m, X0d, e, g);
-    else
-      load_dhdX(m, e, g);
-  }
+  ElementRest<T> r;
+  if (e < m.ntet) r = load_element_rest(m, e, X0d);
   pdl_wait();  // u is written by the previous step's node stage
   if (e - int(threadIdx.x % 32) >= m.ntet) return;  // whole warps past the mesh
   T f[4][3] = {};
-  if (e < m.ntet) element_corner_force_values(m, mat, g, u, e, f);
+  if (e < m.ntet) element_corner_force_values(m, mat, r, u, f);
   warp_store_corner_forces(m, f, fcorner, e);
 }
 
@@ -95,14 +83,15 @@ __global__ void node_update_kernel(const StepArgs<T> a) {
 
 // ---- T4ANP element stage (anp.h): three kernels, each thread writes only its own
 // element or node, so runs repeat bit for bit ----
-template <class T, bool kPrefetch>
+template <class T>
 __global__ void anp_volume_kernel(const TetMeshView<T> m, const T* __restrict__ u, T* __restrict__ vol_now) {
   pdl_launch_dependents();
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
-  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  ElementRest<T> r;
+  if (e < m.ntet) r = load_element_rest(m, e);
   pdl_wait();  // u is written by the previous step's node stage
   if (e >= m.ntet) return;
-  anp_element_volume(m, u, vol_now, e);
+  vol_now[e] = anp_element_volume(m, r, u);
 }
 
 template <class T, bool kPrefetch>
@@ -120,16 +109,17 @@ __global__ void anp_pressure_kernel(const TetMeshView<T> m, const NeoHookean<T> 
   anp_node_pressure(m, mat, vol_now, p_node, i);
 }
 
-template <class T, bool kPrefetch>
+template <class T>
 __global__ void anp_forces_kernel(const TetMeshView<T> m, const NeoHookean<T> mat, const T* __restrict__ u,
                                   const T* __restrict__ p_node, T* __restrict__ fcorner) {
   pdl_launch_dependents();
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
-  if (kPrefetch && e < m.ntet) prefetch_element_rest(m, e);
+  ElementRest<T> r;
+  if (e < m.ntet) r = load_element_rest(m, e);
   pdl_wait();  // p_node is written by anp_pressure_kernel
   if (e - int(threadIdx.x % 32) >= m.ntet) return;  // whole warps past the mesh
   T f[4][3] = {};
-  if (e < m.ntet) anp_corner_force_values(m, mat, u, p_node, e, f);
+  if (e < m.ntet) anp_corner_force_values(m, mat, r, u, p_node, f);
   warp_store_corner_forces(m, f, fcorner, e);
 }
 
@@ -243,9 +233,7 @@ cudaError_t launch_rayleigh_displacement(cudaStream_t s, const LaunchShape& ls, 
 
 template <class T>
 cudaError_t launch_element_forces(cudaStream_t s, const LaunchShape& ls, const StepArgs<T>& a) {
-  const T* u = element_displacement(a.b);
-  if (ls.prefetch) return launch(s, ls, element_forces_kernel<T, true>, a.m, a.mat, u, a.X0d, a.b.fcorner);
-  return launch(s, ls, element_forces_kernel<T, false>, a.m, a.mat, u, a.X0d, a.b.fcorner);
+  return launch(s, ls, element_forces_kernel<T>, a.m, a.mat, element_displacement(a.b), a.X0d, a.b.fcorner);
 }
 
 template <class T>
@@ -254,8 +242,7 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
   const T* u = element_displacement(a.b);
   const T* vol_now = a.vol_now;
   const T* p_node = a.p_node;
-  cudaError_t e = le.prefetch ? launch(s, le, anp_volume_kernel<T, true>, a.m, u, a.vol_now)
-                              : launch(s, le, anp_volume_kernel<T, false>, a.m, u, a.vol_now);
+  cudaError_t e = launch(s, le, anp_volume_kernel<T>, a.m, u, a.vol_now);
   if (e != cudaSuccess) return e;
   e = with_lanes(a.lanes, [&](auto g) {
     constexpr int G = decltype(g)::value;
@@ -267,8 +254,7 @@ cudaError_t launch_anp_stages(cudaStream_t s, const LaunchShape& le, const Launc
                          : launch(s, ln, anp_pressure_lanes_kernel<T, G, false>, a);
   });
   if (e != cudaSuccess) return e;
-  return le.prefetch ? launch(s, le, anp_forces_kernel<T, true>, a.m, a.mat, u, p_node, a.b.fcorner)
-                     : launch(s, le, anp_forces_kernel<T, false>, a.m, a.mat, u, p_node, a.b.fcorner);
+  return launch(s, le, anp_forces_kernel<T>, a.m, a.mat, u, p_node, a.b.fcorner);
 }
 
 template <class T>

@@ -40,25 +40,18 @@ namespace {
 // needs except the live displacement, so under PDL it is loaded before the wait.
 template <class T>
 struct CornerRest {
-  int node[4];  // the element's nodes (m.tet)
-  T g[12];      // the element's dh/dX (all four corners: deformation_gradient)
-  T ga[3];      // dh_a/dX of this corner (loaded again: indexing g by a runtime corner
-                // would move g from registers to local memory)
-  T vol;
-  int law;      // kLaws: the element's body (m.tet_law), the index of its law
+  ElementRest<T> el;  // the element's (tet_forces.h)
+  T ga[3];            // dh_a/dX of this corner (loaded again: indexing el.g by a runtime
+                      // corner would move it from registers to local memory)
 };
 
-template <class T, bool kLaws>
+template <class T>
 __device__ __forceinline__ void load_corner_rest(const TetMeshView<T>& m, int j, CornerRest<T>& r) {
   const int s = m.gather_slot[j];
   const int a = s / m.ntet, e = s - a * m.ntet;
-#pragma unroll
-  for (int b = 0; b < 4; ++b) r.node[b] = m.tet[b * m.ntet + e];
-  load_dhdX(m, e, r.g);
+  r.el = load_element_rest(m, e);
 #pragma unroll
   for (int k = 0; k < 3; ++k) r.ga[k] = m.dhdX[(a * 3 + k) * m.ntet + e];
-  r.vol = m.vol[e];
-  r.law = kLaws ? m.tet_law[e] : 0;
 }
 
 // Loads of live data (u, the pressures). The one-step kernels read what an earlier kernel
@@ -83,11 +76,11 @@ __device__ __forceinline__ void corner_force_of(const NeoHookean<T>& mat, bool a
                                                 const CornerRest<T>& r, const T ue[4][3], T f[3]) {
   if (anp) {
     T p = T(0);
-    for (int b = 0; b < 4; ++b) p += live_load<kCoherent>(p_node + r.node[b]);
+    for (int b = 0; b < 4; ++b) p += live_load<kCoherent>(p_node + r.el.node[b]);
     p *= T(0.25);
-    corner_force(anp_stress(mat, deformation_gradient(r.g, ue), p), r.vol, r.ga, f);
+    corner_force(anp_stress(mat, deformation_gradient(r.el.g, ue), p), r.el.V0, r.ga, f);
   } else {
-    corner_force(neo_hookean_pk1(mat, deformation_gradient(r.g, ue)), r.vol, r.ga, f);
+    corner_force(neo_hookean_pk1(mat, deformation_gradient(r.el.g, ue)), r.el.V0, r.ga, f);
   }
 }
 
@@ -101,9 +94,9 @@ __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, con
 #pragma unroll
   for (int b = 0; b < 4; ++b)
 #pragma unroll
-    for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * m.nnode + r.node[b]);
+    for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(u + k * m.nnode + r.el.node[b]);
   if constexpr (kLaws) {
-    const ElementLaw<T>& l = m.laws[r.law];
+    const ElementLaw<T>& l = m.laws[r.el.law];
     corner_force_of<T, kCoherent>(l.mat, kAnp && l.element == kT4ANP, p_node, r, ue, f);
   } else {
     corner_force_of<T, kCoherent>(mat, kAnp, p_node, r, ue, f);
@@ -140,14 +133,14 @@ __device__ __forceinline__ void fused_pressure_phase(const StepArgs<T>& a, const
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x), nt = int(blockDim.x);
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
-    if (j != fb.jb + tid) load_corner_rest<T, kLaws>(m, j, r);
+    if (j != fb.jb + tid) load_corner_rest<T>(m, j, r);
     T ue[4][3];
 #pragma unroll
     for (int b = 0; b < 4; ++b)
 #pragma unroll
-      for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(ue_prev + k * m.nnode + r.node[b]);
-    vs[j - fb.jb] = anp_element_volume(r.g, r.vol, ue);
-    v0s[j - fb.jb] = r.vol;
+      for (int k = 0; k < 3; ++k) ue[b][k] = live_load<kCoherent>(ue_prev + k * m.nnode + r.el.node[b]);
+    vs[j - fb.jb] = anp_element_volume(r.el.g, r.el.V0, ue);
+    v0s[j - fb.jb] = r.el.V0;
   }
   __syncthreads();
   for (int t0 = 0; t0 < (fb.n1 - fb.n0) * G; t0 += nt) {
@@ -189,7 +182,7 @@ __device__ __forceinline__ void fused_force_phase(const StepArgs<T>& a, const Fu
   NodeInputs<T> in0;
   if (kPreload && l0.valid && l0.lane == 0) in0 = load_node_inputs(m, a.p, u_prev, du_prev, a.b.fext, l0.i);
   for (int j = fb.jb + tid; j < fb.je; j += nt) {
-    if (j != fb.jb + tid) load_corner_rest<T, kLaws>(m, j, r);
+    if (j != fb.jb + tid) load_corner_rest<T>(m, j, r);
     T f[3];
     fused_corner_force<T, kAnp, kCoherent, kLaws>(a.mat, m, ue_prev, a.p_node, r, f);
     for (int k = 0; k < 3; ++k) fs[k * S + (j - fb.jb)] = f[k];
@@ -215,7 +208,7 @@ template <class T, int G, bool kLaws>
 __device__ __forceinline__ void load_block_rest(const StepArgs<T>& a, const FusedBlock& fb, CornerRest<T>& r) {
   const TetMeshView<T>& m = a.m;
   const int tid = int(threadIdx.x);
-  if (fb.jb + tid < fb.je) load_corner_rest<T, kLaws>(m, fb.jb + tid, r);
+  if (fb.jb + tid < fb.je) load_corner_rest<T>(m, fb.jb + tid, r);
   if (G > 1 && tid < (fb.n1 - fb.n0) * G && tid % G == 0) {
     const int i = fb.n0 + tid / G;
     prefetch_l1(m.flags + i);
