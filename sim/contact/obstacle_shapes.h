@@ -52,6 +52,23 @@ SIM_HD inline T contact_sqrt(T x) {
 #endif
 }
 
+// A box's or mesh's frame, world = c + R local (Obstacle::R, row-major): a world point x
+// in local coordinates, q = R^T (x - c); a local point q in the world, x = c + R q; a
+// local vector v in the world, w = R v.
+template <class T>
+SIM_HD inline void to_obstacle_frame(const T R[9], const T c[3], const T x[3], T q[3]) {
+  const T v[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+  for (int i = 0; i < 3; ++i) q[i] = R[i] * v[0] + R[3 + i] * v[1] + R[6 + i] * v[2];
+}
+template <class T>
+SIM_HD inline void obstacle_point_to_world(const T R[9], const T c[3], const T q[3], T x[3]) {
+  for (int k = 0; k < 3; ++k) x[k] = c[k] + R[3 * k] * q[0] + R[3 * k + 1] * q[1] + R[3 * k + 2] * q[2];
+}
+template <class T>
+SIM_HD inline void obstacle_vector_to_world(const T R[9], const T v[3], T w[3]) {
+  for (int k = 0; k < 3; ++k) w[k] = R[3 * k] * v[0] + R[3 * k + 1] * v[1] + R[3 * k + 2] * v[2];
+}
+
 // Distance of x from the centre point p, less r: a sphere (and a capsule's end). At the
 // centre itself the normal is +y (any unit vector would do).
 template <class T>
@@ -70,11 +87,10 @@ SIM_HD inline SurfacePoint<T> round_surface(const T p[3], T r, const T x[3]) {
 
 template <class T>
 SIM_HD inline SurfacePoint<T> box_surface(const Obstacle<T>& o, const T x[3]) {
-  const T v[3] = {x[0] - o.c[0], x[1] - o.c[1], x[2] - o.c[2]};
   T q[3], r[3];  // local coordinates, and their part outside the box
+  to_obstacle_frame(o.R, o.c, x, q);
   T rr = T(0);
   for (int i = 0; i < 3; ++i) {
-    q[i] = o.R[i] * v[0] + o.R[3 + i] * v[1] + o.R[6 + i] * v[2];  // R^T v
     const T h = o.e[i];
     const T clamped = q[i] < -h ? -h : (q[i] > h ? h : q[i]);
     r[i] = q[i] - clamped;
@@ -96,7 +112,7 @@ SIM_HD inline SurfacePoint<T> box_surface(const Obstacle<T>& o, const T x[3]) {
     s.dist = best;
     nl[a] = q[a] < T(0) ? T(-1) : T(1);
   }
-  for (int k = 0; k < 3; ++k) s.n[k] = o.R[3 * k] * nl[0] + o.R[3 * k + 1] * nl[1] + o.R[3 * k + 2] * nl[2];
+  obstacle_vector_to_world(o.R, nl, s.n);
   return s;
 }
 
@@ -124,9 +140,8 @@ SIM_HD inline SurfacePoint<T> capsule_surface(const Obstacle<T>& o, const T x[3]
 // far node is free; a node could only be missed by a single step longer than the padding.
 template <class T>
 SIM_HD inline SurfacePoint<T> mesh_surface(const Obstacle<T>& o, const T x[3]) {
-  const T v[3] = {x[0] - o.c[0], x[1] - o.c[1], x[2] - o.c[2]};
   T q[3];
-  for (int i = 0; i < 3; ++i) q[i] = o.R[i] * v[0] + o.R[3 + i] * v[1] + o.R[6 + i] * v[2];  // R^T v
+  to_obstacle_frame(o.R, o.c, x, q);
   const SdfSample<T> s = sdf_sample(o.sdf, q);
   const T rr = s.out[0] * s.out[0] + s.out[1] * s.out[1] + s.out[2] * s.out[2];
   SurfacePoint<T> sp;
@@ -145,7 +160,7 @@ SIM_HD inline SurfacePoint<T> mesh_surface(const Obstacle<T>& o, const T x[3]) {
       nl[0] = T(0), nl[1] = T(1), nl[2] = T(0);
     }
   }
-  for (int k = 0; k < 3; ++k) sp.n[k] = o.R[3 * k] * nl[0] + o.R[3 * k + 1] * nl[1] + o.R[3 * k + 2] * nl[2];
+  obstacle_vector_to_world(o.R, nl, sp.n);
   return sp;
 }
 
@@ -178,7 +193,7 @@ SIM_HD inline void obstacle_bound(const Obstacle<T>& o, T cb[3], T& rb) {
       h[k] = T(0.5) * T(o.sdf.n[k] - 1) * o.sdf.cell;
       m[k] = o.sdf.origin[k] + h[k];
     }
-    for (int k = 0; k < 3; ++k) cb[k] = o.c[k] + o.R[3 * k] * m[0] + o.R[3 * k + 1] * m[1] + o.R[3 * k + 2] * m[2];
+    obstacle_point_to_world(o.R, o.c, m, cb);
     rb = contact_sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
   } else {
     for (int k = 0; k < 3; ++k) cb[k] = o.c[k];

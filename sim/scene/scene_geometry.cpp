@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sim/contact/mesh_sdf.h"
+#include "sim/contact/obstacle_shapes.h"
 #include "sim/core/body_view.h"
 #include "sim/mesh/surface_generators.h"
 #include "sim/mesh/surface_io.h"
@@ -431,8 +432,7 @@ std::vector<double> placed_vertices(const ObstacleSpec& o) {
   const SurfaceMesh& sm = o.sdf->surface;
   std::vector<double> x(sm.xyz.size());
   for (int v = 0; v < sm.npoint(); ++v) {
-    const double* q = &sm.xyz[3 * v];
-    for (int k = 0; k < 3; ++k) x[3 * v + k] = o.center[k] + o.R[3 * k] * q[0] + o.R[3 * k + 1] * q[1] + o.R[3 * k + 2] * q[2];
+    obstacle_point_to_world(o.R, o.center, &sm.xyz[3 * v], &x[3 * v]);
   }
   return x;
 }
@@ -504,28 +504,24 @@ std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, in
 // no crossing each body lies on one side of the surface, so one of its points off the
 // surface decides: by the exact winding number of the obstacle's triangles
 // (generalized_winding_number) and its exact distance to them. Candidates are the points
-// the grid reads as inside, deepest first; a point on the surface (touching) decides nothing.
+// the grid reads as inside (dist: signed_distance of each of pts), deepest first; a point
+// on the surface (touching) decides nothing.
 template <class NameFn>
 void check_body_not_inside_mesh(const Scene& s, const TetMesh& m, const ObstacleSpec& ob, const std::vector<BodyPoint>& pts,
-                                const std::string& key, const NameFn& body_name) {
+                                const std::vector<double>& dist, const std::string& key, const NameFn& body_name) {
   const SurfaceMesh& sm = ob.sdf->surface;
   double extent = 0;
   for (double x : sm.xyz) extent = std::max(extent, std::fabs(x));
   const double on_surface = 1e-9 * (1 + extent);
   std::vector<std::pair<double, const BodyPoint*>> cand;
-  for (const BodyPoint& p : pts) {
-    const double d = signed_distance(ob, p.x);
-    if (d < 0) cand.push_back({d, &p});
-  }
+  for (std::size_t j = 0; j < pts.size(); ++j)
+    if (dist[j] < 0) cand.push_back({dist[j], &pts[j]});
   std::sort(cand.begin(), cand.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<char> decided(std::size_t(std::max(1, m.nbody())), 0);
   for (const auto& [d, p] : cand) {
     if (decided[std::size_t(p->body)]) continue;
-    double q[3];  // the point in the obstacle's frame: world = R local + center
-    for (int k = 0; k < 3; ++k) {
-      q[k] = 0;
-      for (int j = 0; j < 3; ++j) q[k] += ob.R[3 * j + k] * (p->x[j] - ob.center[j]);
-    }
+    double q[3];  // the point in the obstacle's frame
+    to_obstacle_frame(ob.R, ob.center, p->x, q);
     double dist2 = INFINITY;
     for (int t = 0; t < sm.ntri(); ++t) {
       double c[3];
@@ -556,9 +552,10 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
   for (std::size_t o = 0; o < obstacles.size(); ++o) {
     double worst = 0;
     const BodyPoint* deepest = nullptr;
-    for (const BodyPoint& p : pts) {
-      const double d = signed_distance(obstacles[o], p.x);
-      if (d < worst) worst = d, deepest = &p;
+    std::vector<double> dist(pts.size());
+    for (std::size_t j = 0; j < pts.size(); ++j) {
+      dist[j] = signed_distance(obstacles[o], pts[j].x);
+      if (dist[j] < worst) worst = dist[j], deepest = &pts[j];
     }
     const std::string key = s.source + ": obstacle[" + std::to_string(o) + "]";
     // A mesh's distance is its grid's, within sqrt(3)/2 cell of the triangles (most at a
@@ -618,7 +615,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     if (!cut.empty())
       throw InputError(key + ": the " + obstacle_shape_name(ob.shape) + " obstacle cuts through " + body_name(body) +
                        " at the start (" + cut + "); move " + s.body(body).key + ".position or the obstacle");
-    if (ob.shape == kObstacleMesh && ob.sdf) check_body_not_inside_mesh(s, m, ob, pts, key, body_name);
+    if (ob.shape == kObstacleMesh && ob.sdf) check_body_not_inside_mesh(s, m, ob, pts, dist, key, body_name);
   }
 }
 

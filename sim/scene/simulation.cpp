@@ -222,7 +222,10 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // for any alpha, but below zero above alpha dt = 2, where the velocity flips sign every
   // step and more damping means more motion. The step stays below 2 / alpha.
   ts_.dt_alpha = q.alpha > 0 ? 2.0 / q.alpha : std::numeric_limits<double>::infinity();
-  ts_.dt_cr = std::min(rayleigh_stable_step(std::min(ts_.dt_le, ts_.dt_eigen), q.beta), ts_.dt_alpha);
+  // The material's own bound: Le/c and 2/omega_max, or with the adaptive step only
+  // 2/omega_max (it follows the live state: README "Adaptive step"), shortened by beta.
+  const double elastic = rayleigh_stable_step(q.dt_adaptive ? ts_.dt_eigen : std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
+  ts_.dt_cr = std::min(elastic, ts_.dt_alpha);
   std::string warning;
   if (!(q.lambda > 0 && q.lambda <= 1)) throw InputError("lambda must lie in (0, 1]");
   if (!(q.dt_max > 0)) throw InputError("dt_max must be positive");
@@ -231,12 +234,12 @@ std::string Simulation::set_params(const PhysicsParams& p) {
                                            q.g[2] != params_.g[2] || q.alpha != params_.alpha);
   bool estimate_now = false;
   if (q.dt_adaptive) {
-    // The step follows the live state: 2/omega_max (not Le/c, README "Adaptive step"); the
-    // rest value starts it and sets the ladder, the live estimates move it.
+    // The rest value of 2/omega_max starts the step and sets the ladder, the live
+    // estimates move it.
     q.dt_auto = false;
     ladder_ref_ = ts_.dt_eigen;
     if (!(dt_old > 0)) {
-      rung_ = ladder_rung(std::min(q.lambda * std::min(rayleigh_stable_step(ts_.dt_eigen, q.beta), ts_.dt_alpha), q.dt_max));
+      rung_ = ladder_rung(std::min(q.lambda * ts_.dt_cr, q.dt_max));
       q.dt = ladder(rung_);
     } else if (same_step) {
       q.dt = dt_old;
@@ -245,7 +248,6 @@ std::string Simulation::set_params(const PhysicsParams& p) {
       rung_ = ladder_rung(q.dt);
       estimate_now = true;  // the material or lambda may have changed: follow at once
     }
-    ts_.dt_cr = std::min(rayleigh_stable_step(ts_.dt_eigen, q.beta), ts_.dt_alpha);
   } else if (q.dt_auto) {
     q.dt = q.lambda * ts_.dt_cr;
   } else if (q.dt > ts_.dt_cr && !(scene_.allow_unstable && q.dt == dt_old)) {
@@ -277,7 +279,6 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // names those rather than the run's duration or step count, which would fail next.
   // The material's own bound is checked apart from the damping's 2/alpha, which would
   // otherwise hide an absurd material behind a sane step (E = 1e-300 with alpha = 10).
-  const double elastic = rayleigh_stable_step(q.dt_adaptive ? ts_.dt_eigen : std::min(ts_.dt_le, ts_.dt_eigen), q.beta);
   const bool elastic_bad = !(q.lambda * elastic >= 1e-15 && q.lambda * elastic <= 1e3);
   if (elastic_bad || !(q.dt >= 1e-15 && q.dt <= 1e3)) {
     char buf[500], extra[160] = "";
