@@ -133,6 +133,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   }
   check_closing_speeds(scene_, mesh_, ts_.dt);
   warn_float_far_from_origin();
+  warn_friction_creep();
   tracked_ = scene_tracked_nodes(scene_, mesh_);
   apply_initial_state();
 }
@@ -152,6 +153,33 @@ void Simulation::warn_float_far_from_origin() const {
                "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
                "set solver.precision = \"double\"\n",
                scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
+}
+
+void Simulation::warn_friction_creep() const {
+  // Coulomb friction holds a rigid block on a plane tilted by theta < atan(mu). An elastic
+  // body with mass damping alone (damping.beta = 0, the paper's model) can creep down it
+  // anyway: its elastic modes, damped xi = alpha / 2 omega (0.3 % at 1 kHz for alpha =
+  // 20), vibrate once excited, and friction opposes each node's vibrating step, not only
+  // the downhill drift (README, "Friction on a slope"). Measured: a 10 x 2 x 10 mm plate,
+  // E = 100 kPa, alpha = 20, mu = 1 on 40 deg (tan 40 deg = 0.84) slid 5.7 mm in 0.4 s;
+  // with beta = 1e-5 s it moved 2 um, and on 50 deg beta = 5e-5 s brings its slide within
+  // 1 % of a rigid block's (RayleighBeta.HoldsAPlateInsideTheFrictionCone). Said once, at
+  // the start, for a tilted plane such a body could rest on.
+  if (params_.contact_mode != kCoulomb || params_.beta > 0) return;
+  const double g = std::sqrt(params_.g[0] * params_.g[0] + params_.g[1] * params_.g[1] + params_.g[2] * params_.g[2]);
+  if (!(g > 0)) return;
+  for (const PlaneSpec& pl : params_.planes) {
+    const double up = -(pl.normal[0] * params_.g[0] + pl.normal[1] * params_.g[1] + pl.normal[2] * params_.g[2]) / g;
+    const double theta = std::acos(std::min(1.0, std::max(-1.0, up)));
+    if (!(up > 0 && theta > 0.5 * M_PI / 180 && std::tan(theta) < params_.mu)) continue;
+    std::fprintf(stderr,
+                 "warning: %s: contact.mu = %.4g would hold a rigid body on this %.3g deg plane (atan mu = %.3g deg), "
+                 "but with damping.beta = 0 an elastic body can creep down it, driven by its own undamped vibration; "
+                 "set damping.beta (for a 10 mm plate of E = 100 kPa, 1e-5 to 5e-5 s; README, \"Friction on a "
+                 "slope\")\n",
+                 scene_.source.c_str(), params_.mu, theta * 180 / M_PI, std::atan(params_.mu) * 180 / M_PI);
+    return;
+  }
 }
 
 std::vector<NeoHookean<double>> Simulation::materials() const {

@@ -183,6 +183,7 @@ class Simulation {
   void apply_initial_state();
   // A warning where float precision rounds node positions to 1 % of the smallest element.
   void warn_float_far_from_origin() const;
+  void warn_friction_creep() const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
   // and the adaptive step goes on (check_state).
   bool check_health();
