@@ -732,6 +732,7 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   std::vector<int> models;  // one per body with per-body laws, else one for all
   for (const BodyLaw& l : resolved_laws(params_)) models.push_back(l.model);
   if (models.empty()) models.push_back(params_.material_model);
+  watchdog_.set_body_contact(params_.body_contact || params_.self_contact);
   const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane,

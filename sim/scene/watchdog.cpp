@@ -112,7 +112,16 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
     char buf[200];
     std::snprintf(buf, sizeof buf, "the total energy rose %.3g J above its lowest value (%.3g J, scale %.3g J)", h - h_min_,
                   h_min_, scale_);
-    return WatchdogFinding{buf, -1, unstable_dt ? kDtCause : "energy from nowhere: a numerical blow-up; try a smaller lambda"};
+    // With body contact the likelier source is a node pushed back out of another body
+    // within one step: it leaves with the speed depth / dt, more at a smaller step (README
+    // limits, "Energy from body contact").
+    const char* why = unstable_dt    ? kDtCause
+                      : body_contact_ ? "energy from body contact: a node pushed back out of another body within one step "
+                                        "leaves with speed depth / dt (most where a light or soft body leaves a heavy or "
+                                        "stiff one; a smaller lambda makes it worse; README limits); or a numerical "
+                                        "blow-up"
+                                      : "energy from nowhere: a numerical blow-up; try a smaller lambda";
+    return WatchdogFinding{buf, -1, why};
   }
   h_min_ = std::min(h_min_, h);
   return std::nullopt;

@@ -42,6 +42,9 @@ class Watchdog {
   // The machine epsilon of the run's numbers (float or double): an element's J within the
   // determinant's rounding in it counts as collapsed (element_volume_ok), as on the device.
   void set_precision(double eps) { eps_ = eps; }
+  // Whether body-body or self-contact runs: an energy rise then names its known source
+  // first (README limits, "Energy from body contact").
+  void set_body_contact(bool on) { body_contact_ = on; }
 
   // Checks state s (with its diagnostics d, and W = work the external forces have done
   // so far); nothing when healthy. unstable_dt: the step is above dt_cr, which then is the
@@ -67,6 +70,7 @@ class Watchdog {
   double h_min_ = 0, scale_ = 0;
   double eps_ = std::numeric_limits<double>::epsilon();  // the run's precision (set_precision)
   bool have_min_ = false;
+  bool body_contact_ = false;
 };
 
 // Energy scale of a scene at rest: the initial kinetic energy plus what gravity could

@@ -184,3 +184,25 @@ TEST(DeviceWatchdog, RecordNamesTheNodeAndTheElement) {
   solver.set_state(inv);
   EXPECT_EQ(solver.take_health().bits & kHealthInverted, 0u);
 }
+
+// An energy rise names its likely cause: with body-body or self-contact on, the push-out
+// of a node found inside another body (README limits, "energy from body contact"), where
+// a smaller step makes it worse; without, a numerical blow-up, where it helps.
+TEST(Watchdog, EnergyRiseNamesBodyContactWhereItRuns) {
+  const TetMesh m;
+  const HostState s;
+  StepHealth dev;
+  dev.checked = true;  // the device scanned the state: only the energy test runs here
+  auto cause = [&](bool body_contact) {
+    Watchdog w;
+    w.reset(1.0, 1.0);
+    w.set_body_contact(body_contact);
+    Diagnostics d;
+    d.ke = 2.0;  // 1 J above the lowest energy, at a scale of 1 J
+    const std::optional<WatchdogFinding> f = w.check(m, s, d, 0.0, {0}, false, Watchdog::SpeedTest{}, dev);
+    return f ? f->cause : std::string("(none)");
+  };
+  EXPECT_NE(cause(true).find("energy from body contact"), std::string::npos) << cause(true);
+  EXPECT_NE(cause(true).find("a smaller lambda makes it worse"), std::string::npos) << cause(true);
+  EXPECT_NE(cause(false).find("numerical blow-up; try a smaller lambda"), std::string::npos) << cause(false);
+}
