@@ -1,5 +1,6 @@
 #include "sim/io/output_file.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -21,8 +22,26 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   // Atomic only for a regular file or a new name: a device (/dev/null, /dev/full) or FIFO
   // is written in place, never replaced by a renamed temporary.
   struct stat st;
-  if (mode == kAtomic && (::stat(path_.c_str(), &st) != 0 || S_ISREG(st.st_mode))) tmp_ = path_ + ".tmp";
+  const bool exists = ::stat(path_.c_str(), &st) == 0;
+  if (mode == kAtomic && (!exists || S_ISREG(st.st_mode))) tmp_ = path_ + ".tmp";
   const std::string& open_path = tmp_.empty() ? path_ : tmp_;
+  if (tmp_.empty() && exists && S_ISFIFO(st.st_mode)) {
+    // Opened without blocking: open(2) on a FIFO nobody reads waits for a reader, and a
+    // signal (which only sets the stop flag) restarts it, so Ctrl-C could not stop the run.
+    // No reader yet is refused at once; then the descriptor blocks again for the writes.
+    const int fd = ::open(open_path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
+      throw ResourceError(open_path + ": cannot write: " +
+                          (errno == ENXIO ? std::string("a FIFO with no reader (start its reader first)")
+                                          : std::string(std::strerror(errno))));
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0 || !(f_ = ::fdopen(fd, "wb"))) {
+      const int e = errno;
+      ::close(fd);
+      throw ResourceError(open_path + ": cannot write: " + std::strerror(e));
+    }
+    return;
+  }
   f_ = std::fopen(open_path.c_str(), "wb");
   if (!f_) throw ResourceError(open_path + ": cannot write: " + std::strerror(errno));
   if (tmp_.empty() && ::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;

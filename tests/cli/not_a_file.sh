@@ -19,6 +19,18 @@ check 2 "body.file: $tmp/dir.obj: not a regular file (a directory)" "$exe" run -
 check 2 "body.file: /dev/null: not a regular file (a character device)" "$exe" run --scene "$data/surface.toml" --set body.file=/dev/null
 check 2 "$tmp/fifo.obj: not a regular file (a FIFO)" "$exe" mesh --surface "$tmp/fifo.obj"
 check 2 "$tmp/dir.obj: not a regular file (a directory)" "$exe" mesh --surface "$tmp/dir.obj"
+# An output FIFO nobody reads is refused at once (open(2) would block, and a signal could
+# not stop it); with a reader the rows go through it.
+mkfifo "$tmp/rows.csv"
+check 5 "$tmp/rows.csv: cannot write: a FIFO with no reader (start its reader first)" "$exe" run --scene "$data/surface.toml" --set time.duration=0.002 --csv "$tmp/rows.csv"
+cat "$tmp/rows.csv" >"$tmp/read.csv" &
+reader=$!
+check 0 "wrote 3 CSV rows to $tmp/rows.csv" "$exe" run --scene "$data/surface.toml" --set time.duration=0.002 --csv "$tmp/rows.csv"
+wait $reader
+if [ "$(head -c 2 "$tmp/read.csv")" != "t," ] || [ "$(wc -l <"$tmp/read.csv")" -ne 4 ]; then
+  echo "FAIL: the reader got $(wc -l <"$tmp/read.csv") lines, not the header and 3 rows"
+  status=1
+fi
 # Size caps: a scene file above 4 MiB is refused before it is read.
 head -c 5000000 /dev/zero | tr '\0' '#' >"$tmp/big.toml"
 check 2 "scene file $tmp/big.toml: 5000000 bytes, above the limit of 4194304 bytes" "$exe" run --scene "$tmp/big.toml"
