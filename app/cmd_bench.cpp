@@ -146,6 +146,21 @@ int cpu_threads_for(const Simulation& sim, int requested) {
   return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
 
+// n steps timed by `timed` (us), in pieces of about half a second, so that a signal stops a
+// long sample (--steps reaches 1e9: hours) within one piece; the usual sample (~25 ms) is
+// one piece, timed as one call. Returns the time of the pieces run.
+double timed_in_pieces(long n, const std::function<double(long)>& timed) {
+  double us = 0;
+  for (long done = 0, piece = 1000; done < n && !stop_requested();) {
+    const long k = std::min(piece, n - done);
+    const double t = timed(k);
+    us += t;
+    done += k;
+    piece = std::max(1L, std::lround(5e5 * double(k) / std::max(1.0, t)));
+  }
+  return us;
+}
+
 // steps < 0: adapt the chunk so each sample takes about 25 ms.
 Result measure(const Scene& sc, const std::string& label, const Opts& o, long steps, bool full) {
   Result r;
@@ -221,7 +236,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   const auto w0 = Clock::now();
   for (int s = 0; s < o.samples && !stop_requested(); ++s) {
     const long n = chunk + (s < extra ? 1 : 0);
-    per_step.push_back(timed(n) / double(n));
+    per_step.push_back(timed_in_pieces(n, timed) / double(n));
   }
   sync();
   r.steps = chunk * o.samples + extra;
@@ -265,7 +280,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       api->step(std::min(chunk, 200L));
       api->synchronize();
       std::vector<double> v;
-      for (int s = 0; s < cmp_samples; ++s) v.push_back(api->time_steps_us(chunk) / double(chunk));
+      const std::function<double(long)> t = [api](long n) { return api->time_steps_us(n); };
+      for (int s = 0; s < cmp_samples && !stop_requested(); ++s) v.push_back(timed_in_pieces(chunk, t) / double(chunk));
       return stats_of(v);
     };
     if (o.compare_modes) {
@@ -419,7 +435,7 @@ Command add_bench_command(CLI::App& app) {
     }
     const Scene sc = load_scene(o->scene, set);
     if (!o->json.empty()) check_not_scene_input(sc, "--scene", {o->json, "--json", true});
-    install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop after the current sample, write nothing
+    install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop within a piece of a sample (timed_in_pieces), write nothing
     auto stopped = [&]() {
       std::fprintf(stderr, "softtled: stopped by signal %d before the benchmark finished; wrote nothing\n", stop_signal());
       return exit_code_for_signal(stop_signal());

@@ -62,3 +62,22 @@ PY
 stop_run TERM 143
 stop_run INT 130
 echo "ok: SIGTERM -> 143, SIGINT -> 130, output complete"
+
+# bench: a signal stops a long timed sample within about half a second (its pieces), not
+# after the sample (--steps 1e8 in 3 samples: minutes each), and writes nothing.
+"$exe" bench --scene "$data/surface.toml" --steps 100000000 --samples 3 --json "$tmp/b.json" >"$tmp/out.txt" \
+  2>"$tmp/err.txt" &
+pid=$!
+sleep 3
+kill -0 "$pid" 2>/dev/null || fail "bench ended before the signal"
+kill -INT "$pid"
+t0=$(date +%s)
+for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$pid" 2>/dev/null && fail "bench still timing 10 s after SIGINT"
+wait "$pid"
+rc=$?
+pid=
+[ "$rc" -eq 130 ] || fail "bench SIGINT: exit code $rc, wanted 130"
+grep -q "stopped by signal 2 before the benchmark finished; wrote nothing" "$tmp/err.txt" || fail "bench: no stop message"
+[ ! -e "$tmp/b.json" ] || fail "bench wrote $tmp/b.json although stopped"
+echo "ok: bench stopped within $(( $(date +%s) - t0 )) s of SIGINT, nothing written"
