@@ -9,6 +9,7 @@
 #include <cstring>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <cstdio>
 #include <cstdlib>
@@ -126,8 +127,9 @@ Switches parse_switches(const std::string& text, double unit_m) {
     } else if (c == 'a') {
       const double mm = unit_m * kMm;
       s.a_mm3 = number(true, "a", start) * mm * mm * mm;
-      if (!(s.a_mm3 > 0 && std::isfinite(s.a_mm3)))
-        throw InputError(key + ": '" + text.substr(start, i - start) + "': the volume bound must be finite and > 0");
+      if (!(s.a_mm3 >= std::numeric_limits<double>::min() && std::isfinite(s.a_mm3)))  // (a subnormal bound crashed TetGen)
+        throw InputError(key + ": '" + text.substr(start, i - start) +
+                         "': the volume bound must be finite and > 0, and not below 2.2e-308 mm^3");
     } else if (c == 'Y') {
       s.keep_boundary = true;
     }
@@ -158,6 +160,8 @@ Switches resolve(const TetgenOptions& o) {
   s.rho = o.radius_edge;
   s.theta = o.min_dihedral;
   s.a_mm3 = o.max_volume * kMm * kMm * kMm;
+  if (o.max_volume > 0 && !(s.a_mm3 >= std::numeric_limits<double>::min()))
+    throw InputError("mesh.max_volume: " + num(o.max_volume) + " m^3 is below the smallest bound (2.2e-308 mm^3); 0 means no bound");
   s.keep_boundary = o.keep_boundary;
   return s;
 }
@@ -243,7 +247,7 @@ double surface_area(const SurfaceMesh& s) {
 
 double estimate(const SurfaceMesh& s, const Switches& sw) {
   const double V = std::fabs(enclosed_volume(s)), A = surface_area(s), ntri = s.ntri();
-  const double a_m3 = sw.a_mm3 / (kMm * kMm * kMm);
+
   // -a switches -q on with TetGen's default bound 2.
   const bool quality = sw.quality || sw.a_mm3 > 0;
   if (!quality) return 2.5 * ntri;
@@ -252,7 +256,7 @@ double estimate(const SurfaceMesh& s, const Switches& sw) {
   const double t = theta / 22;
   const double g_theta = std::pow(1 - t * t, -1.5);
   const double layer = V > 0 ? 4 * A * A * A / (9 * V * V) : INFINITY;
-  const double volume = a_m3 > 0 ? 2.5 * V / a_m3 : 0;
+  const double volume = sw.a_mm3 > 0 ? 2.5 * (V * kMm * kMm * kMm) / sw.a_mm3 : 0;  // in mm^3: a tiny bound in m^3 underflows
   return std::max(2.5 * ntri, layer) * g_rho * g_theta + volume;
 }
 

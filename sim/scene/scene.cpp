@@ -437,6 +437,8 @@ void read_mesh_keys(Reader& r, Scene& s) {
   s.tetgen.switches_unit_m = s.length_unit;  // a<V> in the scene's units^3
   TetgenOptions o = s.tetgen;  // as scene_tetgen_options: max_volume in m^3
   o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
+  if (s.tetgen.max_volume > 0 && !(o.max_volume > 0))  // a subnormal bound: 0 would mean none
+    r.fail("mesh.max_volume", "must be 0 (no bound) or a volume that stays above 0 in m^3, got " + exact(s.tetgen.max_volume));
   try {
     (void)tetgen_switches(o);
   } catch (const InputError& e) {

@@ -131,6 +131,14 @@ TEST(Scene, MeshKeys) {
             std::string::npos);
   EXPECT_NE(error_of("[mesh]\nswitches = \"pT1\"\n").find("s.toml: mesh.switches: 'T' is not supported"), std::string::npos);
   EXPECT_NE(error_of("[mesh]\nmax_volume = inf\n").find("mesh.max_volume: must be finite"), std::string::npos);
+  // A bound that underflows on the way to m^3 (or to TetGen's mm^3) is not "no bound"
+  // (it meshed without one), nor may it reach TetGen (a subnormal "a" crashed it).
+  EXPECT_NE(error_of("[mesh]\nmax_volume = 5e-324\n").find("s.toml: mesh.max_volume: must be 0 (no bound) or"),
+            std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nmax_volume = 1e-308\n").find("mesh.max_volume: 1e-317 m^3 is below the smallest bound"),
+            std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nswitches = \"pa1e-320\"\n").find("mesh.switches: 'a1e-320': the volume bound must be"),
+            std::string::npos);
 }
 
 // scene_surface names the keys that put a surface out of TetGen's range.
