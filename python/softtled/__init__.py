@@ -57,8 +57,10 @@ class Simulation(_softtled.Simulation):
     @classmethod
     def from_toml(cls, text, backend="auto", set=None, source="<toml>"):
         """A scene given as TOML text (named `source` in messages)."""
+        if not isinstance(text, str):  # str(b"...") would parse the repr "b'...'"
+            raise TypeError(f"from_toml: text must be a str, got {type(text).__name__}")
         self = cls.__new__(cls)
-        _softtled.Simulation.__init__(self, "", str(text), source, backend, _overrides(set))
+        _softtled.Simulation.__init__(self, "", text, source, backend, _overrides(set))
         return self
 
     def __repr__(self):

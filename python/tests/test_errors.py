@@ -77,6 +77,9 @@ def test_bad_backend_and_scene_type():
         softtled.Simulation(scene("torus_coarse.toml"), backend="gpu")
     with pytest.raises(TypeError):
         softtled.Simulation(42)
+    # TOML text as bytes: refused, not parsed as its repr "b'...'" (a TOML error).
+    with pytest.raises(TypeError, match="text must be a str, got bytes"):
+        softtled.Simulation.from_toml(b'units = "mm"', backend="cpu")
 
 
 def test_watchdog_stop_raises_simulation_diverged():
