@@ -529,7 +529,7 @@ void read_obstacles(Reader& r, Scene& s) {
       vec3("size", true, far, o.size);
       for (int k = 0; k < 3; ++k)
         if (!(o.size[k] > 0)) r.fail(key + ".size", "element " + std::to_string(k) + " must be positive");
-      vec3("rotation_deg", false, 1e6, o.rotation_deg);
+      vec3("rotation_deg", false, kMaxRotationDeg, o.rotation_deg);
     } else if (o.shape == kObstacleMesh) {
       // The file is read, checked and turned into a distance grid at start-up
       // (scene_obstacles), where its errors name obstacle[i].file.
@@ -538,7 +538,7 @@ void read_obstacles(Reader& r, Scene& s) {
       if (!f->as_string() || f->as_string()->get().empty()) r.fail(key + ".file", "expected a file name");
       o.file = f->as_string()->get();
       vec3("center", false, far, o.center);
-      vec3("rotation_deg", false, 1e6, o.rotation_deg);
+      vec3("rotation_deg", false, kMaxRotationDeg, o.rotation_deg);
       if (const toml::node* n = (*t)["scale"].node()) {
         if (auto i = n->as_integer()) o.scale = double(i->get());
         else if (auto fl = n->as_floating_point()) o.scale = fl->get();
@@ -603,7 +603,7 @@ void read_body(const toml::table& t, const std::string& source, const std::strin
   b.divisions = r.ivec<3>("body.divisions", b.divisions, 1, 1024);
   b.scale = r.num("body.scale", 1.0, 0, INFINITY, true);
   b.position = r.vec<3>("body.position", b.position);
-  b.rotation_deg = r.vec<3>("body.rotation_deg", b.rotation_deg);
+  b.rotation_deg = r.vec<3>("body.rotation_deg", b.rotation_deg, kMaxRotationDeg);
   b.velocity = r.vec<3>("body.velocity", b.velocity, kMaxSpeed);
   if (b.shape == "torus" && !(b.tube_radius < b.major_radius)) r.fail("body.tube_radius", "must be smaller than body.major_radius");
   if (b.shape == "file" && b.file.empty()) r.fail("body.file", "required when body.shape = \"file\"");

@@ -53,6 +53,8 @@ constexpr double kMaxAlpha = 1e6;           // 1/s: alpha dt > 2 already over-da
 constexpr double kMaxBeta = 1.0;            // s: beta >= dt_cr shrinks the step below dt_cr / 2
 constexpr double kMaxGravity = 1e6;         // m/s^2 per component: 1e5 g (the crush test uses 2000 g)
 constexpr double kMaxSpeed = 1e4;           // m/s per component: 30x the speed of sound in air
+constexpr double kMaxRotationDeg = 1e6;     // per rotation_deg component: beyond, the angle's
+                                            // reduction mod 360 loses its degrees
 constexpr double kMaxMu = 1e3;              // friction coefficient: above ~10 Coulomb is static anyway
 constexpr double kMaxDuration = 1e7;        // s of simulated time
 // Poisson's ratio nu lies in the open interval (kMinPoisson, kMaxPoisson): 0.5 is

@@ -151,6 +151,10 @@ TEST(Scene, SurfaceErrorsNameTheKeys) {
     }
     return std::string("no error");
   };
+  // An angle of 1e300 degrees is no orientation (its reduction mod 360 has no digits left):
+  // bounded as the obstacles' are.
+  EXPECT_NE(error_of("[body]\nrotation_deg = [0, 1e300, 0]\n").find("body.rotation_deg: element 1 = 1e+300 is out of range [-1e+06, 1e+06]"),
+            std::string::npos);
   EXPECT_NE(error_of("[body]\nposition = [1e15, 0, 0]\n").find("s.toml: body.position/body.rotation_deg: surface to mesh"),
             std::string::npos);
   EXPECT_NE(error_of("[body]\nshape = \"sphere\"\nradius = 1e-200\n").find("s.toml: body.radius/body.subdivisions"),
