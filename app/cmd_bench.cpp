@@ -146,17 +146,22 @@ int cpu_threads_for(const Simulation& sim, int requested) {
   return requested > 0 ? requested : auto_cpu_threads(sim.mesh().ntet());
 }
 
-// n steps timed by `timed` (us), in pieces of about half a second, so that a signal stops a
-// long sample (--steps reaches 1e9: hours) within one piece; the usual sample (~25 ms) is
-// one piece, timed as one call. Returns the time of the pieces run.
-double timed_in_pieces(long n, const std::function<double(long)>& timed) {
+// n steps timed by `timed` (us), in pieces of about half a second (from us_per_step, an
+// estimate, then from each piece, growing at most 8x), so that a signal stops a long sample
+// (--steps reaches 1e9: hours) within one piece; a sample shorter than that (the usual
+// ~25 ms) is one piece, timed as one call. Returns the time of the pieces run.
+double timed_in_pieces(long n, const std::function<double(long)>& timed, double us_per_step) {
+  constexpr double kPieceUs = 5e5;
+  auto steps_for = [&](double per_step) {
+    return per_step > 0 ? std::max(1.0, std::min(kPieceUs / per_step, 1e12)) : 1.0;  // 0 or NaN: one step
+  };
   double us = 0;
-  for (long done = 0, piece = 1000; done < n && !stop_requested();) {
+  for (long done = 0, piece = std::lround(steps_for(us_per_step)); done < n && !stop_requested();) {
     const long k = std::min(piece, n - done);
     const double t = timed(k);
     us += t;
     done += k;
-    piece = std::max(1L, std::lround(5e5 * double(k) / std::max(1.0, t)));
+    piece = std::min(8 * k, std::lround(steps_for(t / double(k))));
   }
   return us;
 }
@@ -223,12 +228,17 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   // Exactly `steps` timed steps when given (checked >= samples up front): the first
   // steps % samples samples take one step more than the others.
   long chunk = 0, extra = 0;
+  double est = 0;  // us per step, for the samples' pieces
   if (steps > 0) {
     chunk = steps / o.samples;
     extra = steps % o.samples;
-    for (long k = 0, warm = std::min(chunk, 500L); k < warm && !stop_requested(); k += 50) sim.step(std::min(50L, warm - k));
+    const auto t0 = Clock::now();
+    const long warm = std::min(chunk, 500L);
+    for (long k = 0; k < warm && !stop_requested(); k += 50) sim.step(std::min(50L, warm - k));
+    sync();
+    est = std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / double(warm);
   } else {
-    const double est = std::max(1e-3, timed(20) / 20);
+    est = std::max(1e-3, timed(20) / 20);
     chunk = std::max(1L, std::lround(25000.0 / est));
   }
   sync();
@@ -236,7 +246,7 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   const auto w0 = Clock::now();
   for (int s = 0; s < o.samples && !stop_requested(); ++s) {
     const long n = chunk + (s < extra ? 1 : 0);
-    per_step.push_back(timed_in_pieces(n, timed) / double(n));
+    per_step.push_back(timed_in_pieces(n, timed, est) / double(n));
   }
   sync();
   r.steps = chunk * o.samples + extra;
@@ -281,7 +291,8 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
       api->synchronize();
       std::vector<double> v;
       const std::function<double(long)> t = [api](long n) { return api->time_steps_us(n); };
-      for (int s = 0; s < cmp_samples && !stop_requested(); ++s) v.push_back(timed_in_pieces(chunk, t) / double(chunk));
+      for (int s = 0; s < cmp_samples && !stop_requested(); ++s)
+        v.push_back(timed_in_pieces(chunk, t, r.us.median) / double(chunk));
       return stats_of(v);
     };
     if (o.compare_modes) {

@@ -46,16 +46,12 @@ template <class T>
 SIM_HD inline const NeoHookean<T>& node_material(const TetMeshView<T>& m, const NeoHookean<T>& mat, int i) {
   return m.node_law ? m.laws[m.node_law[i]].mat : mat;
 }
-// Whether element e / node i takes its volumetric response from the nodes (T4ANP) in a
-// step that runs the T4ANP stages: with a table, a T4 body's elements keep their own.
-// law: element_law_index.
+// Whether an element of law `law` (element_law_index) / node i takes its volumetric
+// response from the nodes (T4ANP) in a step that runs the T4ANP stages: with a table, a T4
+// body's elements keep their own.
 template <class T>
 SIM_HD inline bool law_uses_anp(const TetMeshView<T>& m, int law) {
   return !m.tet_law || m.laws[law].element == kT4ANP;
-}
-template <class T>
-SIM_HD inline bool element_uses_anp(const TetMeshView<T>& m, int e) {
-  return law_uses_anp(m, element_law_index(m, e));
 }
 template <class T>
 SIM_HD inline bool node_uses_anp(const TetMeshView<T>& m, int i) {

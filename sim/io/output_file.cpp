@@ -28,12 +28,20 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (tmp_.empty() && exists && S_ISFIFO(st.st_mode)) {
     // Opened without blocking: open(2) on a FIFO nobody reads waits for a reader, and a
     // signal (which only sets the stop flag) restarts it, so Ctrl-C could not stop the run.
-    // No reader yet is refused at once; then the descriptor blocks again for the writes.
-    const int fd = ::open(open_path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    // A reader started beside the run (`run --csv p & cat p`) gets kFifoReaderWaitS to
+    // open its end; then the descriptor blocks again for the writes.
+    int fd = -1, e = 0;
+    for (int tries = 0; tries <= kFifoReaderWaitS * 20; ++tries) {
+      fd = ::open(open_path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      e = errno;
+      if (fd >= 0 || e != ENXIO) break;
+      ::usleep(50000);
+    }
     if (fd < 0)
       throw ResourceError(open_path + ": cannot write: " +
-                          (errno == ENXIO ? std::string("a FIFO with no reader (start its reader first)")
-                                          : std::string(std::strerror(errno))));
+                          (e == ENXIO ? "a FIFO with no reader after " + std::to_string(kFifoReaderWaitS) +
+                                            " s (start its reader first)"
+                                      : std::string(std::strerror(e))));
     const int flags = ::fcntl(fd, F_GETFL);
     if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0 || !(f_ = ::fdopen(fd, "wb"))) {
       const int e = errno;

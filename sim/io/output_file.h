@@ -20,6 +20,9 @@ struct ResourceError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// How long an output FIFO waits for its reader to open it [s] (OutputFile).
+constexpr int kFifoReaderWaitS = 5;
+
 class OutputFile {
  public:
   // kDirect writes PATH in place ("-" is standard output). kAtomic writes PATH.tmp and

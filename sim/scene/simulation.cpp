@@ -171,12 +171,12 @@ void Simulation::warn_friction_creep() const {
   for (const PlaneSpec& pl : params_.planes) {
     const double up = -(pl.normal[0] * params_.g[0] + pl.normal[1] * params_.g[1] + pl.normal[2] * params_.g[2]) / g;
     const double theta = std::acos(std::min(1.0, std::max(-1.0, up)));
-    if (!(up > 0 && theta > 0.5 * M_PI / 180 && std::tan(theta) < params_.mu)) continue;
+    if (!(up > 0 && theta > 1e-9 && std::tan(theta) < params_.mu)) continue;  // tilted, below the cone
     std::fprintf(stderr,
                  "warning: %s: contact.mu = %.4g would hold a rigid body on this %.3g deg plane (atan mu = %.3g deg), "
                  "but with damping.beta = 0 an elastic body can creep down it, driven by its own undamped vibration; "
-                 "set damping.beta (for a 10 mm plate of E = 100 kPa, 1e-5 to 5e-5 s; README, \"Friction on a "
-                 "slope\")\n",
+                 "set damping.beta, which shortens the stable step (README, \"Friction on a slope\": 1e-5 s held a "
+                 "10 mm plate of E = 100 kPa)\n",
                  scene_.source.c_str(), params_.mu, theta * 180 / M_PI, std::atan(params_.mu) * 180 / M_PI);
     return;
   }

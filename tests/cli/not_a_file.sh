@@ -19,11 +19,11 @@ check 2 "body.file: $tmp/dir.obj: not a regular file (a directory)" "$exe" run -
 check 2 "body.file: /dev/null: not a regular file (a character device)" "$exe" run --scene "$data/surface.toml" --set body.file=/dev/null
 check 2 "$tmp/fifo.obj: not a regular file (a FIFO)" "$exe" mesh --surface "$tmp/fifo.obj"
 check 2 "$tmp/dir.obj: not a regular file (a directory)" "$exe" mesh --surface "$tmp/dir.obj"
-# An output FIFO nobody reads is refused at once (open(2) would block, and a signal could
-# not stop it); with a reader the rows go through it.
+# An output FIFO nobody reads is refused after 5 s (open(2) would block for good, and a
+# signal could not stop it); with a reader the rows go through it.
 mkfifo "$tmp/rows.csv"
-check 5 "$tmp/rows.csv: cannot write: a FIFO with no reader (start its reader first)" "$exe" run --scene "$data/surface.toml" --set time.duration=0.002 --csv "$tmp/rows.csv"
-cat "$tmp/rows.csv" >"$tmp/read.csv" &
+check 5 "$tmp/rows.csv: cannot write: a FIFO with no reader after 5 s (start its reader first)" "$exe" run --scene "$data/surface.toml" --set time.duration=0.002 --csv "$tmp/rows.csv"
+timeout 60 cat "$tmp/rows.csv" >"$tmp/read.csv" &
 reader=$!
 check 0 "wrote 3 CSV rows to $tmp/rows.csv" "$exe" run --scene "$data/surface.toml" --set time.duration=0.002 --csv "$tmp/rows.csv"
 wait $reader

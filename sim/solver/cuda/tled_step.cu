@@ -85,8 +85,9 @@ __device__ __forceinline__ void corner_force_of(const NeoHookean<T>& mat, bool a
 }
 
 // The corner's force with its element's law: the scene's (mat), or with per-body laws
-// (kLaws: kernels of their own, so a scene without them runs the code it ran before) its
-// body's (element_law.h), as anp_corner_forces and element_corner_forces choose it.
+// (kLaws: kernels of their own, so a scene without them runs none of the law table's
+// arithmetic) its body's (element_law.h), as anp_corner_forces and element_corner_forces
+// choose it.
 template <class T, bool kAnp, bool kCoherent, bool kLaws>
 __device__ __forceinline__ void fused_corner_force(const NeoHookean<T>& mat, const TetMeshView<T>& m, const T* u,
                                                    const T* p_node, const CornerRest<T>& r, T f[3]) {
