@@ -82,18 +82,26 @@ TEST(EnergyConservation, UndampedOscillatingBeamDriftsUnderOnePercent) {
 }
 
 namespace {
-// A 6 mm cube resting on a slope of angle theta through the origin, its bottom face flush.
-Scene incline_scene(double theta_deg, const std::string& mode, double mu, const std::string& extra = "") {
-  const double th = theta_deg * M_PI / 180, h = 3.0 + 1e-6;
+// A box (its size and divisions in `box`, height 2 half_height mm) resting flush on a slope
+// of angle theta through the origin, contact `mode` with mu; `rest`: the scene's other
+// tables.
+Scene box_on_slope(double theta_deg, double half_height, const std::string& box, const std::string& mode, double mu,
+                   const std::string& rest, const char* name) {
+  const double th = theta_deg * M_PI / 180, h = half_height + 1e-6;
   char buf[1024];
   std::snprintf(buf, sizeof buf,
-                "units = \"mm\"\n[body]\nshape = \"box\"\nsize = [6, 6, 6]\ndivisions = [2, 2, 2]\n"
+                "units = \"mm\"\n[body]\nshape = \"box\"\n%s"
                 "position = [%.12g, %.12g, 0]\nrotation_deg = [0, 0, %.12g]\n"
-                "[material]\nE = 50000.0\nnu = 0.3\n[floor]\nenabled = false\n"
-                "[slope]\nenabled = true\nangle_deg = %.12g\npoint = [0, 0, 0]\n"
-                "[contact]\nmode = \"%s\"\nmu = %.12g\n[time]\nlambda = 0.5\n%s",
-                -std::sin(th) * h, std::cos(th) * h, theta_deg, theta_deg, mode.c_str(), mu, extra.c_str());
-  return parse_scene(buf, "incline");
+                "[floor]\nenabled = false\n[slope]\nenabled = true\nangle_deg = %.12g\npoint = [0, 0, 0]\n"
+                "[contact]\nmode = \"%s\"\nmu = %.12g\n%s",
+                box.c_str(), -std::sin(th) * h, std::cos(th) * h, theta_deg, theta_deg, mode.c_str(), mu, rest.c_str());
+  return parse_scene(buf, name);
+}
+
+// A 6 mm cube, E = 50 kPa.
+Scene incline_scene(double theta_deg, const std::string& mode, double mu, const std::string& extra = "") {
+  return box_on_slope(theta_deg, 3.0, "size = [6, 6, 6]\ndivisions = [2, 2, 2]\n", mode, mu,
+                      "[material]\nE = 50000.0\nnu = 0.3\n[time]\nlambda = 0.5\n" + extra, "incline");
 }
 
 // Centroid displacement along the downhill direction (-cos th, -sin th, 0) after t_end.
@@ -176,19 +184,11 @@ TEST(RayleighBeta, RemovesFrictionChatterOnASlope) {
 }
 
 namespace {
-// A 10 x 2 x 10 mm plate (divisions [4, 1, 4]) flush on a slope of angle theta through the
-// origin, E = 100 kPa, alpha = 20, Coulomb friction mu.
+// A 10 x 2 x 10 mm plate (divisions [4, 1, 4]), E = 100 kPa, alpha = 20, Coulomb friction
+// mu; `extra`: more [damping] keys, or tables of their own.
 Scene plate_on_slope(double theta_deg, double mu, const std::string& extra) {
-  const double th = theta_deg * M_PI / 180, h = 1.0 + 1e-6;
-  char buf[1024];
-  std::snprintf(buf, sizeof buf,
-                "units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 2, 10]\ndivisions = [4, 1, 4]\n"
-                "position = [%.12g, %.12g, 0]\nrotation_deg = [0, 0, %.12g]\n"
-                "[material]\nE = 100000.0\nnu = 0.3\n[damping]\nalpha = 20.0\n%s\n[floor]\nenabled = false\n"
-                "[slope]\nenabled = true\nangle_deg = %.12g\npoint = [0, 0, 0]\n"
-                "[contact]\nmode = \"coulomb\"\nmu = %.12g\n",
-                -std::sin(th) * h, std::cos(th) * h, theta_deg, extra.c_str(), theta_deg, mu);
-  return parse_scene(buf, "plate");
+  return box_on_slope(theta_deg, 1.0, "size = [10, 2, 10]\ndivisions = [4, 1, 4]\n", "coulomb", mu,
+                      "[material]\nE = 100000.0\nnu = 0.3\n[damping]\nalpha = 20.0\n" + extra + "\n", "plate");
 }
 }  // namespace
 
