@@ -44,7 +44,7 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
                                       : std::string(std::strerror(e))));
     const int flags = ::fcntl(fd, F_GETFL);
     if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0 || !(f_ = ::fdopen(fd, "wb"))) {
-      const int e = errno;
+      e = errno;
       ::close(fd);
       throw ResourceError(open_path + ": cannot write: " + std::strerror(e));
     }

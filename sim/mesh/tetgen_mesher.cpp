@@ -247,7 +247,6 @@ double surface_area(const SurfaceMesh& s) {
 
 double estimate(const SurfaceMesh& s, const Switches& sw) {
   const double V = std::fabs(enclosed_volume(s)), A = surface_area(s), ntri = s.ntri();
-
   // -a switches -q on with TetGen's default bound 2.
   const bool quality = sw.quality || sw.a_mm3 > 0;
   if (!quality) return 2.5 * ntri;
