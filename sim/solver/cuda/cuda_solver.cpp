@@ -844,7 +844,7 @@ class CudaSolver final : public CudaSolverApi {
   // before the PDL wait hides part of that; on larger meshes the extra instructions cost
   // more.
   bool small_mesh() const { return ne_ <= 128 * nsm_; }
-  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl, small_mesh()); }
+  LaunchShape element_shape(bool pdl) const { return shape_for(ne_, nsm_, pdl); }  // (loads its rest data itself)
   LaunchShape node_shape(bool pdl) const { return shape_for(lanes_ * n_, nsm_, pdl, small_mesh()); }
   LaunchShape pressure_shape(bool pdl) const { return node_shape(pdl); }  // T4ANP nodal pressure: same lanes
 
