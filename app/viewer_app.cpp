@@ -322,6 +322,14 @@ class Viewer {
   // switched on starts flat.
   void request_planes() {
     constexpr double kSlopeRate = 300;  // [deg per simulated second]
+    if (set_.slope) {
+      const std::string why = slope_tilt_error(sim_->scene().floor_normal, set_.slope_deg);
+      if (!why.empty()) {  // refused: the panel shows why, the toggle goes back
+        st_.warning = "slope: " + why;
+        set_.slope = slope_was_on_;
+        return;
+      }
+    }
     const std::vector<PlaneSpec> target = planes_for(set_.slope_deg);
     if (!set_.slope || sim_->gap_to(target) >= -1e-7) {
       // Refused (a floor switched on inside the body; the panel shows why): the toggles

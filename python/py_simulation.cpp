@@ -147,6 +147,10 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
   // The planes as the viewer sets them (request_planes): at once when the new ones do not
   // cut into the body; otherwise the slope turns towards its angle as a kinematic plane
   // at kSlopeRateDegPerS of simulated time, pushing the body like a moving wall.
+  if (slope) {
+    const std::string why = slope_tilt_error(scene_.floor_normal, deg);
+    if (!why.empty()) throw InputError("set_params: slope_angle_deg: " + why);
+  }
   const std::vector<PlaneSpec> target = planes_for(floor, slope, deg);
   std::string warning;
   if (!slope || sim_->gap_to(target) >= -1e-7) {

@@ -72,6 +72,17 @@ def test_set_params_errors():
     assert sim.params() == before
 
 
+def test_a_slope_that_cannot_tilt_is_refused_live():
+    # z up: the slope turns the floor about z, so no angle would tilt it (README "Scene keys").
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu",
+                              set=["gravity.g=[0, 0, -9.81]", "floor.normal=[0, 0, 1]", "body.position=[0, 0, 5]"])
+    before = sim.params()
+    with pytest.raises(softtled.InputError, match="slope_angle_deg: .*floor.normal is along z"):
+        sim.set_params(slope=True, slope_angle_deg=20)
+    assert sim.params() == before
+    sim.set_params(slope=True, slope_angle_deg=0)  # a flat slope is a second floor: fine
+
+
 def test_bad_backend_and_scene_type():
     with pytest.raises(ValueError, match="backend 'gpu'"):
         softtled.Simulation(scene("torus_coarse.toml"), backend="gpu")

@@ -16,6 +16,7 @@
 #include "sim/mesh/surface_mesh.h"
 #include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/scene/scene_geometry.h"
 
 namespace softtled {
 namespace {
@@ -814,6 +815,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.slope = r.boolean("slope.enabled", s.slope);
   s.slope_angle_deg = r.num("slope.angle_deg", s.slope_angle_deg, -90, 90);
   s.slope_point = r.vec<3>("slope.point", s.floor_point, kMaxCoordinate / s.length_unit);
+  if (s.slope) {
+    const std::string why = slope_tilt_error(s.floor_normal, s.slope_angle_deg);
+    if (!why.empty()) r.fail("slope.angle_deg", why);
+  }
 
   read_obstacles(r, s);
   s.contact_mode = r.choice("contact.mode", s.contact_mode, kContactModes);

@@ -229,6 +229,12 @@ std::vector<ObstacleSpec> scene_obstacles(const Scene& s) {
   return out;
 }
 
+std::string slope_tilt_error(const std::array<double, 3>& floor_normal, double angle_deg) {
+  if (angle_deg == 0 || std::hypot(floor_normal[0], floor_normal[1]) >= 1e-9) return {};
+  return "the slope is the floor turned about z, and floor.normal is along z, so no angle tilts it; with z up, "
+         "make the slope an [[obstacle]] of shape \"box\" turned by rotation_deg";
+}
+
 double slope_angle_deg(const Scene& s, const PlaneSpec& slope) {
   const double* f = s.floor_normal.data();
   const double* n = slope.normal;

@@ -2,7 +2,9 @@
 // The scene's geometry in metres and world coordinates, as the Simulation assembles it:
 // the body's surface and TetGen options, the contact planes, the node flags (contact and
 // fixed) and the tracked nodes.
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sim/mesh/surface_mesh.h"
@@ -29,6 +31,11 @@ TetMesh scene_tet_file_mesh(const Scene& s, int body = 0, std::string* note = nu
 TetgenOptions scene_tetgen_options(const Scene& s);
 // Floor, then slope (the floor turned by slope.angle_deg about z through slope.point).
 std::vector<PlaneSpec> scene_planes(const Scene& s);
+// Why a slope of this angle would not tilt (empty when it does): turned about z, a floor
+// whose normal is along z (a z-up scene) stays the floor at every angle, and the body
+// would rest on it unmoved with no word of why. The scene reader, the viewer and Python's
+// set_params refuse such a slope with this reason.
+std::string slope_tilt_error(const std::array<double, 3>& floor_normal, double angle_deg);
 // [[obstacle]] tables in metres, at t = 0 (a box's or mesh's rotation_deg as a matrix,
 // turned about x, then y, then z like body.rotation_deg). A mesh obstacle's file is loaded
 // here and its distance grid built (mesh_sdf.h: the start-up cost, README "Obstacles");

@@ -32,6 +32,26 @@ TEST(Scene, ShippedScenesParse) {
   EXPECT_EQ(st.contact_mode, kStatic);
 }
 
+// The slope turns the floor about z: with the floor's normal along z (z up) no angle tilts
+// it, and a body dropped there rested unmoved with no word of why. Refused, naming the key;
+// a y-up floor, a flat slope and a z-up floor without a slope still load.
+TEST(Scene, ASlopeThatCannotTiltIsRefused) {
+  const std::vector<std::string> zup = {"gravity.g=[0, 0, -9.81]", "floor.normal=[0, 0, 1]", "slope.enabled=true"};
+  try {
+    parse_scene("", "z.toml", zup);
+    FAIL() << "a z-up slope loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("slope.angle_deg"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("floor.normal is along z"), std::string::npos) << e.what();
+  }
+  std::vector<std::string> flat = zup;
+  flat.push_back("slope.angle_deg=0");
+  EXPECT_NO_THROW(parse_scene("", "z.toml", flat));
+  EXPECT_NO_THROW(parse_scene("", "z.toml", {"floor.normal=[0, 0, 1]", "slope.angle_deg=30"}));  // no slope
+  EXPECT_NO_THROW(parse_scene("", "y.toml", {"slope.enabled=true", "slope.angle_deg=30"}));
+  EXPECT_NO_THROW(parse_scene("", "t.toml", {"floor.normal=[0.1, 0, 1]", "slope.enabled=true"}));  // tilted a little
+}
+
 TEST(Scene, OverridesByDottedKey) {
   const Scene s = parse_scene("", "s", {"material.E=5000", "contact.mode=coulomb", "slope.angle_deg=30",
                                         "slope.enabled=true", "time.dt=2e-6", "body.segments=[45, 9]"});
