@@ -149,9 +149,20 @@ Command add_run_command(CLI::App& app) {
     write_frame(sim.time(), sim.state());
     const bool tty = isatty(2);
     // A changing step (time.dt = "adaptive") advances by output times, not step counts.
+    // Either way an output time is never closer than one step to the one before (the row
+    // bound above counts so): an adaptive run asked for rows every 1e-11 s spun through
+    // empty intervals for ever. out_dt is the output interval in seconds.
     const bool adaptive = sim.params().dt_adaptive;
-    const long intervals = adaptive ? std::max(1L, std::lround(std::ceil(s.duration / s.output_every - 1e-9))) : total;
-    const long per_interval = adaptive ? 1 : every;
+    const double out_dt = std::max(s.output_every, dt);
+    const long intervals = adaptive ? std::max(1L, std::lround(std::ceil(s.duration / out_dt - 1e-9))) : total;
+    // Where output time k (1, 2, ...) ends, in the loops' units (steps, or output times
+    // with the adaptive step). A fixed step puts time k on the step nearest k out_dt, so
+    // rows stay on the output grid (a rounded step count per row drifted: 5.12 us steps,
+    // rows every 0.01 s came at 0.0099996, 0.0199991, ..., 0.0599974 and 0.0600025).
+    auto interval_end = [&](long k) {
+      if (adaptive) return std::min(k, intervals);
+      return std::min(total, std::max(k, std::lround(std::min(double(k) * out_dt / dt, double(total)))));
+    };
     const auto t0 = std::chrono::steady_clock::now();
     auto wall_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     Diagnostics d = sim.diagnostics();
@@ -202,13 +213,15 @@ Command add_run_command(CLI::App& app) {
     const bool pipelined = !o->sync_checks && intervals > 0 && every <= kMaxChunkSteps && sim.pipelines();
     try {
       if (pipelined) {
-        long queued = 0, done = 0;  // output intervals queued, and written
+        long queued = 0, done = 0;  // steps (adaptive: output times) queued, and written
+        long queued_k = 0, done_k = 0;  // output times queued, and written
         std::deque<long> sizes;     // steps (adaptive: intervals) of each queued call, oldest first
         auto queue_next = [&] {
-          sizes.push_back(std::min(per_interval, intervals - queued));
-          queued += sizes.back();
+          const long end = interval_end(++queued_k);
+          sizes.push_back(end - queued);
+          queued = end;
           if (adaptive)
-            sim.queue_until(std::min(s.duration, double(queued) * s.output_every));
+            sim.queue_until(std::min(s.duration, double(queued) * out_dt));
           else
             sim.queue(sizes.back());
         };
@@ -219,21 +232,22 @@ Command add_run_command(CLI::App& app) {
           if (c.stopped) break;  // the stop check cut its steps short: not an output time
           if (c.rolled_back) {
             sizes.clear();
-            queued = done;
+            queued = done, queued_k = done_k;
             if (!stop_requested()) queue_next();
             continue;
           }
           done += sizes.front();
+          ++done_k;
           sizes.pop_front();
           output(done, c.diag, c.state);
         }
       }
-      for (long done = 0; !pipelined && done < intervals && !stop_requested();) {
-        const long n = std::min(per_interval, intervals - done);
+      for (long done = 0, done_k = 0; !pipelined && done < intervals && !stop_requested();) {
+        const long n = interval_end(++done_k) - done;
         long k = 0;
         // The output interval in chunks; the watchdog checks at the end of each.
         if (adaptive) {
-          sim.advance_to(std::min(s.duration, double(done + n) * s.output_every));
+          sim.advance_to(std::min(s.duration, double(done + n) * out_dt));
           if (sim.stopped_early()) break;  // stopped between steps: no row off the output times
           k = n;
         }

@@ -53,19 +53,25 @@ def rows(sim):
     """
     dt = sim.dt
     total = softtled.step_count(sim.duration, dt)
-    every = max(1, min(total if total > 0 else 1, lround(min(sim.output_every / dt, 1e11))))
+    out_dt = max(sim.output_every, dt)  # output times at least a step apart
     if sim.adaptive:  # a changing step advances by output times, not step counts
-        intervals = max(1, lround(math.ceil(sim.duration / sim.output_every - 1e-9)))
-        per_interval = 1
+        intervals = max(1, lround(math.ceil(sim.duration / out_dt - 1e-9)))
     else:
-        intervals, per_interval = total, every
+        intervals = total
+
+    def interval_end(k):  # where output time k ends: the step nearest k out_dt, or output time k
+        if sim.adaptive:
+            return min(k, intervals)
+        return min(total, max(k, lround(min(k * out_dt / dt, total))))
+
     yield sim.diagnostics(), None
-    done = 0
+    done = k = 0
     while done < intervals:
-        n = min(per_interval, intervals - done)
+        k += 1
+        n = interval_end(k) - done
         try:
             if sim.adaptive:
-                sim.advance_to(min(sim.duration, (done + n) * sim.output_every))
+                sim.advance_to(min(sim.duration, (done + n) * out_dt))
             else:
                 sim.step(n)  # chunks of softtled.CHUNK_STEPS, the watchdog after each, as `run`
         except softtled.SimulationDiverged as e:
