@@ -25,13 +25,15 @@ std::vector<std::string> level_overrides(const std::string& level) {
 
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
                                  const std::string& prec, double lambda, const std::string& element, double t_end,
-                                 double t1, double t2, const std::vector<std::string>& extra, bool adaptive) {
+                                 double t1, double t2, const std::vector<std::string>& extra, bool adaptive,
+                                 const std::function<bool()>& stop) {
   std::vector<std::string> set = level_overrides(level);
   set.insert(set.end(), {"solver.precision=" + prec, "time.lambda=" + std::to_string(lambda),
                          "material.element=" + element, adaptive ? "time.dt=\"adaptive\"" : "time.dt=\"auto\""});
   set.insert(set.end(), extra.begin(), extra.end());
   const Scene s = load_scene(scene_path, set);
   Simulation sim(s, backend);
+  if (stop) sim.set_stop_check(stop);
   AccuracyRun r;
   r.level = level, r.precision = prec, r.element = element, r.lambda = lambda, r.adaptive = adaptive;
   r.ntet = sim.mesh().ntet();
@@ -50,6 +52,7 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
       const auto a = std::chrono::steady_clock::now();
       sim.advance_to(double(k) * 1e-3);
       r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+      if ((r.stopped = sim.stopped_early())) return r;
       record();
       for (int i = 0; i < 2; ++i)
         if (k == std::lround((i == 0 ? t1 : t2) / 1e-3)) r.at[i] = sim.state();
@@ -74,6 +77,7 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
         const auto a = std::chrono::steady_clock::now();
         sim.advance(target - done, target - done);  // the watchdog guards every sweep point
         r.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+        if ((r.stopped = sim.stopped_early())) return r;
         done = target;
         for (int s = 0; s < 2; ++s)
           if (snap_step[s] == done) r.at[s] = sim.state();

@@ -2,6 +2,7 @@
 // The speed-for-accuracy study on one scene: run a variant (mesh level, precision,
 // lambda, element) with the watchdog on, record the centroid every millisecond and the
 // displacement field at two times, and compare it with a reference run on another mesh.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct AccuracyRun {
   HostState at[2];                      // state at t1 and t2
   double rest_height = 0;               // centroid y at t_end [m]
   std::shared_ptr<TetMesh> mesh;
+  bool stopped = false;                 // the stop check ended it early: not a result
 };
 
 struct AccuracyErrors {
@@ -34,11 +36,14 @@ struct AccuracyErrors {
 
 // level: torus grid "NUxNV" (overrides body.segments), optionally "@qRHO" for the TetGen
 // radius-edge bound (mesh.radius_edge). adaptive: the live stable step with safety factor
-// lambda instead of lambda times the rest-state one. Throws SimulationDiverged.
+// lambda instead of lambda times the rest-state one. stop: asked between steps
+// (Simulation::set_stop_check); true ends the run at once, marked stopped (a 273x57
+// reference takes many minutes: a signal is answered within a step, not a run). Throws
+// SimulationDiverged.
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
                                  const std::string& precision, double lambda, const std::string& element, double t_end,
                                  double t1, double t2, const std::vector<std::string>& extra_overrides = {},
-                                 bool adaptive = false);
+                                 bool adaptive = false, const std::function<bool()>& stop = {});
 
 AccuracyErrors compare_runs(const AccuracyRun& v, const AccuracyRun& ref, const FieldSampler& ref_sampler, double t_rms);
 

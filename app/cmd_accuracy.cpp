@@ -300,14 +300,19 @@ Command add_accuracy_command(CLI::App& app) {
     };
     if (stop_requested()) return stopped();
     auto t0 = begin_job(jobs[0]);
-    const AccuracyRun ref = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2);
+    const auto stop = [] { return stop_requested(); };  // answered between steps
+    const AccuracyRun ref =
+        run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2, {}, false, stop);
+    if (ref.stopped) return stopped();
     end_job(jobs[0], t0);
     const FieldSampler sampler(*ref.mesh);
     emit(ref, compare_runs(ref, ref, sampler, t2));
     if (stop_requested()) return stopped();
     // The reference's own convergence: T4 on the same grid, and the next level down.
     t0 = begin_job(jobs[1]);
-    const AccuracyRun ref_t4 = run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2);
+    const AccuracyRun ref_t4 =
+        run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2, {}, false, stop);
+    if (ref_t4.stopped) return stopped();
     end_job(jobs[1], t0);
     emit(ref_t4, compare_runs(ref_t4, ref, sampler, t2));
     for (std::size_t i = 2; i < jobs.size(); ++i) {
@@ -315,8 +320,9 @@ Command add_accuracy_command(CLI::App& app) {
       const Job& j = jobs[i];
       t0 = begin_job(j);
       try {
-        const AccuracyRun r =
-            run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end, t1, t2, {}, j.adaptive);
+        const AccuracyRun r = run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end,
+                                                   t1, t2, {}, j.adaptive, stop);
+        if (r.stopped) return stopped();
         emit(r, compare_runs(r, ref, sampler, t2));
       } catch (const SimulationDiverged& e) {
         std::fprintf(stderr, "%s %s %s lambda %g: %s\n", j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, e.what());
