@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "sim/core/input_error.h"
+#include "sim/mesh/tetgen_mesher.h"
 #include "sim/solver/solver_factory.h"
 #if defined(SOFTTLED_HAVE_CUDA)
 #include "sim/solver/cuda/device_info.h"
@@ -62,6 +63,7 @@ void install_stop_signals() {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: stop as for SIGTERM
+  set_meshing_stop_check([] { return stop_requested(); });  // TetGen is killed at once, not awaited
 }
 
 int stop_signal() { return int(g_stop); }

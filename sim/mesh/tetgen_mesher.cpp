@@ -264,6 +264,11 @@ double estimate(const SurfaceMesh& s, const Switches& sw) {
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o) { return estimate(s, resolve(o)); }
 
 namespace {
+bool (*g_stop_check)() = nullptr;  // set_meshing_stop_check
+}  // namespace
+void set_meshing_stop_check(bool (*stop)()) { g_stop_check = stop; }
+
+namespace {
 
 // TetGen in a child process. TetGen 1.5 aborts on failed assertions and segfaults on
 // some inputs that pass every check we can make beforehand (the fuzzer found a rotated
@@ -271,7 +276,7 @@ namespace {
 // program, and a run past the time limit is killed. The child sends the result through
 // a pipe: a header, then the points and the tets.
 struct TetgenRun {
-  enum Status { kMesh, kIntersects, kThrew, kCrashed, kTimedOut, kTooLarge } status = kCrashed;
+  enum Status { kMesh, kIntersects, kThrew, kCrashed, kTimedOut, kTooLarge, kStopped } status = kCrashed;
   int code = 0;        // kThrew: TetGen's error code
   long count = 0;      // kIntersects: facets found crossing others
   long npoints = 0, ntets = 0;
@@ -296,21 +301,27 @@ bool write_all(int fd, const void* p, std::size_t n) {
   return true;
 }
 
-// Reads n bytes before the deadline; false on end of file, error or timeout (*late).
-bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_point deadline, bool limited, bool* late) {
+constexpr int kStopPollMs = 100;
+
+// Reads n bytes before the deadline; false on end of file, error, timeout (*late) or a
+// stop asked (*stopped: the stop check, every kStopPollMs while it waits).
+bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_point deadline, bool limited, bool* late,
+              bool* stopped) {
   char* c = static_cast<char*>(p);
   while (n > 0) {
+    if (g_stop_check && g_stop_check()) return *stopped = true, false;
     int wait_ms = -1;
     if (limited) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
       if (left <= 0) return *late = true, false;
       wait_ms = int(std::min<long long>(left, 1 << 30));
     }
+    if (g_stop_check && (wait_ms < 0 || wait_ms > kStopPollMs)) wait_ms = kStopPollMs;
     pollfd pfd{fd, POLLIN, 0};
     const int r = ::poll(&pfd, 1, wait_ms);
     if (r < 0 && errno == EINTR) continue;
     if (r < 0) return false;
-    if (r == 0) return *late = true, false;
+    if (r == 0) continue;  // the deadline and the stop check are tested above
     const ssize_t got = ::read(fd, c, n);
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) return false;
@@ -437,9 +448,9 @@ TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double 
   const bool limited = time_limit_s > 0;
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::milliseconds(limited ? static_cast<long long>(std::min(time_limit_s, 1e9) * 1000) : 0);
-  bool late = false, complete = false;
+  bool late = false, stopped = false, complete = false;
   ChildHeader h{};
-  if (read_all(fds[0], &h, sizeof h, deadline, limited, &late)) {
+  if (read_all(fds[0], &h, sizeof h, deadline, limited, &late, &stopped)) {
     run.code = h.code;
     run.count = long(h.count);
     run.npoints = long(h.npoints);
@@ -451,8 +462,8 @@ TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double 
       } else {
         run.X.resize(3 * std::size_t(h.npoints));
         run.tet.resize(4 * std::size_t(h.ntets));
-        complete = read_all(fds[0], run.X.data(), sizeof(double) * run.X.size(), deadline, limited, &late) &&
-                   read_all(fds[0], run.tet.data(), sizeof(int) * run.tet.size(), deadline, limited, &late);
+        complete = read_all(fds[0], run.X.data(), sizeof(double) * run.X.size(), deadline, limited, &late, &stopped) &&
+                   read_all(fds[0], run.tet.data(), sizeof(int) * run.tet.size(), deadline, limited, &late, &stopped);
         if (complete) run.status = TetgenRun::kMesh;
       }
     } else if (h.status == TetgenRun::kIntersects || h.status == TetgenRun::kThrew) {
@@ -461,11 +472,13 @@ TetgenRun run_tetgen_isolated(tetgenio& in, const std::string& switches, double 
     }
   }
   ::close(fds[0]);
-  if (late) ::kill(pid, SIGKILL);
+  if (late || stopped) ::kill(pid, SIGKILL);
   int wstatus = 0;
   pid_t w;
   do w = ::waitpid(pid, &wstatus, 0); while (w < 0 && errno == EINTR);
-  if (late) {
+  if (stopped) {
+    run.status = TetgenRun::kStopped;
+  } else if (late) {
     run.status = TetgenRun::kTimedOut;
   } else if (!complete) {
     run.status = TetgenRun::kCrashed;
@@ -599,6 +612,8 @@ TetMesh tetrahedralize_surface(const SurfaceMesh& surf, const TetgenOptions& o) 
       throw InputError("TetGen (-" + sw + ") crashed on this surface (" + run.why +
                        "). TetGen 1.5 has assertions that fail on some exactly co-spherical or co-planar point "
                        "sets: move, turn or rescale the body slightly");
+    case TetgenRun::kStopped:  // main() reports it as the stop it is (a signal)
+      throw InputError("meshing stopped: TetGen (-" + sw + ") was ended before it finished");
     case TetgenRun::kTimedOut:
       throw InputError("TetGen (-" + sw + ") did not finish within " + num(o.time_limit_s) +
                        " s (mesh.time_limit_s); use a coarser mesh or a larger mesh.radius_edge");

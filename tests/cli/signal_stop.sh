@@ -63,6 +63,24 @@ stop_run TERM 143
 stop_run INT 130
 echo "ok: SIGTERM -> 143, SIGINT -> 130, output complete"
 
+# meshing: a signal kills TetGen's process at once (a 300 x 300 torus meshes for about a
+# minute here) and `run` exits 130 having written nothing.
+"$exe" run --scene "$data/surface.toml" --set 'body.shape="torus"' 'body.segments=[300,300]' mesh.cache=false \
+  --csv "$tmp/m.csv" >"$tmp/out.txt" 2>"$tmp/err.txt" &
+pid=$!
+sleep 2
+kill -0 "$pid" 2>/dev/null || fail "run ended before the signal (meshing)"
+kill -INT "$pid"
+for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$pid" 2>/dev/null && fail "still meshing 3 s after SIGINT"
+wait "$pid"
+rc=$?
+pid=
+[ "$rc" -eq 130 ] || fail "meshing SIGINT: exit code $rc, wanted 130"
+grep -q "stopped by signal 2 .*meshing stopped" "$tmp/err.txt" || fail "meshing: no stop message"
+[ ! -e "$tmp/m.csv" ] || fail "a CSV was written although meshing was stopped"
+echo "ok: meshing stopped within 3 s of SIGINT, nothing written"
+
 # bench: a signal stops a long timed sample within about half a second (its pieces), not
 # after the sample (--steps 1e8 in 3 samples: minutes each), and writes nothing.
 "$exe" bench --scene "$data/surface.toml" --steps 100000000 --samples 3 --json "$tmp/b.json" >"$tmp/out.txt" \
