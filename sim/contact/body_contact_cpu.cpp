@@ -23,6 +23,7 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   // flight, rarely at rest. The margin adds to the boxes, so it costs narrow-phase tests.
   half_margin_ = T(0.5) * tol_;
   node_box_.assign(6 * tab_.surf.size(), T(0));
+  node_normal_.assign(3 * tab_.surf.size(), T(0));
   surf_index_.assign(n, -1);
   for (std::size_t s = 0; s < tab_.surf.size(); ++s) surf_index_[tab_.surf[s]] = int(s);
   x_.assign(3 * std::size_t(n), T(0));
@@ -60,6 +61,16 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   if (cand_start_.empty()) return;  // nothing near anything
 
   last_candidates_ = int(cand_list_.size());
+  // 2. The normals of the surface nodes with candidates, at t (body_contact.h, faces_node).
+  for (std::size_t s = 0; s < surf.size(); ++s) {
+    if (cand_start_[s + 1] == cand_start_[s]) continue;
+    T* nrm = &node_normal_[3 * s];
+    nrm[0] = nrm[1] = nrm[2] = T(0);
+    for (int q = tab_.surf_tri_start[s]; q < tab_.surf_tri_start[s + 1]; ++q) {
+      const int* v = &tab_.tri[3 * tab_.surf_tri[q]];
+      add_triangle_normal(&x_[3 * v[0]], &x_[3 * v[1]], &x_[3 * v[2]], nrm);
+    }
+  }
   for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
     sweep_once(X0, u, du, ub, beta_dt, contact, mode, mu, sweep > 0);
     // The nodes this sweep moved; the next sweep retests only pairs with one of them.
@@ -77,7 +88,7 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
   const int n = tab_.nnode;
   const std::vector<int>& surf = tab_.surf;
   const std::vector<int>& tri = tab_.tri;
-  // 2. Every candidate from the same state (the node stage's), in key order: per surface
+  // 3. Every candidate from the same state (the node stage's), in key order: per surface
   //    node in node order, its candidates in triangle order.
   accepted_.clear();
   touched_.clear();
@@ -96,9 +107,10 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
           d[a][k] = du[k * n + j[a]];
           x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
         }
+      const T* np = tab_.tri_body[t] != tab_.node_body[i] ? &node_normal_[3 * s] : nullptr;  // (self: null)
       const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], x[1], d[1], inv_mass_[j[1]], x[2], d[2], inv_mass_[j[2]],
-                                x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
+          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], np, x[1], d[1], inv_mass_[j[1]], x[2], d[2],
+                                inv_mass_[j[2]], x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
       if (r.state == kFree) continue;
       accepted_.push_back({i, t, r});
       for (int a = 0; a < 4; ++a)
@@ -107,7 +119,7 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
   }
   last_contacts_ = std::max(last_contacts_, int(accepted_.size()));
 
-  // 3. Each node's share-scaled sum, in key order; then applied once.
+  // 4. Each node's share-scaled sum, in key order; then applied once.
   for (const Accepted& q : accepted_) {
     const int j[4] = {q.p, tri[3 * q.t], tri[3 * q.t + 1], tri[3 * q.t + 2]};
     const T share = pair_share<T>(count_[j[0]], count_[j[1]], count_[j[2]], count_[j[3]]);

@@ -26,6 +26,15 @@ BodyContactTables build_body_contact_tables(const TetMesh& m) {
       sum += l;
     }
   }
+  std::vector<int> surf_index(t.nnode, -1);
+  for (std::size_t k = 0; k < t.surf.size(); ++k) surf_index[t.surf[k]] = int(k);
+  t.surf_tri_start.assign(t.surf.size() + 1, 0);
+  for (int v : t.tri) ++t.surf_tri_start[surf_index[v] + 1];
+  for (std::size_t k = 0; k < t.surf.size(); ++k) t.surf_tri_start[k + 1] += t.surf_tri_start[k];
+  t.surf_tri.resize(t.tri.size());
+  std::vector<int> fill(t.surf_tri_start.begin(), t.surf_tri_start.end() - 1);
+  for (int f = 0; f < nt; ++f)  // in triangle order: each list ascending
+    for (int c = 0; c < 3; ++c) t.surf_tri[fill[surf_index[t.tri[3 * f + c]]]++] = f;
   const double mean = sum / (3.0 * std::max(1, nt));
   t.tol = 0.1 * mean;
   t.cell = sum > 0 ? 0.5 * (longest + mean) : 1.0;

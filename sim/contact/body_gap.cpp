@@ -26,6 +26,18 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
     grid[key(grid_cell(p[0], inv_h), grid_cell(p[1], inv_h), grid_cell(p[2], inv_h))].push_back(i);
   }
   if (grid.empty()) return gap;
+  // The flagged nodes' normals (body_contact.h, faces_node): a triangle of another body
+  // that does not face the node gives no gap (a node on a block's bottom face is behind
+  // its front face, and is not 0.2 mm inside it).
+  std::vector<double> normal(3 * std::size_t(t.nnode), 0.0);
+  for (std::size_t k = 0; k < t.surf.size(); ++k) {
+    const int i = t.surf[k];
+    if (contact[i] == kFree) continue;
+    for (int q = t.surf_tri_start[k]; q < t.surf_tri_start[k + 1]; ++q) {
+      const int* v = &t.tri[3 * t.surf_tri[q]];
+      add_triangle_normal(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], &normal[3 * i]);
+    }
+  }
   for (int f = 0; f < t.ntri(); ++f) {
     const int a = t.tri[3 * f], b = t.tri[3 * f + 1], c = t.tri[3 * f + 2];
     const double *xa = &x[3 * a], *xb = &x[3 * b], *xc = &x[3 * c];
@@ -46,6 +58,7 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
             if (own ? !self || on_triangle(p, a, b, c) : !bodies) continue;
             TriangleProjection<double> tp;
             if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
+            if (!own && !faces_node(tp.n, &normal[3 * p])) continue;
             gap = std::min(gap, tp.d);
           }
         }

@@ -21,6 +21,8 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   tri_.upload(tri);
   tri_body_.upload(t.tri_body);
   node_body_.upload(node_body);
+  surf_tri_start_.upload(t.surf_tri_start);
+  surf_tri_.upload(t.surf_tri.empty() ? std::vector<int>{0} : t.surf_tri);
   bucket_count_.resize(buckets);
   bucket_tri_.resize(std::size_t(buckets) * kContactBucketCap);
   tri_box_.resize(6 * std::size_t(std::max(1, nt)));
@@ -29,6 +31,7 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   pair_state_.resize(slots);
   pair_corr_.resize(12 * slots);
   node_box_.resize(6 * std::size_t(std::max(1, nsurf)));
+  node_normal_.resize(3 * std::size_t(std::max(1, nsurf)));
   count0_.resize(n);
   count1_.resize(n);
   in_count_.resize(n);
@@ -47,6 +50,9 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.tri = tri_.data();
   v.tri_body = tri_body_.data();
   v.node_body = node_body_.data();
+  v.surf_tri_start = surf_tri_start_.data();
+  v.surf_tri = surf_tri_.data();
+  v.node_normal = node_normal_.data();
   v.tol = T(t.tol);
   v.half_margin = T(0.5) * v.tol;  // the CPU's boxes (body_contact_cpu.cpp)
   v.inv_h = 1.0 / double(T(t.cell));

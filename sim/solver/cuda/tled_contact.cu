@@ -14,7 +14,8 @@
 //                          of the buckets its box covers whose boxes meet it, sorted by
 //                          triangle, deduplicated
 // then kBodyContactSweeps times:
-//   contact_pairs_kernel   a warp per surface node, a lane per candidate:
+//   contact_pairs_kernel   a warp per surface node, a lane per candidate (the first sweep
+//                          also sums the node's normal, node_normal):
 //                          node_triangle_contact; an accepted pair is kept in the node's
 //                          own slot (node, candidate) and its slot appended to its four
 //                          nodes' incoming lists
@@ -193,6 +194,28 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
   const int s = gt / 32;
   if (s >= c.nsurf) return;
   const int n = m.nnode, i = c.surf[s], nc = c.ncand[s];
+  T* np = c.node_normal + 3 * s;
+  if (first && nc > 0) {  // the node's normal at t, for the step's sweeps
+    // A lane per triangle around the node (their loads in flight together), summed in the
+    // tables' order from zero, as the CPU does: the same bits.
+    const int lane = gt % 32, q0 = c.surf_tri_start[s], q1 = c.surf_tri_start[s + 1];
+    T nrm[3] = {T(0), T(0), T(0)};
+    for (int qb = q0; qb < q1; qb += 32) {  // warp-uniform
+      T cr[3] = {T(0), T(0), T(0)};
+      if (qb + lane < q1) {
+        const int* v = c.tri + 3 * c.surf_tri[qb + lane];
+        T x[3][3];
+        for (int a = 0; a < 3; ++a)
+          for (int k = 0; k < 3; ++k) x[a][k] = m.X0[k * n + v[a]] + (u[k * n + v[a]] - du[k * n + v[a]]);
+        add_triangle_normal(x[0], x[1], x[2], cr);
+      }
+      for (int r = 0; r < 32 && qb + r < q1; ++r)
+        for (int k = 0; k < 3; ++k) nrm[k] += __shfl_sync(0xffffffffu, cr[k], r);
+    }
+    if (lane == 0)
+      for (int k = 0; k < 3; ++k) np[k] = nrm[k];
+    __syncwarp();
+  }
   for (int q = gt % 32; q < nc; q += 32) {
     const int slot = s * kContactCandCap + q;
     const int t = c.cand[slot];
@@ -203,8 +226,10 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
         d[a][k] = du[k * n + j[a]];
         x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
       }
+    const T nrm[3] = {np[0], np[1], np[2]};
     const NodeTriangleCorrection<T> r =
-        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], x[1], d[1], m.inv_mass[j[1]], x[2], d[2],
+        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], c.tri_body[t] != c.node_body[i] ? nrm : nullptr, x[1],
+                              d[1], m.inv_mass[j[1]], x[2], d[2],
                               m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
     c.pair_state[slot] = r.state;
     if (r.state == kFree) continue;

@@ -237,6 +237,9 @@ struct BodyContactView {
   const int* tri = nullptr;         // 3 x ntri boundary triangles
   const int* tri_body = nullptr;    // ntri
   const int* node_body = nullptr;   // nnode
+  const int* surf_tri_start = nullptr;  // nsurf + 1: each surface node's boundary triangles (CSR)
+  const int* surf_tri = nullptr;    // in triangle order (body_contact_tables.h)
+  T* node_normal = nullptr;         // 3 x nsurf: the node's normal at t (node_normal, first sweep)
   T tol = T(0), half_margin = T(0);
   double inv_h = 1;                 // 1 / grid cell
   unsigned mask = 0;                // buckets - 1 (a power of two)
