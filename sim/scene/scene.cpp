@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -86,6 +87,11 @@ class Reader {
     if (v < lo || (lo_open && v == lo) || v > hi) {
       fail(key, "value " + exact(v) + " out of range " + (lo_open ? "(" : "[") + exact(lo) + ", " + exact(hi) + "]");
     }
+    // A quantity that must be positive is never subnormal: it underflows to 0 in the first
+    // product (material.rho = 5e-324 gave nodes of no mass, reported as "node 0 belongs to
+    // no element").
+    if (lo_open && lo == 0 && v < std::numeric_limits<double>::min())
+      fail(key, "value " + exact(v) + " is subnormal: at least " + exact(std::numeric_limits<double>::min()));
     return v;
   }
 

@@ -97,6 +97,9 @@ TEST(Scene, BadInputNamesTheKey) {
   EXPECT_NE(error_of("[material]\nE = -5.0\n").find("material.E: value -5 out of range"), std::string::npos);
   EXPECT_NE(error_of("[material]\nnu = 0.5\n").find("material.nu"), std::string::npos);
   EXPECT_NE(error_of("[material]\nrho = 0\n").find("material.rho"), std::string::npos);
+  // A positive quantity that is subnormal underflows to 0 at once (nodes of no mass).
+  for (const char* set : {"material.rho=4.9e-324", "material.E=1e-320", "time.output_every=5e-324"})
+    EXPECT_NE(error_of("", {set}).find("is subnormal"), std::string::npos) << set << ": " << error_of("", {set});
   EXPECT_NE(error_of("[time]\ndt = 0.0\n").find("time.dt"), std::string::npos);
   EXPECT_NE(error_of("[contact]\nmode = \"sticky\"\n").find("contact.mode: 'sticky' is not one of"), std::string::npos);
   EXPECT_NE(error_of("[body]\nsize = [1, 2]\n").find("body.size: expected an array of 3"), std::string::npos);
