@@ -78,7 +78,7 @@ class Cursor {
     // Out of range (1e999, 1e-999): strtod's infinity or tiny value; the caller checks finiteness.
     if (r.ec == std::errc::result_out_of_range && r.ptr == t.data() + t.size()) return std::strtod(std::string(t).c_str(), nullptr);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size() || t.empty())
-      fail(std::string(what) + ": '" + std::string(orig.substr(0, 40)) + "' is not a number");
+      fail(std::string(what) + ": " + quoted(std::string(orig)) + " is not a number");  // (a NUL byte cut the message)
     return v;
   }
   long long integer(long long lo, long long hi, const std::string& what) {
@@ -88,14 +88,14 @@ class Cursor {
     long long v = 0;
     const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size() || t.empty() || v < lo || v > hi)
-      fail(what + ": '" + std::string(orig.substr(0, 40)) + "' is not an integer in " + std::to_string(lo) + ".." +
+      fail(what + ": " + quoted(std::string(orig)) + " is not an integer in " + std::to_string(lo) + ".." +
            std::to_string(hi));
     return v;
   }
   // Expects the token `word` next.
   void expect(std::string_view word) {
     const std::string_view t = peek();
-    if (t != word) fail("expected '" + std::string(word) + "', found '" + std::string(t.substr(0, 40)) + "'");
+    if (t != word) fail("expected '" + std::string(word) + "', found " + quoted(std::string(t)));
     pos_ += t.size();
   }
 

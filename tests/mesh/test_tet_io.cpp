@@ -375,6 +375,8 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
        "byte_order 'MiddleEndian' (LittleEndian or BigEndian expected)"},
       {"no_piece.vtu", "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid></UnstructuredGrid></VTKFile>", "no <Piece>"},
       {"dim2.node", "3 2 0 0\n", "dimension 2 (3 expected)"},
+      // A NUL byte in a token ended the message there (the rest never printed).
+      {"nul.node", std::string("4 3 0 x\0y\n", 10), "boundary marker flag: 'x?y' is not an integer in 0..1"},
       // Elements that are skipped are still read whole: corrupt ones were skipped with a note.
       {"tri_on_missing_node.msh", msh_head + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n2 2 1 2\n3 1 4 1\n1 1 2 3 4\n"
                                             "2 1 2 1\n2 1 2 99\n$EndElements\n",
@@ -395,6 +397,7 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
        "cell 1: a wedge with 4 nodes (6 expected)"},
   };
   write_file(tmp_dir() + "/dim2.ele", "0 4 0\n");
+  write_file(tmp_dir() + "/nul.ele", "0 4 0\n");
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const std::string e = error_of(c.name, c.content);
