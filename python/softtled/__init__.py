@@ -25,7 +25,14 @@ def _overrides(set):
         return []
     if isinstance(set, str):
         return [set]
-    return [str(s) for s in set]
+    if isinstance(set, (bytes, bytearray)):
+        raise TypeError(f"set: a str or a list of str, not {type(set).__name__}")
+    out = []
+    for s in set:  # str(b"k=v") would pass the repr "b'k=v'" on as a key
+        if not isinstance(s, str):
+            raise TypeError(f"set: each override must be a str ('section.key=value'), got {type(s).__name__}")
+        out.append(s)
+    return out
 
 
 class Simulation(_softtled.Simulation):

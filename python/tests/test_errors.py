@@ -72,6 +72,12 @@ def test_set_params_errors():
     assert sim.params() == before
 
 
+def test_overrides_must_be_text():
+    for bad in ([b"material.E=5000"], [5000], b"material.E=5000"):
+        with pytest.raises(TypeError, match="set: "):
+            softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=bad)
+
+
 def test_a_slope_that_cannot_tilt_is_refused_live():
     # z up: the slope turns the floor about z, so no angle would tilt it (README "Scene keys").
     sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu",
