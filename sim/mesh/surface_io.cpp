@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -153,9 +154,17 @@ struct PolygonList {
           throw InputError(where(k) + ": refers to vertex " + std::to_string(v) + " of " + std::to_string(s.npoint()) +
                            " (0-based)");
         // Before the ear clipping, which would call such a face "not a simple polygon".
-        for (int d = 0; d < 3; ++d)
-          if (!std::isfinite(s.xyz[3 * std::size_t(v) + d]))
+        for (int d = 0; d < 3; ++d) {
+          const double x = s.xyz[3 * std::size_t(v) + d];
+          if (!std::isfinite(x))
             throw InputError(where(k) + ": vertex " + std::to_string(v) + " (0-based) has a NaN or infinite coordinate");
+          if (!(std::fabs(x) < 1e150)) {  // as check_closed_surface's triangles (the ear test overflows)
+            char xs[32];
+            std::snprintf(xs, sizeof xs, "%.3g", x);
+            throw InputError(where(k) + ": vertex " + std::to_string(v) + " (0-based): the coordinates overflow (" + xs +
+                             "; coordinates must stay well below 1e150)");
+          }
+        }
       }
       if (!triangulate_polygon(s.xyz, poly, s.tri))
         throw InputError(where(k) + ": face of " + std::to_string(poly.size()) +

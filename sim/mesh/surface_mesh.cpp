@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -179,9 +180,13 @@ void check_and_orient_closed_surface(SurfaceMesh& s, const std::string& what) {
     const auto& b = nest.box[c];
     const double dc = std::sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
     if (!std::isfinite(cvol[c]) || !(std::fabs(cvol[c]) > 1e-9 * dc * dc * dc)) {
-      if (nest.ncomp == 1) fail("the surface encloses no volume (flat or collapsed)");
+      // (the numbers tell a flat shell from one a stray far-off vertex stretches into a sliver)
+      char why[160];
+      std::snprintf(why, sizeof why, " (volume %.3g against a bounding-box diagonal of %.3g: flat, collapsed, or a far-off "
+                    "vertex makes it a sliver)", std::fabs(cvol[c]), dc);
+      if (nest.ncomp == 1) fail(std::string("the surface encloses no volume for its size") + why);
       fail("shell " + std::to_string(c + 1) + " of " + std::to_string(nest.ncomp) + " (from triangle " +
-           std::to_string(nest.first_tri[c]) + ") encloses no volume (flat or collapsed)");
+           std::to_string(nest.first_tri[c]) + ") encloses no volume for its size" + why);
     }
     largest = std::max(largest, dc);
     solid += nest.depth[c] % 2 == 0 ? std::fabs(cvol[c]) : -std::fabs(cvol[c]);

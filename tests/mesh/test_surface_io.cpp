@@ -292,7 +292,11 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   EXPECT_EQ(bom_off.npoint(), 4);
   // Coordinates of 1e308: the products overflow, not a degenerate triangle.
   e = load_error(d + "ovf.obj");
-  EXPECT_NE(e.find("ovf.obj: triangle 0: the coordinates overflow"), std::string::npos) << e;
+  EXPECT_NE(e.find("ovf.obj:5: vertex 2 (0-based): the coordinates overflow (1e+308;"), std::string::npos) << e;
+  // ... in a quad face too, before the ear clipping called it "not a simple polygon".
+  const std::string big =
+      parse_error_of_obj("v 0 0 0\nv 1 0 0\nv 1 1 1e308\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n", "b.obj");
+  EXPECT_NE(big.find("b.obj:6: vertex 2 (0-based): the coordinates overflow"), std::string::npos) << big;
   // A NaN vertex of a quad face is named as such, on its own line, not as a polygon that is
   // not simple.
   const std::string quad =
