@@ -45,7 +45,7 @@ ExecMode parse_exec_mode(const std::string& s);  // "auto", "multi", "fused", "h
 struct Options {
   ExecMode mode = ExecMode::kAuto;
   bool reorder = true;       // Morton renumbering of nodes and elements (mesh_reorder.h)
-  int steps_per_graph = 8;   // K: steps captured in one graph (bench/NOTES.md); any K works
+  int steps_per_graph = 16;  // K: steps captured in one graph (bench/NOTES.md); any K works
                              // in fused mode (an odd graph copies the state back)
   int node_lanes = 0;        // lanes per node in the node stage: 1, 4, 8; 0 = by mesh size
   int fused_block = 256;     // fused mode: gather entries (= threads) per block, 32..256
