@@ -104,49 +104,62 @@ SIM_HD inline bool project_onto_triangle(const T xp[3], const T xa[3], const T x
 }
 
 // Which triangles may push a node: those facing it. A node on a face of its own body meets
-// another body's triangles that face it (normals opposed); a triangle at right angles to
-// the node's own surface is one whose plane the node lies behind only because the other
-// body slid over it. A slab's surface node under the front edge of a block sliding on it
-// lies on the block's bottom face and behind its front face; pushed out through the front
-// face it was a wall, and the block stopped after 1 mm, turned back and hopped (on an
-// analytic box it slides on). The node's normal (node_normal) is the sum of the cross
-// products of the boundary triangles around it, in the tables' order on both backends,
-// from the positions at t; a pair counts when the triangle's unit normal and the node's
-// normal make more than 90.06 degrees (cos < -kFacingCos). Between bodies only: where a
-// fold's crease closes, a node meets its own surface at right angles, and with the rule
-// beam_fold's deepest self-penetration went 0.002-0.013 -> 0.08-0.15 mm on three of its
-// test meshes; torus_pile and torus_stack run bit for bit as without it (rings face each
-// other), and the sliding block moves as on the analytic box (test_bodies.cpp).
+// another body's triangles that face that face (normals opposed); a triangle at right
+// angles to every face around the node is one whose plane the node lies behind only
+// because the other body slid over it. A slab's surface node under the front edge of a
+// block sliding on it lies on the block's bottom face and behind its front face; pushed
+// out through the front face it was a wall, and the block stopped after 1 mm, turned back
+// and hopped (on an analytic box it slides on). So a triangle of another body counts for a
+// node when some boundary triangle around the node faces it: their normals make more than
+// 90.06 degrees (cos < -kFacingCos; opposed). Each triangle on its own, not a summed node
+// normal: a rim node of a plate one element thick has top and bottom triangles whose
+// normals cancel, and its bottom one still faces the body the plate lands on. Decided from
+// the positions at t, before the first sweep, with the same products on both backends.
+// Between bodies only: where a fold's crease closes, a node meets its own surface at right
+// angles, and with the rule beam_fold's deepest self-penetration went 0.002-0.013 ->
+// 0.08-0.15 mm on three of its test meshes; torus_stack runs bit for bit as without it
+// (rings face each other), and the sliding block moves as on the analytic box
+// (test_bodies.cpp).
 constexpr double kFacingCos = 1e-3;
+// A triangle's normal times twice its area.
 template <class T>
-SIM_HD inline void add_triangle_normal(const T xa[3], const T xb[3], const T xc[3], T n[3]) {
+SIM_HD inline void triangle_cross(const T xa[3], const T xb[3], const T xc[3], T c[3]) {
   const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
   const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
-  n[0] += e1[1] * e2[2] - e1[2] * e2[1];
-  n[1] += e1[2] * e2[0] - e1[0] * e2[2];
-  n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+  c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  c[2] = e1[0] * e2[1] - e1[1] * e2[0];
 }
+// Whether two triangles' cross products face each other (angle above 90.06 degrees).
 template <class T>
-SIM_HD inline bool faces_node(const T n_tri[3], const T n_node[3]) {
-  const T dot = n_tri[0] * n_node[0] + n_tri[1] * n_node[1] + n_tri[2] * n_node[2];
-  const T len2 = n_node[0] * n_node[0] + n_node[1] * n_node[1] + n_node[2] * n_node[2];
-  return dot < T(0) && dot * dot > T(kFacingCos * kFacingCos) * len2;
+SIM_HD inline bool opposed(const T a[3], const T b[3]) {
+  const T dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const T aa = a[0] * a[0] + a[1] * a[1] + a[2] * a[2], bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+  return dot < T(0) && dot * dot > T(kFacingCos * kFacingCos) * aa * bb;
+}
+// Whether a triangle (cross product c) faces some of the n triangles around a node (their
+// cross products, 3 each, at the same time).
+template <class T>
+SIM_HD inline bool faces_some(const T c[3], const T* around, int n) {
+  for (int r = 0; r < n; ++r)
+    if (opposed(c, around + 3 * r)) return true;
+  return false;
 }
 
 // x*: positions at time t; du*: the steps from t (predicted); inv_m*: inverse lumped
 // masses (0: fixed). tol: a node behind the triangle's plane by more than tol (or whose
 // projection falls outside the triangle) is not in contact with it; a node behind it by
-// less (an earlier step's residual penetration) is pushed back onto the plane. np: the
-// node's normal (node_normal), for a triangle of another body: one that does not face it
-// (faces_node) is no contact; null for its own body's (self-contact).
+// less (an earlier step's residual penetration) is pushed back onto the plane. facing:
+// some triangle around the node faces this one (opposed, above; always true for the
+// node's own body): false means no contact.
 template <class T>
-SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], const T dup[3], T inv_mp, const T np[3],
+SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], const T dup[3], T inv_mp, bool facing,
                                                               const T xa[3], const T dua[3], T inv_ma, const T xb[3],
                                                               const T dub[3], T inv_mb, const T xc[3], const T duc[3],
                                                               T inv_mc, T tol, int mode, T mu) {
   NodeTriangleCorrection<T> r;
   TriangleProjection<T> tp;
-  if (!project_onto_triangle(xp, xa, xb, xc, -tol, tp) || (np && !faces_node(tp.n, np))) return r;
+  if (!facing || !project_onto_triangle(xp, xa, xb, xc, -tol, tp)) return r;
   const T* n = tp.n;
   const T d0 = tp.d, wa = tp.w[0], wb = tp.w[1], wc = tp.w[2];
   T rel[3], proj[3];

@@ -23,7 +23,6 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   // flight, rarely at rest. The margin adds to the boxes, so it costs narrow-phase tests.
   half_margin_ = T(0.5) * tol_;
   node_box_.assign(6 * tab_.surf.size(), T(0));
-  node_normal_.assign(3 * tab_.surf.size(), T(0));
   surf_index_.assign(n, -1);
   for (std::size_t s = 0; s < tab_.surf.size(); ++s) surf_index_[tab_.surf[s]] = int(s);
   x_.assign(3 * std::size_t(n), T(0));
@@ -61,14 +60,26 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   if (cand_start_.empty()) return;  // nothing near anything
 
   last_candidates_ = int(cand_list_.size());
-  // 2. The normals of the surface nodes with candidates, at t (body_contact.h, faces_node).
+  // 2. Which candidates of another body face some triangle around their node, at t
+  //    (body_contact.h, faces_some); the node's own body's always count.
+  facing_.assign(cand_list_.size(), 1);
   for (std::size_t s = 0; s < surf.size(); ++s) {
-    if (cand_start_[s + 1] == cand_start_[s]) continue;
-    T* nrm = &node_normal_[3 * s];
-    nrm[0] = nrm[1] = nrm[2] = T(0);
+    const int i = surf[s], c0 = cand_start_[s], c1 = cand_start_[s + 1];
+    if (c0 == c1) continue;
+    around_.clear();
     for (int q = tab_.surf_tri_start[s]; q < tab_.surf_tri_start[s + 1]; ++q) {
       const int* v = &tab_.tri[3 * tab_.surf_tri[q]];
-      add_triangle_normal(&x_[3 * v[0]], &x_[3 * v[1]], &x_[3 * v[2]], nrm);
+      T c[3];
+      triangle_cross(&x_[3 * v[0]], &x_[3 * v[1]], &x_[3 * v[2]], c);
+      around_.insert(around_.end(), c, c + 3);
+    }
+    for (int k = c0; k < c1; ++k) {
+      const int t = cand_list_[k];
+      if (tab_.tri_body[t] == tab_.node_body[i]) continue;
+      const int* v = &tab_.tri[3 * t];
+      T c[3];
+      triangle_cross(&x_[3 * v[0]], &x_[3 * v[1]], &x_[3 * v[2]], c);
+      facing_[k] = faces_some(c, around_.data(), int(around_.size() / 3));
     }
   }
   for (int sweep = 0; sweep < kBodyContactSweeps; ++sweep) {
@@ -107,9 +118,8 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
           d[a][k] = du[k * n + j[a]];
           x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
         }
-      const T* np = tab_.tri_body[t] != tab_.node_body[i] ? &node_normal_[3 * s] : nullptr;  // (self: null)
       const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], np, x[1], d[1], inv_mass_[j[1]], x[2], d[2],
+          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], facing_[c] != 0, x[1], d[1], inv_mass_[j[1]], x[2], d[2],
                                 inv_mass_[j[2]], x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
       if (r.state == kFree) continue;
       accepted_.push_back({i, t, r});

@@ -16,8 +16,8 @@
 //  3. per surface node, in node order: for each body whose box its swept box meets, the
 //     cells it covers give that body's triangles (its own unless on_triangle),
 //     whose boxes are tested, sorted and deduplicated.
-// Narrow phase: each surface node's normal at t, then kBodyContactSweeps Jacobi sweeps:
-// node_triangle_contact on every candidate
+// Narrow phase: whether each candidate faces its node at t, then kBodyContactSweeps Jacobi
+// sweeps: node_triangle_contact on every candidate
 // from the same state, then each node's share-scaled sum of its accepted pairs
 // (pair_share), in key order (node, triangle): the order the candidates are visited in.
 #include <array>
@@ -64,7 +64,8 @@ class CpuBodyContact {
   // on, and no node left its box
   std::vector<int> cand_start_, cand_list_;
   std::vector<T> node_box_;      // 6 per surface node: its swept box at the last rebuild
-  std::vector<T> node_normal_;   // 3 per surface node: its normal at t (this step's, where it has candidates)
+  std::vector<std::uint8_t> facing_;  // per candidate: faces its node (body_contact.h, faces_some), this step
+  std::vector<T> around_;        // scratch: the cross products of the triangles around one node
   std::vector<int> surf_index_;  // nnode: position in surf, -1 inside
   T half_margin_ = T(0);
   bool lists_valid_ = false, lists_bodies_ = false, lists_self_ = false;

@@ -14,8 +14,8 @@ struct BodyContactTables {
   std::vector<int> surf;        // surface nodes, sorted
   std::vector<int> tri;         // 3 x ntri boundary triangles (outward), the mesh's order
   std::vector<int> tri_body;    // ntri
-  // Per surface node (CSR over surf): the boundary triangles it is a corner of, ascending;
-  // their cross products summed in this order give its outward normal (node_normal).
+  // Per surface node (CSR over surf): the boundary triangles it is a corner of, ascending
+  // (the faces around it, body_contact.h: opposed).
   std::vector<int> surf_tri_start, surf_tri;
   // Contact thickness: a node up to tol behind a triangle is pushed back (an earlier step's
   // residual penetration); deeper means it is on the other side of a thin part, or not this

@@ -26,16 +26,19 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
     grid[key(grid_cell(p[0], inv_h), grid_cell(p[1], inv_h), grid_cell(p[2], inv_h))].push_back(i);
   }
   if (grid.empty()) return gap;
-  // The flagged nodes' normals (body_contact.h, faces_node): a triangle of another body
-  // that does not face the node gives no gap (a node on a block's bottom face is behind
-  // its front face, and is not 0.2 mm inside it).
-  std::vector<double> normal(3 * std::size_t(t.nnode), 0.0);
+  // The cross products of the triangles around each flagged node (body_contact.h,
+  // faces_some): a triangle of another body facing none of them gives no gap (a node on a
+  // block's bottom face is behind its front face, and is not 0.2 mm inside it).
+  std::unordered_map<int, std::vector<double>> around;
   for (std::size_t k = 0; k < t.surf.size(); ++k) {
     const int i = t.surf[k];
     if (contact[i] == kFree) continue;
+    std::vector<double>& a = around[i];
     for (int q = t.surf_tri_start[k]; q < t.surf_tri_start[k + 1]; ++q) {
       const int* v = &t.tri[3 * t.surf_tri[q]];
-      add_triangle_normal(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], &normal[3 * i]);
+      double c[3];
+      triangle_cross(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], c);
+      a.insert(a.end(), c, c + 3);
     }
   }
   for (int f = 0; f < t.ntri(); ++f) {
@@ -58,7 +61,12 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
             if (own ? !self || on_triangle(p, a, b, c) : !bodies) continue;
             TriangleProjection<double> tp;
             if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
-            if (!own && !faces_node(tp.n, &normal[3 * p])) continue;
+            if (!own) {
+              const std::vector<double>& a = around.at(p);
+              double c[3];
+              triangle_cross(xa, xb, xc, c);
+              if (!faces_some(c, a.data(), int(a.size() / 3))) continue;
+            }
             gap = std::min(gap, tp.d);
           }
         }

@@ -4,8 +4,8 @@
 // host from positions, independently of the solver's contact stage: for each node the
 // stage flagged in contact this step, the boundary triangles it may touch (another body's;
 // its own, except those it is a corner of, with self-contact) whose plane it lies within the contact
-// tolerance of, with its projection inside the triangle and (another body's) facing it
-// (body_contact.h, faces_node); the gap is its signed distance from that plane
+// tolerance of, with its projection inside the triangle and (another body's) facing a
+// triangle around the node (body_contact.h, faces_some); the gap is its signed distance from that plane
 // (negative: inside).
 #include <cstdint>
 #include <vector>

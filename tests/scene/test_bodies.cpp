@@ -364,7 +364,7 @@ TEST_P(BodyContactOnEachBackend, TorusStackSettlesWithoutInterpenetration) {
 // 0.06047 s) and with Coulomb friction stops after v^2 / (2 mu g) = 1.699 mm, never
 // turning back. The slab's surface nodes under the cube's front edge lie on its bottom
 // face and behind its front face; pushed out through the front face (which does not face
-// them, body_contact.h faces_node) they stopped the cube after 1 mm, turned it back and
+// them, body_contact.h faces_some) they stopped the cube after 1 mm, turned it back and
 // made it hop; min_gap read them as 0.2 mm inside the cube.
 TEST_P(BodyContactOnEachBackend, ABlockSlidesOverAnotherBodyAsOverARigidBox) {
   const std::string t =
@@ -486,8 +486,7 @@ TEST(Bodies, NodeTriangleCorrectionConservesMomentum) {
     const double xa[3] = {0, 0, 0}, xb[3] = {1, 0, 0}, xc[3] = {0, 1, 0}, xp[3] = {0.2, 0.3, 0.01};
     const double dua[3] = {0, 0, 0.001}, dub[3] = {0.002, 0, 0}, duc[3] = {0, 0, 0.003}, dup[3] = {0.01, 0.02, -0.05};
     const double m[4] = {2, 1, 3, 5};
-    const double np[3] = {0, 0, -1};  // the node's own surface faces the triangle
-    const auto r = node_triangle_contact(xp, dup, 1 / m[0], np, xa, dua, 1 / m[1], xb, dub, 1 / m[2], xc, duc, 1 / m[3],
+    const auto r = node_triangle_contact(xp, dup, 1 / m[0], true, xa, dua, 1 / m[1], xb, dub, 1 / m[2], xc, duc, 1 / m[3],
                                          0.1, mode, 0.3);
     ASSERT_NE(r.state, kFree);
     for (int k = 0; k < 3; ++k) {

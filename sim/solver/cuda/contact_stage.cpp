@@ -29,9 +29,9 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   ncand_.resize(std::max(1, nsurf));
   cand_.resize(slots);
   pair_state_.resize(slots);
+  pair_facing_.resize(slots);
   pair_corr_.resize(12 * slots);
   node_box_.resize(6 * std::size_t(std::max(1, nsurf)));
-  node_normal_.resize(3 * std::size_t(std::max(1, nsurf)));
   count0_.resize(n);
   count1_.resize(n);
   in_count_.resize(n);
@@ -52,7 +52,6 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.node_body = node_body_.data();
   v.surf_tri_start = surf_tri_start_.data();
   v.surf_tri = surf_tri_.data();
-  v.node_normal = node_normal_.data();
   v.tol = T(t.tol);
   v.half_margin = T(0.5) * v.tol;  // the CPU's boxes (body_contact_cpu.cpp)
   v.inv_h = 1.0 / double(T(t.cell));
@@ -63,6 +62,7 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.ncand = ncand_.data();
   v.cand = cand_.data();
   v.pair_state = pair_state_.data();
+  v.pair_facing = pair_facing_.data();
   v.pair_corr = pair_corr_.data();
   v.count0 = count0_.data();
   v.count1 = count1_.data();

@@ -34,8 +34,8 @@ class DeviceContactStage {
   DeviceBuffer<int> surf_, tri_, tri_body_, node_body_, surf_tri_start_, surf_tri_;
   DeviceBuffer<unsigned> bucket_count_, overflow_, rebuild_;
   DeviceBuffer<int> bucket_tri_, ncand_, cand_, count0_, count1_, in_count_, in_list_;
-  DeviceBuffer<T> tri_box_, pair_corr_, node_box_, node_normal_;
-  DeviceBuffer<std::uint8_t> pair_state_;
+  DeviceBuffer<T> tri_box_, pair_corr_, node_box_;
+  DeviceBuffer<std::uint8_t> pair_state_, pair_facing_;
   BodyContactView<T> view_;
 };
 

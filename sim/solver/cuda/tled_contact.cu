@@ -15,7 +15,7 @@
 //                          triangle, deduplicated
 // then kBodyContactSweeps times:
 //   contact_pairs_kernel   a warp per surface node, a lane per candidate (the first sweep
-//                          also sums the node's normal, node_normal):
+//                          also decides which candidates face the node, choose_facing):
 //                          node_triangle_contact; an accepted pair is kept in the node's
 //                          own slot (node, candidate) and its slot appended to its four
 //                          nodes' incoming lists
@@ -178,6 +178,49 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
   if (lane == 0) c.ncand[s] = nc;
 }
 
+// Per candidate of surface node s (its warp; a lane per candidate): whether it faces some
+// triangle around the node (body_contact.h, faces_some), from the positions at t, for the
+// step's sweeps; the node's own body's always count. The lanes compute the cross products
+// of the triangles around the node together and pass them round by shuffles: the CPU's
+// products (body_contact_cpu.cpp), each compared on its own, so the same answer.
+template <class T>
+__device__ void choose_facing(const TetMeshView<T>& m, const BodyContactView<T>& c, const T* __restrict__ u,
+                              const T* __restrict__ du, int s, int i, int nc) {
+  static_assert(kContactCandCap <= 64, "two candidates per lane");
+  const int lane = threadIdx.x % 32, n = m.nnode;
+  auto cross_at_t = [&](int t, T cr[3]) {
+    T x[3][3];
+    for (int a = 0; a < 3; ++a) {
+      const int v = c.tri[3 * t + a];
+      for (int k = 0; k < 3; ++k) x[a][k] = m.X0[k * n + v] + (u[k * n + v] - du[k * n + v]);
+    }
+    triangle_cross(x[0], x[1], x[2], cr);
+  };
+  T ct[2][3];
+  bool facing[2] = {true, true}, ranked[2] = {false, false};
+  for (int h = 0; h < 2; ++h) {
+    const int q = lane + 32 * h;
+    if (q >= nc) continue;
+    const int t = c.cand[s * kContactCandCap + q];
+    ranked[h] = c.tri_body[t] != c.node_body[i];
+    if (ranked[h]) cross_at_t(t, ct[h]), facing[h] = false;
+  }
+  const int q0 = c.surf_tri_start[s], q1 = c.surf_tri_start[s + 1];
+  for (int qb = q0; qb < q1; qb += 32) {  // warp-uniform
+    T ar[3] = {T(0), T(0), T(0)};
+    if (qb + lane < q1) cross_at_t(c.surf_tri[qb + lane], ar);
+    for (int r = 0; r < 32 && qb + r < q1; ++r) {
+      T a[3];
+      for (int k = 0; k < 3; ++k) a[k] = __shfl_sync(0xffffffffu, ar[k], r);
+      for (int h = 0; h < 2; ++h)
+        if (ranked[h] && opposed(ct[h], a)) facing[h] = true;
+    }
+  }
+  for (int h = 0; h < 2; ++h)
+    if (lane + 32 * h < nc) c.pair_facing[s * kContactCandCap + lane + 32 * h] = facing[h];
+  __syncwarp();  // the lanes read each other's slots in the loop below
+}
+
 // A warp per surface node, a lane per candidate: the candidate pairs are independent, so
 // a node with many candidates no longer walks them one after another.
 template <class T>
@@ -194,28 +237,7 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
   const int s = gt / 32;
   if (s >= c.nsurf) return;
   const int n = m.nnode, i = c.surf[s], nc = c.ncand[s];
-  T* np = c.node_normal + 3 * s;
-  if (first && nc > 0) {  // the node's normal at t, for the step's sweeps
-    // A lane per triangle around the node (their loads in flight together), summed in the
-    // tables' order from zero, as the CPU does: the same bits.
-    const int lane = gt % 32, q0 = c.surf_tri_start[s], q1 = c.surf_tri_start[s + 1];
-    T nrm[3] = {T(0), T(0), T(0)};
-    for (int qb = q0; qb < q1; qb += 32) {  // warp-uniform
-      T cr[3] = {T(0), T(0), T(0)};
-      if (qb + lane < q1) {
-        const int* v = c.tri + 3 * c.surf_tri[qb + lane];
-        T x[3][3];
-        for (int a = 0; a < 3; ++a)
-          for (int k = 0; k < 3; ++k) x[a][k] = m.X0[k * n + v[a]] + (u[k * n + v[a]] - du[k * n + v[a]]);
-        add_triangle_normal(x[0], x[1], x[2], cr);
-      }
-      for (int r = 0; r < 32 && qb + r < q1; ++r)
-        for (int k = 0; k < 3; ++k) nrm[k] += __shfl_sync(0xffffffffu, cr[k], r);
-    }
-    if (lane == 0)
-      for (int k = 0; k < 3; ++k) np[k] = nrm[k];
-    __syncwarp();
-  }
+  if (first && nc > 0) choose_facing(m, c, u, du, s, i, nc);
   for (int q = gt % 32; q < nc; q += 32) {
     const int slot = s * kContactCandCap + q;
     const int t = c.cand[slot];
@@ -226,10 +248,9 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
         d[a][k] = du[k * n + j[a]];
         x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
       }
-    const T nrm[3] = {np[0], np[1], np[2]};
     const NodeTriangleCorrection<T> r =
-        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], c.tri_body[t] != c.node_body[i] ? nrm : nullptr, x[1],
-                              d[1], m.inv_mass[j[1]], x[2], d[2],
+        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], c.pair_facing[slot] != 0, x[1], d[1], m.inv_mass[j[1]],
+                              x[2], d[2],
                               m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
     c.pair_state[slot] = r.state;
     if (r.state == kFree) continue;

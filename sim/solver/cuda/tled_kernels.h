@@ -237,9 +237,8 @@ struct BodyContactView {
   const int* tri = nullptr;         // 3 x ntri boundary triangles
   const int* tri_body = nullptr;    // ntri
   const int* node_body = nullptr;   // nnode
-  const int* surf_tri_start = nullptr;  // nsurf + 1: each surface node's boundary triangles (CSR)
+  const int* surf_tri_start = nullptr;  // nsurf + 1: the boundary triangles around each surface node (CSR)
   const int* surf_tri = nullptr;    // in triangle order (body_contact_tables.h)
-  T* node_normal = nullptr;         // 3 x nsurf: the node's normal at t (node_normal, first sweep)
   T tol = T(0), half_margin = T(0);
   double inv_h = 1;                 // 1 / grid cell
   unsigned mask = 0;                // buckets - 1 (a power of two)
@@ -249,6 +248,7 @@ struct BodyContactView {
   int* ncand = nullptr;             // nsurf
   int* cand = nullptr;              // nsurf x kContactCandCap, sorted
   std::uint8_t* pair_state = nullptr;  // nsurf x kContactCandCap
+  std::uint8_t* pair_facing = nullptr;  // nsurf x kContactCandCap: the candidate faces its node (first sweep)
   T* pair_corr = nullptr;           // 12 per pair slot: the node's, then a, b, c's corrections
   int* count0 = nullptr;            // nnode: accepted pairs per node (even sweeps)
   int* count1 = nullptr;            // nnode: (odd sweeps)
