@@ -102,7 +102,6 @@ Command add_run_command(CLI::App& app) {
     const TimeStepInfo& ts = sim.time_step();
     const double dt = ts.dt;
     const long total = checked_step_count(s.duration, dt, s.source + ": time.duration");
-    const long every = std::max(1L, std::min(total > 0 ? total : 1L, std::lround(std::min(s.output_every / dt, kMaxRunSteps))));
     if (s.duration / std::max(s.output_every, dt) > kMaxOutputRows)
       throw InputError(s.source + ": time.output_every: " + std::to_string(s.duration / std::max(s.output_every, dt)) +
                        " output rows for time.duration " + std::to_string(s.duration) + " s, above the limit of 1e8");
@@ -210,7 +209,9 @@ Command add_run_command(CLI::App& app) {
     // (Simulation::queue / collect; on the CPU the same calls in the same order, nothing
     // overlapping): the same states, checks and rows as the loop below. A trip the
     // adaptive step survives rolls back to the last row written: queued again from there.
-    const bool pipelined = !o->sync_checks && intervals > 0 && every <= kMaxChunkSteps && sim.pipelines();
+    // (an output interval is at most ceil(out_dt / dt) steps: interval_end rounds each end)
+    const bool pipelined =
+        !o->sync_checks && intervals > 0 && std::ceil(out_dt / dt) <= double(kMaxChunkSteps) && sim.pipelines();
     try {
       if (pipelined) {
         long queued = 0, done = 0;  // steps (adaptive: output times) queued, and written

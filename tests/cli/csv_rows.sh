@@ -46,5 +46,26 @@ ts = [float(l.split(",")[0]) for l in open(sys.argv[1]).read().splitlines()[1:]]
 assert all(b > a for a, b in zip(ts, ts[1:])), f"times not strictly increasing: {ts}"
 assert abs(ts[-1] - 0.01) < 3e-5, f"last row at {ts[-1]}"
 PY
-[ $status -eq 0 ] && echo "ok: no partial row after a write error, no repeated row after a watchdog stop or an adaptive end"
+# A fixed step that does not divide time.output_every: row k on the step nearest k
+# output_every (a rounded step count per row drifted, and the last two rows came a step
+# apart: 8 rows for 0.06 s every 0.01 s).
+"$exe" run --scene "$data/surface.toml" --set time.dt=3.296e-5 time.duration=0.06 time.output_every=0.01 \
+  --csv "$tmp/grid.csv" >/dev/null 2>&1 || { echo "FAIL: grid run exit $?"; status=1; }
+python3 - "$tmp/grid.csv" <<'PY' || { echo "FAIL: rows off the output grid"; cut -d, -f1 "$tmp/grid.csv"; status=1; }
+import sys
+ts = [float(l.split(",")[0]) for l in open(sys.argv[1]).read().splitlines()[1:]]
+assert len(ts) == 7, f"{len(ts)} rows, wanted 7: {ts}"
+for k, t in enumerate(ts):
+    assert abs(t - 0.01 * k) <= 0.5 * 3.296e-5 + 1e-9, f"row {k} at {t}"
+PY
+# The adaptive step with rows asked for every 1e-11 s: a row per step, at once (it spun
+# through empty output intervals for ever).
+out=$(timeout 60 "$exe" run --scene "$data/surface.toml" --set time.dt=adaptive time.duration=0.002 \
+  time.output_every=1e-11 --csv "$tmp/fine.csv" 2>&1)
+rc=$?
+[ $rc -eq 0 ] || { echo "FAIL: adaptive run with output_every = 1e-11: exit $rc"; echo "$out"; status=1; }
+steps=$(sed -n 's/.* in \([0-9]*\) steps of .*/\1/p' <<<"$out")
+rows=$(( $(wc -l < "$tmp/fine.csv") - 2 ))
+[ -n "$steps" ] && [ "$rows" -eq "$steps" ] || { echo "FAIL: $rows rows after t = 0 for $steps steps"; status=1; }
+[ $status -eq 0 ] && echo "ok: no partial row after a write error, no repeated row after a watchdog stop or an adaptive end; rows on the output grid"
 exit $status

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# signal_stop.sh SOFTTLED DATA
+# signal_stop.sh SOFTTLED DATA [TORUS_SCENE]
 # SIGTERM and SIGINT during `run --csv --vtu`: the run finishes its step, exits 143 / 130,
 # says what it wrote, and leaves only complete output: every CSV row whole (the field
 # count of the header, the file ends with a newline), as many rows as it reported, every
 # frame a complete .vtu listed by a parseable series.pvd, no temporary files. The run is
 # long enough for the wall-time warning, which must come first.
 set -u
-exe=$1 data=$2
+exe=$1 data=$2 torus=${3:-}
 tmp=$(mktemp -d)
 pid=
 trap '[ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
@@ -80,6 +80,27 @@ pid=
 grep -q "stopped by signal 2 .*meshing stopped" "$tmp/err.txt" || fail "meshing: no stop message"
 [ ! -e "$tmp/m.csv" ] || fail "a CSV was written although meshing was stopped"
 echo "ok: meshing stopped within 3 s of SIGINT, nothing written"
+
+# accuracy: a signal stops the run in progress between its steps (the 91x19 reference in
+# double at lambda 0.05 runs for minutes here), exit 130, and that run gives no row.
+if [ -n "$torus" ]; then
+  "$exe" accuracy --scene "$torus" --backend cpu --out "$tmp/acc" --levels 45x9 --ref 91x19 --ref-lambda 0.05 \
+    --lambdas 1 --precisions float --elements T4 --t-end 0.2 >"$tmp/out.txt" 2>"$tmp/err.txt" &
+  pid=$!
+  for _ in $(seq 300); do grep -q "\[1/" "$tmp/err.txt" 2>/dev/null && break; sleep 0.1; done
+  sleep 2
+  kill -0 "$pid" 2>/dev/null || fail "accuracy ended before the signal"
+  kill -INT "$pid"
+  for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+  kill -0 "$pid" 2>/dev/null && fail "accuracy still running 3 s after SIGINT"
+  wait "$pid"
+  rc=$?
+  pid=
+  [ "$rc" -eq 130 ] || fail "accuracy SIGINT: exit code $rc, wanted 130"
+  grep -q "stopped by signal 2 after 0 of" "$tmp/err.txt" || fail "accuracy: no stop message naming 0 runs"
+  [ "$(grep -c . "$tmp/acc/accuracy.csv")" -le 1 ] || fail "accuracy wrote a row for the interrupted run"
+  echo "ok: accuracy stopped within 3 s of SIGINT, no row for the run in progress"
+fi
 
 # bench: a signal stops a long timed sample within about half a second (its pieces), not
 # after the sample (--steps 1e8 in 3 samples: minutes each), and writes nothing.
