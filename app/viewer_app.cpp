@@ -324,9 +324,10 @@ class Viewer {
     constexpr double kSlopeRate = 300;  // [deg per simulated second]
     if (set_.slope) {
       const std::string why = slope_tilt_error(sim_->scene().floor_normal, set_.slope_deg);
-      if (!why.empty()) {  // refused: the panel shows why, the toggle goes back
+      if (!why.empty()) {  // refused: the panel shows why and goes back to the planes kept
         st_.warning = "slope: " + why;
-        set_.slope = slope_was_on_;
+        if (slope_was_on_) set_.slope_deg = st_.slope_now;  // an angle asked of a slope on at 0
+        set_.slope = slope_was_on_, set_.floor = floor_was_on_;
         return;
       }
     }
