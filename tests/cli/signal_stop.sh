@@ -61,6 +61,18 @@ PY
 }
 stop_run TERM 143
 stop_run INT 130
+
+# SIGINT to the background job $pid, which must still run, end within SECONDS and exit 130.
+interrupt() {  # SECONDS WHAT
+  kill -0 "$pid" 2>/dev/null || fail "$2 ended before the signal"
+  kill -INT "$pid"
+  for _ in $(seq $(( $1 * 10 ))); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+  kill -0 "$pid" 2>/dev/null && fail "$2 still running $1 s after SIGINT"
+  wait "$pid"
+  local rc=$?
+  pid=
+  [ "$rc" -eq 130 ] || fail "$2 SIGINT: exit code $rc, wanted 130"
+}
 echo "ok: SIGTERM -> 143, SIGINT -> 130, output complete"
 
 # meshing: a signal kills TetGen's process at once (a 300 x 300 torus meshes for about a
@@ -69,14 +81,7 @@ echo "ok: SIGTERM -> 143, SIGINT -> 130, output complete"
   --csv "$tmp/m.csv" >"$tmp/out.txt" 2>"$tmp/err.txt" &
 pid=$!
 sleep 2
-kill -0 "$pid" 2>/dev/null || fail "run ended before the signal (meshing)"
-kill -INT "$pid"
-for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$pid" 2>/dev/null && fail "still meshing 3 s after SIGINT"
-wait "$pid"
-rc=$?
-pid=
-[ "$rc" -eq 130 ] || fail "meshing SIGINT: exit code $rc, wanted 130"
+interrupt 3 meshing
 grep -q "stopped by signal 2 .*meshing stopped" "$tmp/err.txt" || fail "meshing: no stop message"
 [ ! -e "$tmp/m.csv" ] || fail "a CSV was written although meshing was stopped"
 echo "ok: meshing stopped within 3 s of SIGINT, nothing written"
@@ -89,14 +94,7 @@ if [ -n "$torus" ]; then
   pid=$!
   for _ in $(seq 300); do grep -q "\[1/" "$tmp/err.txt" 2>/dev/null && break; sleep 0.1; done
   sleep 2
-  kill -0 "$pid" 2>/dev/null || fail "accuracy ended before the signal"
-  kill -INT "$pid"
-  for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-  kill -0 "$pid" 2>/dev/null && fail "accuracy still running 3 s after SIGINT"
-  wait "$pid"
-  rc=$?
-  pid=
-  [ "$rc" -eq 130 ] || fail "accuracy SIGINT: exit code $rc, wanted 130"
+  interrupt 3 accuracy
   grep -q "stopped by signal 2 after 0 of" "$tmp/err.txt" || fail "accuracy: no stop message naming 0 runs"
   [ "$(grep -c . "$tmp/acc/accuracy.csv")" -le 1 ] || fail "accuracy wrote a row for the interrupted run"
   echo "ok: accuracy stopped within 3 s of SIGINT, no row for the run in progress"
@@ -108,15 +106,8 @@ fi
   2>"$tmp/err.txt" &
 pid=$!
 sleep 3
-kill -0 "$pid" 2>/dev/null || fail "bench ended before the signal"
-kill -INT "$pid"
 t0=$(date +%s)
-for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-kill -0 "$pid" 2>/dev/null && fail "bench still timing 10 s after SIGINT"
-wait "$pid"
-rc=$?
-pid=
-[ "$rc" -eq 130 ] || fail "bench SIGINT: exit code $rc, wanted 130"
+interrupt 10 bench
 grep -q "stopped by signal 2 before the benchmark finished; wrote nothing" "$tmp/err.txt" || fail "bench: no stop message"
 [ ! -e "$tmp/b.json" ] || fail "bench wrote $tmp/b.json although stopped"
 echo "ok: bench stopped within $(( $(date +%s) - t0 )) s of SIGINT, nothing written"
