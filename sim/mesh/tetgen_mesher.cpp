@@ -264,6 +264,8 @@ double estimate(const SurfaceMesh& s, const Switches& sw) {
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o) { return estimate(s, resolve(o)); }
 
 namespace {
+// Process-wide, as the signal it stands for: the mesher is called from scene loading,
+// tet-file checks and obstacle checks, none of which should carry a stop flag through.
 bool (*g_stop_check)() = nullptr;  // set_meshing_stop_check
 }  // namespace
 void set_meshing_stop_check(bool (*stop)()) { g_stop_check = stop; }
@@ -532,6 +534,8 @@ long count_self_intersections(const SurfaceMesh& s, double time_limit_s) {
   tetgenio in;
   fill_tetgenio(s, kMm, {}, in);
   const TetgenRun run = run_tetgen_isolated(in, "", time_limit_s, 0, 0);
+  if (run.status == TetgenRun::kStopped)  // not "could not be completed": a stop was asked
+    throw InputError("meshing stopped: TetGen's self-intersection check was ended before it finished");
   if (run.status != TetgenRun::kIntersects) return -1;
   return run.count;
 }

@@ -94,6 +94,7 @@ void set_meshing_stop_check(bool (*stop)());
 // Self-intersections of a surface (closed or not): the number of facets TetGen's -d probe
 // ("pdzQ", in a child process as for meshing) finds crossing others; 0 when none. -1 when
 // the probe could not answer (TetGen crashed, failed or ran past time_limit_s): unknown.
+// InputError ("meshing stopped") when the stop check ended it (set_meshing_stop_check).
 long count_self_intersections(const SurfaceMesh& s, double time_limit_s = 60);
 
 // One point strictly inside each cavity of a closed surface (a shell of odd nesting depth,
