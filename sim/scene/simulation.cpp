@@ -3,6 +3,7 @@
 #include "sim/contact/body_gap.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
@@ -465,9 +466,18 @@ bool Simulation::step_unless_stopped(long n) {
   }
   for (long done = 0; done < n;) {  // the same steps as step(n): its own calls split further
     if (stop_check_()) return false;
-    const long k = std::min(kStopCheckSteps, n - done);
+    // The first chunk is one step, timed: slow steps (a fine mesh on a busy CPU) get fewer
+    // per check, so that a stop is answered within about kStopCheckWallS; the chunk
+    // follows the steps' wall time from then on. On the GPU step() only enqueues: the
+    // chunk is kStopCheckSteps after the first step.
+    const long k = std::min(stop_chunk_ > 0 ? stop_chunk_ : 1L, n - done);
+    const auto t0 = std::chrono::steady_clock::now();
     step(k);
     done += k;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double fit = s > 0 ? double(k) * kStopCheckWallS / s : double(kStopCheckSteps);
+    if (stop_chunk_ <= 0 || s > kStopCheckWallS || (k == stop_chunk_ && s < 0.25 * kStopCheckWallS))
+      stop_chunk_ = std::max(1L, std::min(kStopCheckSteps, long(std::min(fit, double(kStopCheckSteps)))));
   }
   return true;
 }

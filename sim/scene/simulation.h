@@ -156,11 +156,13 @@ class Simulation {
   // A trip the adaptive step survives rolls back and steps to t_end again.
   void advance_to(double t_end);
   // A predicate advance, advance_to, queue and queue_until call between steps (before the
-  // first, then every kStopCheckSteps steps); when it returns true they stop stepping at
+  // first, after the first step, then every kStopCheckSteps steps, or fewer where those
+  // take more than kStopCheckWallS of wall time on the CPU); when it returns true they stop stepping at
   // once, short of their steps or t_end (advance and advance_to then skip their check and
   // return; stopped_early() says so; a checkpoint says `stopped`). It never changes the
   // steps taken when it returns false. Empty: none.
   static constexpr long kStopCheckSteps = 1000;
+  static constexpr double kStopCheckWallS = 0.1;  // (a 91x19 T4ANP double step took ~7 ms on a busy 2-core machine)
   void set_stop_check(std::function<bool()> f) { stop_check_ = std::move(f); }
   bool stopped_early() const { return stopped_early_; }
   Diagnostics diagnostics();  // of state(), computed once per step count
@@ -221,6 +223,7 @@ class Simulation {
   bool step_unless_stopped(long n);
   std::function<bool()> stop_check_;
   bool stopped_early_ = false;
+  long stop_chunk_ = 0;  // steps between stop checks (step_unless_stopped); 0: not timed yet
   struct Queued {
     int slot;
     long n;        // its steps, or

@@ -29,7 +29,9 @@ class StopCheck : public OnEachBackend {};
 SOFTTLED_ON_EACH_BACKEND(StopCheck);
 
 // A long output interval (time.output_every spanning many steps) stops within
-// kStopCheckSteps of the stop: two checks pass, the third stops the queued steps.
+// kStopCheckSteps of the stop: two checks pass (before the first step and after it, the
+// step that times the chunk), the third stops the queued steps at most kStopCheckSteps
+// later (exactly that many here: a box's step is far below kStopCheckWallS / 1000).
 TEST_P(StopCheck, AQueuedIntervalStopsWithinKStopCheckSteps) {
   for (const bool user_force : {false, true}) {  // pipelined, and collect() stepping itself
     SCOPED_TRACE(user_force ? "not pipelined (a user force)" : "pipelined");
@@ -42,7 +44,8 @@ TEST_P(StopCheck, AQueuedIntervalStopsWithinKStopCheckSteps) {
     const Simulation::Checkpoint& c = sim.collect();
     EXPECT_TRUE(c.stopped);
     EXPECT_EQ(calls, 3);
-    EXPECT_EQ(sim.total_steps(), 2 * Simulation::kStopCheckSteps);
+    EXPECT_GT(sim.total_steps(), 1);
+    EXPECT_LE(sim.total_steps(), 1 + Simulation::kStopCheckSteps);
   }
 }
 
@@ -57,7 +60,7 @@ TEST_P(StopCheck, AdvanceStopsWithinKStopCheckStepsWithoutItsCheck) {
   sim.set_stop_check(stop_after(1, &calls));
   sim.advance(kLong, kLong);
   EXPECT_TRUE(sim.stopped_early());
-  EXPECT_EQ(sim.total_steps(), Simulation::kStopCheckSteps);
+  EXPECT_EQ(sim.total_steps(), 1);  // the first step is timed alone (Simulation::kStopCheckWallS)
   sim.set_stop_check({});
   sim.advance(10, 10);
   EXPECT_FALSE(sim.stopped_early());
@@ -76,7 +79,7 @@ TEST_P(StopCheck, ACheckThatNeverStopsChangesNothing) {
   const HostState sa = a.state;
   const Simulation::Checkpoint& b = checked.collect();
   EXPECT_FALSE(b.stopped);
-  EXPECT_EQ(calls, 3);
+  EXPECT_GE(calls, 4);  // before the first step, after it, then at most every kStopCheckSteps
   EXPECT_TRUE(sa.u == b.state.u && sa.du == b.state.du);
   plain.advance(n, 500);
   checked.advance(n, 500);
