@@ -62,10 +62,10 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
             TriangleProjection<double> tp;
             if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
             if (!own) {
-              const std::vector<double>& a = around.at(p);
-              double c[3];
-              triangle_cross(xa, xb, xc, c);
-              if (!faces_some(c, a.data(), int(a.size() / 3))) continue;
+              const std::vector<double>& near_p = around.at(p);
+              double cross[3];
+              triangle_cross(xa, xb, xc, cross);
+              if (!faces_some(cross, near_p.data(), int(near_p.size() / 3))) continue;
             }
             gap = std::min(gap, tp.d);
           }
