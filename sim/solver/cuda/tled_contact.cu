@@ -218,7 +218,7 @@ __device__ void choose_facing(const TetMeshView<T>& m, const BodyContactView<T>&
   }
   for (int h = 0; h < 2; ++h)
     if (lane + 32 * h < nc) c.pair_facing[s * kContactCandCap + lane + 32 * h] = facing[h];
-  __syncwarp();  // the lanes read each other's slots in the loop below
+  __syncwarp();  // (each lane reads back only its own slots below; the warp stays together)
 }
 
 // A warp per surface node, a lane per candidate: the candidate pairs are independent, so
