@@ -66,13 +66,7 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   for (std::size_t s = 0; s < surf.size(); ++s) {
     const int i = surf[s], c0 = cand_start_[s], c1 = cand_start_[s + 1];
     if (c0 == c1) continue;
-    around_.clear();
-    for (int q = tab_.surf_tri_start[s]; q < tab_.surf_tri_start[s + 1]; ++q) {
-      const int* v = &tab_.tri[3 * tab_.surf_tri[q]];
-      T c[3];
-      triangle_cross(&x_[3 * v[0]], &x_[3 * v[1]], &x_[3 * v[2]], c);
-      around_.insert(around_.end(), c, c + 3);
-    }
+    crosses_around(tab_, s, x_.data(), around_);
     for (int k = c0; k < c1; ++k) {
       const int t = cand_list_[k];
       if (tab_.tri_body[t] == tab_.node_body[i]) continue;

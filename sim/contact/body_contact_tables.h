@@ -4,6 +4,7 @@
 // both test the same triangles with the same tolerance and grid cell.
 #include <vector>
 
+#include "sim/contact/body_contact.h"
 #include "sim/mesh/tet_mesh.h"
 
 namespace softtled {
@@ -29,5 +30,18 @@ struct BodyContactTables {
 };
 
 BodyContactTables build_body_contact_tables(const TetMesh& m);
+
+// The cross products of the boundary triangles around surface node surf[s] (x: positions,
+// 3 per node, interleaved), in the tables' order, into out (body_contact.h, faces_some).
+template <class T>
+void crosses_around(const BodyContactTables& t, std::size_t s, const T* x, std::vector<T>& out) {
+  out.clear();
+  for (int q = t.surf_tri_start[s]; q < t.surf_tri_start[s + 1]; ++q) {
+    const int* v = &t.tri[3 * t.surf_tri[q]];
+    T c[3];
+    triangle_cross(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], c);
+    out.insert(out.end(), c, c + 3);
+  }
+}
 
 }  // namespace softtled

@@ -33,13 +33,7 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
   for (std::size_t k = 0; k < t.surf.size(); ++k) {
     const int i = t.surf[k];
     if (contact[i] == kFree) continue;
-    std::vector<double>& a = around[i];
-    for (int q = t.surf_tri_start[k]; q < t.surf_tri_start[k + 1]; ++q) {
-      const int* v = &t.tri[3 * t.surf_tri[q]];
-      double c[3];
-      triangle_cross(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], c);
-      a.insert(a.end(), c, c + 3);
-    }
+    crosses_around(t, k, x.data(), around[i]);
   }
   for (int f = 0; f < t.ntri(); ++f) {
     const int a = t.tri[3 * f], b = t.tri[3 * f + 1], c = t.tri[3 * f + 2];
