@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
     for (auto* sub : app.get_subcommands()) {
       const int rc = commands.at(sub->get_name())();
       if (stdout_failed()) return kExitResource;
+      // The log (mesh size, dt, warnings) is part of what a run reports: a success whose
+      // log could not be written is not one. Nothing can be said about it on stderr itself.
+      if (rc == kExitOk && std::ferror(stderr)) return kExitResource;
       return rc;
     }
   } catch (const InputError& e) {
