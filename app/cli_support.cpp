@@ -1,5 +1,6 @@
 #include "app/cli_support.h"
 
+#include <cerrno>
 #include <csignal>
 #include <cmath>
 #include <cstdio>
@@ -67,6 +68,17 @@ void install_stop_signals() {
 }
 
 int stop_signal() { return int(g_stop); }
+
+namespace {
+int g_stdout_errno = 0;
+}
+
+void flush_stdout() {
+  errno = 0;
+  if ((std::fflush(stdout) != 0 || std::ferror(stdout)) && g_stdout_errno == 0) g_stdout_errno = errno;
+}
+
+int stdout_errno() { return g_stdout_errno; }
 
 int exit_code_for_signal(int sig) {
   return sig == SIGINT ? kExitSigint : sig == SIGTERM ? kExitSigterm : sig == SIGHUP ? kExitSighup : 128 + sig;

@@ -41,6 +41,13 @@ int stop_signal();  // 0, SIGINT, SIGTERM or SIGHUP
 inline bool stop_requested() { return stop_signal() != 0; }
 int exit_code_for_signal(int sig);
 
+// Flushes standard output and remembers the reason of its first failed write,
+// which a later fflush no longer reports: progress printed by long
+// commands is flushed here, not line-buffered, so "No space left on device" survives to
+// the exit message.
+void flush_stdout();
+int stdout_errno();  // 0 while every write succeeded or its reason is unknown
+
 // "auto" becomes "cuda" when a CUDA device is usable (every stage runs on both backends),
 // else "cpu"; the reason is printed only with -v. Asking for "cuda" where there is none is
 // an InputError at once (check_backend_available), before any meshing or output.

@@ -246,7 +246,7 @@ Command add_accuracy_command(CLI::App& app) {
       rows.push_back(row);
       write_md();
       std::fputs((row + "\n").c_str(), stdout);
-      std::fflush(stdout);
+      flush_stdout();
     };
     auto emit = [&](const AccuracyRun& r, const AccuracyErrors& e) {
       char buf[512];

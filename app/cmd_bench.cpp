@@ -422,7 +422,6 @@ Command add_bench_command(CLI::App& app) {
   c->add_option("--stage-reps", o->stage_reps, "launches per stage timing")->check(int_range(1, 100000))->capture_default_str();
   c->add_option("--set", o->set, "override a scene key: section.key=value")->take_all();
   return [o, c, scene_opt, json_opt, prec_opt, threads_opt]() {
-    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress survives a killed run
     if (scene_opt->count() && o->scene.empty()) throw InputError("--scene: empty path");
     if (json_opt->count() && o->json.empty()) throw InputError("--json: empty path");
     if (!o->json.empty()) check_output_file(o->json, "--json");  // before minutes of timing
@@ -468,6 +467,7 @@ Command add_bench_command(CLI::App& app) {
                   double(d.l2_bytes) / 1e6, d.driver_version, d.runtime_version);
       copy_gbs = cuda::measure_copy_bandwidth_gbs();
       std::printf("measured copy bandwidth: %.0f GB/s (1 GiB float4 copy, read + write)\n", copy_gbs);
+      flush_stdout();  // progress survives a killed run
     }
 #endif
     // The sweep's refined tori, read now: a scene whose body is no torus (body.segments
@@ -516,6 +516,7 @@ Command add_bench_command(CLI::App& app) {
     for (const auto& m : main.modes)
       std::printf("  mode %-26s median %.3f us/step (min %.3f, max %.3f)\n", m.first.c_str(), m.second.median, m.second.min,
                   m.second.max);
+    flush_stdout();
 
     std::vector<Result> rows;
     if (o->sweep) {
@@ -547,6 +548,7 @@ Command add_bench_command(CLI::App& app) {
         for (const auto& m : r.modes)
           std::printf("  %-5s mode %-34s median %10.3f us/step (min %.3f, max %.3f)\n", r.label.c_str(), m.first.c_str(),
                       m.second.median, m.second.min, m.second.max);
+      flush_stdout();
     }
     if (!o->json.empty()) {
       std::ostringstream f;

@@ -216,7 +216,7 @@ Command add_render_command(CLI::App& app) {
       std::printf("t = %.4f s: %s  (%ld steps in %.3f s; frame %.2f ms = vertices %.2f + draw/readback %.2f; png %.1f ms)\n", f.t,
                   enc ? "video frame" : f.path.c_str(), f.steps, f.sim_s, (f.upload_s + f.draw_s) * 1e3, f.upload_s * 1e3, f.draw_s * 1e3,
                   f.png_s * 1e3);
-      std::fflush(stdout);
+      flush_stdout();
       draw_total += f.draw_s;
       upload_total += f.upload_s;
       steps_total += f.steps;
@@ -227,7 +227,7 @@ Command add_render_command(CLI::App& app) {
       return int(kExitDiverged);
     }
     if (info.stopped || stop_requested()) {
-      std::fflush(stdout);
+      flush_stdout();
       if (enc && enc->frames() > 0) {  // a complete, shorter video of the frames so far
         enc->finish();
         std::fprintf(stderr, "softtled: stopped by signal %d at t = %g s; %s has the %ld frames rendered so far\n", stop_signal(),

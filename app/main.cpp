@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
   // too: a full disk or a closed pipe must not pass silently.
   // earlier: the errno of a write that already failed (CLI11 flushes --version's line itself).
   auto stdout_failed = [](int earlier = 0) {
-    errno = 0;
-    if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return false;
-    const int e = errno ? errno : earlier;
+    flush_stdout();
+    if (!std::ferror(stdout)) return false;
+    const int e = stdout_errno() ? stdout_errno() : earlier;
     std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", e ? ": " : "", e ? std::strerror(e) : "");
     return true;
   };

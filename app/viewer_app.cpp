@@ -234,7 +234,7 @@ class Viewer {
     std::printf("view: ");
     std::printf(fmt, a...);
     std::printf("\n");
-    std::fflush(stdout);
+    flush_stdout();
   }
 
   void settings_from_scene() {
