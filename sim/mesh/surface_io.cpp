@@ -370,10 +370,15 @@ SurfaceMesh parse_off(const std::string& data, const std::string& name) {
 SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
   // STL stores triangle soup; vertices are merged by exact coordinates.
   std::vector<double> soup;
+  // A binary STL is its 84-byte header and 50 bytes per declared triangle. Some exporters
+  // pad the file (a line break, alignment bytes): less than one record after the last
+  // triangle is accepted and ignored. No ASCII STL can pass for one: its bytes 80-83, read as
+  // a count, exceed 10^8 triangles, beyond the 512 MiB a surface file may have.
   const bool binary_size_ok = data.size() >= 84 && [&] {
     std::uint32_t n;
     std::memcpy(&n, data.data() + 80, 4);
-    return std::uint64_t(n) * 50 + 84 == data.size();
+    const std::uint64_t need = std::uint64_t(n) * 50 + 84;
+    return data.size() >= need && data.size() - need < 50;
   }();
   if (binary_size_ok) {
     std::uint32_t n;
@@ -394,9 +399,12 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
     std::uint32_t declared = 0;
     if (data.size() >= 84) std::memcpy(&declared, data.data() + 80, 4);
     const auto size_mismatch = [&] {
+      const std::uint64_t need = 84 + 50 * std::uint64_t(declared);
       return InputError(name + ": binary STL whose size does not match its triangle count: " + std::to_string(data.size()) +
-                        " bytes, but the header declares " + std::to_string(declared) + " triangles (" +
-                        std::to_string(84 + 50 * std::uint64_t(declared)) + " bytes); the file is truncated or corrupt");
+                        " bytes, but the header declares " + std::to_string(declared) + " triangles (" + std::to_string(need) +
+                        " bytes); " +
+                        (data.size() < need ? "the file is truncated or its count wrong"
+                                            : "more than one record's worth of bytes follows them: the count is wrong or the file corrupt"));
     };
     const bool looks_binary = data.size() >= 84 && std::any_of(data.begin(), data.end(), [](char ch) {
       return ch != '\n' && ch != '\r' && ch != '\t' && ((ch >= 0 && ch < 32) || ch == 127);

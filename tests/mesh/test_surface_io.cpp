@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fcntl.h>
 #include <fstream>
@@ -263,6 +264,26 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   EXPECT_NE(e.find("solidhdr_wrong.stl: binary STL whose size does not match its triangle count: 284 bytes, but the "
                    "header declares 7 triangles (434 bytes)"),
             std::string::npos) << e;
+  // A binary STL padded by less than one 50-byte record (some exporters add a line break or
+  // alignment bytes) is the same tetrahedron; one record's worth or more is a wrong count.
+  std::string bin(80, '\0');
+  const std::uint32_t four = 4;
+  bin.append(reinterpret_cast<const char*>(&four), 4);
+  const float Pt[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& f : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}}) {
+    bin.append(12, '\0');  // the normal, unused
+    for (int k : f) bin.append(reinterpret_cast<const char*>(Pt[k]), 12);
+    bin.append(2, '\0');
+  }
+  for (std::size_t pad : {std::size_t(0), std::size_t(1), std::size_t(49)}) {
+    const SurfaceMesh t = parse_stl(bin + std::string(pad, '\n'), "pad.stl");
+    EXPECT_EQ(t.npoint(), 4) << pad;
+    EXPECT_NEAR(enclosed_volume(t), 1.0 / 6.0, 1e-7) << pad;
+  }
+  e = parse_error_of_stl(bin + std::string(50, '\0'));
+  EXPECT_NE(e.find("334 bytes, but the header declares 4 triangles (284 bytes); more than one record"), std::string::npos) << e;
+  e = parse_error_of_stl(bin.substr(0, 283));
+  EXPECT_NE(e.find("the file is truncated or its count wrong"), std::string::npos) << e;
   // ASCII STL errors give the real line.
   const std::string stl = "solid t\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 x 0\n";
   EXPECT_NE(parse_error_of_stl(stl).find(":5: 'x' is not a number"), std::string::npos) << parse_error_of_stl(stl);
