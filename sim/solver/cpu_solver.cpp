@@ -16,6 +16,8 @@
 #include <set>
 #include <memory>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <type_traits>
 #include <utility>
 #include <stdexcept>
@@ -25,6 +27,7 @@
 #include "sim/fem/stiffness_probe.h"
 #include "sim/fem/surface_render.h"
 #include "sim/fem/tet_forces.h"
+#include "sim/io/output_file.h"
 #include "sim/mesh/surface_topology.h"
 #include "sim/solver/cpu_blocks.h"
 #include "sim/solver/cpu_energy.h"
@@ -37,6 +40,23 @@
 
 namespace softtled {
 namespace {
+
+// libgomp ends the process (exit 1, "Thread creation failed") when it cannot start a team's
+// threads, e.g. 1,000 threads' stacks under an address-space limit. Starting the same number
+// of threads (same default stack) here first turns that into an error naming the setting.
+void check_threads_can_start(int threads) {
+  std::vector<std::thread> team;
+  std::string why;
+  try {
+    for (int i = 1; i < threads; ++i) team.emplace_back([] {});
+  } catch (const std::system_error& e) {
+    why = e.code().message();
+  }
+  for (std::thread& t : team) t.join();
+  if (!why.empty())
+    throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): could not start " + std::to_string(threads - 1) +
+                        " more threads (" + why + " after " + std::to_string(team.size()) + "); use fewer (0: the automatic choice)");
+}
 
 template <class T>
 class CpuSolver final : public Solver {
@@ -71,11 +91,9 @@ class CpuSolver final : public Solver {
   void set_cpu_simd(bool on) override { simd_ = on && !mesh_.tet_law; }
   bool cpu_simd() const override { return simd_; }
   void set_cpu_threads(int threads) override {
-    if (threads > 0) {
-      threads_ = threads;
-      return;
-    }
-    threads_ = auto_cpu_threads(rest_.ntet);
+    const int n = threads > 0 ? threads : auto_cpu_threads(rest_.ntet);
+    if (n > threads_) check_threads_can_start(n);
+    threads_ = n;
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }
 

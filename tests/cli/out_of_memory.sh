@@ -22,3 +22,11 @@ for kb in $base $(( base + 15000 )) $(( base + 30000 )) $(( base + 60000 )); do
     bash "$expect" 5 "out of memory" "$exe" mesh --scene "$scene" --set 'body.segments=[182,38]' \
       --set mesh.max_volume=0.01 --set mesh.cache=false ) || { echo "FAIL at ulimit -v $kb"; exit 1; }
 done
+# Threads: libgomp exits 1 ("Thread creation failed") when it cannot start a team, e.g. a
+# thousand 8 MB stacks in 500 MB; the solver starts them first and reports the setting
+# (exit 5). The control, two threads under the same limit, runs.
+small=$(dirname "${BASH_SOURCE[0]}")/data/surface.toml
+( ulimit -v $(( base + 500000 ))
+  bash "$expect" 5 "1000 CPU threads (solver.threads, --threads): could not start 999 more threads" \
+    "$exe" run --scene "$small" --set solver.threads=1000 &&
+  bash "$expect" 0 "final centroid" "$exe" run --scene "$small" --set solver.threads=2 ) || { echo "FAIL: threads"; exit 1; }
