@@ -220,11 +220,13 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // state's scales and the laws).
   if (!(ts_.min_Le > 0)) ts_.min_Le = measure_quality(mesh_).min_Le;
   ts_.c = 0;
+  c_min_ = 0;
   for (int b = 0; b < std::max<int>(1, int(E_scale_.size())); ++b) {
     const double Eb = q.E * (E_scale_.empty() ? 1.0 : E_scale_[b]);
     const double rho_b = scene_.rho * (rho_scale_.empty() ? 1.0 : rho_scale_[b]);
     const double cb = dilatational_wave_speed(Eb, laws.empty() ? q.nu : laws[b].nu, rho_b);
     ts_.c = std::max(ts_.c, cb);
+    c_min_ = b == 0 ? cb : std::min(c_min_, cb);
     // A body whose own material alone gives a step outside the range checked below is as
     // absurd as a scene that does (its own E = 1e-320 passed as a body of no stiffness).
     const double dt_b = q.lambda * ts_.min_Le / cb;
@@ -743,7 +745,8 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   for (const BodyLaw& l : resolved_laws(params_)) models.push_back(l.model);
   if (models.empty()) models.push_back(params_.material_model);
   watchdog_.set_body_contact(params_.body_contact || params_.self_contact);
-  const std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
+  std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
+  if (f && !unstable_dt) f->cause = fast_obstacle_cause(params_.obstacles, c_min_) + f->cause;
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane,
     // at the step in use now: du spans that step (change_step's rescaling).

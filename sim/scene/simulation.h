@@ -298,6 +298,7 @@ class Simulation {
   double work_ = 0;
   // Several bodies: each one's E and rho relative to the scene's [material] (wave speeds).
   std::vector<double> E_scale_, rho_scale_;
+  double c_min_ = 0;  // the smallest body's dilatational wave speed [m/s] (what a fast obstacle crushes)
   double eigen_scale_ = 0, eigen_nu_ = -2;  // cached rest_eigen_scale and its nu, model, laws
   int eigen_model_ = -1;
   std::vector<BodyLaw> eigen_laws_;

@@ -127,6 +127,23 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
   return std::nullopt;
 }
 
+std::string fast_obstacle_cause(const std::vector<ObstacleSpec>& obstacles, double c) {
+  int fastest = -1;
+  double v_max = 0;
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const double* v = obstacles[i].velocity;
+    const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (speed > v_max) v_max = speed, fastest = int(i);
+  }
+  if (fastest < 0 || !(c > 0) || v_max < 0.5 * c) return "";
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "obstacle[%d] moves at %.3g m/s, %.2g x the material's wave speed c = %.3g m/s: what it strikes is "
+                "crushed within a few steps (lower its speed); or ",
+                fastest, v_max, v_max / c, c);
+  return buf;
+}
+
 double watchdog_energy_scale(const TetMesh& m, const std::vector<double>& mass, const PhysicsParams& p, double ke0) {
   const int n = m.nnode();
   double mt = 0, lo = 1e300, hi = -1e300;

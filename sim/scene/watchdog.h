@@ -79,6 +79,12 @@ double watchdog_energy_scale(const TetMesh& m, const std::vector<double>& mass, 
 
 // "watchdog stopped the run at t = ...: <problem>; dt = ... Likely cause: ... State rolled
 // back to t = ..."
+// The likelier cause of a blow-up where an obstacle moves at half the softest body's wave
+// speed c or faster: what it strikes is crushed within a few steps, which the watchdog then
+// finds as NaN, an inverted element or a too-fast node. "obstacle[i] moves at ...; or "
+// for the fastest such obstacle, else empty.
+std::string fast_obstacle_cause(const std::vector<ObstacleSpec>& obstacles, double c);
+
 std::string watchdog_message(const WatchdogFinding& f, double t_bad, double t_back, double dt, double dt_cr);
 
 }  // namespace softtled
