@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "sim/core/input_error.h"
+#include "sim/io/output_file.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/solver/solver_factory.h"
 #if defined(SOFTTLED_HAVE_CUDA)
@@ -65,6 +66,7 @@ void install_stop_signals() {
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: stop as for SIGTERM
   set_meshing_stop_check([] { return stop_requested(); });  // TetGen is killed at once, not awaited
+  set_output_stop_check([] { return stop_requested(); });  // an output FIFO's wait for its reader
 }
 
 int stop_signal() { return int(g_stop); }

@@ -2,6 +2,9 @@
 // one "softtled: error: ..." line and an exit code (cli_support.h, README "Exit codes"):
 // usage errors and InputErrors 2, resource problems 5, a stop by signal 130/143.
 #include <CLI/CLI.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <csignal>
@@ -37,9 +40,19 @@ int main(int argc, char** argv) {
   // report (exit 5, the CSV cut back to its last row) instead of SIGXFSZ killing the program
   // with half-written files.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A standard stream started closed (`>&-`, `2>&-`) would let the first file opened take
+  // its descriptor, and the summary or the log would be written into that CSV. Each closed
+  // one is held by /dev/null opened read-only: its writes fail (EBADF) and are reported
+  // as a write error (exit 5), as on a full disk.
+  for (int fd = 0; fd <= 2; ++fd)
+    if (::fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+      const int held = ::open("/dev/null", O_RDONLY);
+      if (held >= 0 && held != fd) ::close(held);  // (descriptors are taken lowest first)
+    }
   CLI::App app{"SoftTLED: real-time soft-body simulation (TLED, Neo-Hookean, plane contact)\n"
                "Exit codes: 0 success, 2 bad input or usage, 3 internal error, 4 the watchdog stopped a diverging run,\n"
-               "5 resource (out of memory, disk full or write error, no display/EGL), 130/143 stopped by SIGINT/SIGTERM."};
+               "5 resource (out of memory, disk full or write error, no display/EGL), 129/130/143 stopped by\n"
+               "SIGHUP/SIGINT/SIGTERM, 141 standard output's reader gone (SIGPIPE)."};
   app.require_subcommand(1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     const std::string m = e.what();  // CLI11 quotes the argument it refuses: shortened as above
@@ -111,6 +124,7 @@ int main(int argc, char** argv) {
     error(e.what());
     return kExitInput;
   } catch (const ResourceError& e) {
+    if (stop_requested()) return stopped(e.what());  // e.g. a FIFO's wait for its reader, ended by Ctrl-C
     error(e.what());
     return kExitResource;
   } catch (const std::filesystem::filesystem_error& e) {  // a path the OS refused (checks catch most before)

@@ -113,8 +113,6 @@ VideoEncoder::VideoEncoder(std::string path, int w, int h, double fps)
     std::remove(log_.c_str());
     throw ResourceError(std::string("cannot create a pipe to ffmpeg: ") + std::strerror(e));
   }
-  // A dead ffmpeg must show up as EPIPE from write(), not kill softtled with SIGPIPE.
-  ::signal(SIGPIPE, SIG_IGN);
   const std::string size = std::to_string(w) + "x" + std::to_string(h);
   std::vector<std::string> args = {ffmpeg, "-hide_banner", "-loglevel", "error", "-y",
                                    // input: raw RGBA frames on standard input
@@ -208,16 +206,33 @@ void VideoEncoder::write(const Image& im) {
   if (im.w != w_ || im.h != h_)
     throw std::logic_error("video frame " + std::to_string(im.w) + "x" + std::to_string(im.h) + " in a " +
                            std::to_string(w_) + "x" + std::to_string(h_) + " video");
+  // A dead ffmpeg must show up as EPIPE from write(), not kill softtled with SIGPIPE. The
+  // signal is blocked around these writes only (and a pending one taken back), so that
+  // standard output's reader going away still ends softtled with SIGPIPE (exit 141) as
+  // everywhere else; ignoring it process-wide made that exit 5.
+  sigset_t pipe_only, old_mask;
+  sigemptyset(&pipe_only);
+  sigaddset(&pipe_only, SIGPIPE);
+  pthread_sigmask(SIG_BLOCK, &pipe_only, &old_mask);
   const char* p = reinterpret_cast<const char*>(im.rgba.data());
   std::size_t left = im.rgba.size();
+  int e = 0;
   while (left > 0) {
     const ssize_t n = ::write(fd_, p, left);
     if (n < 0) {
       if (errno == EINTR) continue;
-      fail(std::string("ffmpeg stopped taking frames: ") + std::strerror(errno));
+      e = errno;
+      break;
     }
     p += n, left -= std::size_t(n);
   }
+  if (e == EPIPE) {
+    sigset_t pending;
+    const struct timespec zero = {0, 0};
+    if (sigpending(&pending) == 0 && sigismember(&pending, SIGPIPE)) sigtimedwait(&pipe_only, nullptr, &zero);
+  }
+  pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+  if (e) fail(std::string("ffmpeg stopped taking frames: ") + std::strerror(e));
   ++frames_;
 }
 

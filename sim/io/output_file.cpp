@@ -14,6 +14,12 @@
 
 namespace softtled {
 
+namespace {
+bool (*g_stop_check)() = nullptr;  // set_output_stop_check
+}
+
+void set_output_stop_check(bool (*stop)()) { g_stop_check = stop; }
+
 OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (path_ == "-" && mode == kDirect) {
     f_ = stdout;
@@ -35,6 +41,8 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
       fd = ::open(open_path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
       e = errno;
       if (fd >= 0 || e != ENXIO) break;
+      if (g_stop_check && g_stop_check())
+        throw ResourceError(open_path + ": stopped while waiting for the FIFO's reader");
       ::usleep(50000);
     }
     if (fd < 0)

@@ -22,6 +22,9 @@ struct ResourceError : std::runtime_error {
 
 // How long an output FIFO waits for its reader to open it [s] (OutputFile).
 constexpr int kFifoReaderWaitS = 5;
+// A check polled while that wait lasts (the CLI's stop flag): true ends it at once with a
+// ResourceError ("stopped while waiting"), which the CLI then reports as the signal's stop.
+void set_output_stop_check(bool (*stop)());
 
 class OutputFile {
  public:

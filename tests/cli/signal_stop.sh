@@ -112,3 +112,13 @@ interrupt 10 bench
 grep -q "stopped by signal 2 before the benchmark finished; wrote nothing" "$tmp/err.txt" || fail "bench: no stop message"
 [ ! -e "$tmp/b.json" ] || fail "bench wrote $tmp/b.json although stopped"
 echo "ok: bench stopped within $(( $(date +%s) - t0 )) s of SIGINT, nothing written"
+
+# An output FIFO with no reader: the run waits up to 5 s for one; a signal ends that wait at
+# once and reads as the stop it is (exit 130), not as "no reader" (exit 5).
+mkfifo "$tmp/fifo.csv"
+"$exe" run --scene "$data/surface.toml" --csv "$tmp/fifo.csv" >"$tmp/out.txt" 2>"$tmp/err.txt" &
+pid=$!
+sleep 1
+interrupt 1 "waiting for a FIFO's reader"
+grep -q "stopped by signal 2 (.*stopped while waiting for the FIFO's reader)" "$tmp/err.txt" || fail "FIFO: no stop message"
+echo "ok: the wait for a FIFO's reader stopped within 1 s of SIGINT"
