@@ -177,6 +177,9 @@ Command add_render_command(CLI::App& app) {
       std::error_code ec;
       std::filesystem::create_directories(h.out_dir, ec);
       if (ec) throw InputError("--out " + h.out_dir + ": cannot create directory: " + ec.message());
+      // Every frame's name, before meshing: one taken by a directory (or its .tmp by
+      // anything but a file) failed the run at that frame, after the earlier ones (exit 5).
+      for (double t : h.times) check_output_file(h.out_dir + "/" + frame_file_name(h.stem, t), "--out");
     }
     install_stop_signals();
     h.should_stop = [] { return stop_requested(); };

@@ -7,7 +7,9 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <utility>
 
 #include "sim/core/input_error.h"
@@ -29,8 +31,11 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   // is written in place, never replaced by a renamed temporary.
   struct stat st;
   const bool exists = ::stat(path_.c_str(), &st) == 0;
-  if (mode == kAtomic && (!exists || S_ISREG(st.st_mode))) tmp_ = path_ + ".tmp";
-  const std::string& open_path = tmp_.empty() ? path_ : tmp_;
+  if (mode == kAtomic && (!exists || S_ISREG(st.st_mode))) {
+    open_temporary(exists ? int(st.st_mode & 07777) : -1);
+    return;
+  }
+  const std::string& open_path = path_;
   if (tmp_.empty() && exists && S_ISFIFO(st.st_mode)) {
     // Opened without blocking: open(2) on a FIFO nobody reads waits for a reader, and a
     // signal (which only sets the stop flag) restarts it, so Ctrl-C could not stop the run.
@@ -63,9 +68,43 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (tmp_.empty() && ::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
 }
 
+void OutputFile::open_temporary(int mode) {
+  // A symlink is kept: its target is replaced (the temporary written beside it).
+  target_ = path_;
+  struct stat lst;
+  if (::lstat(path_.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode) && mode >= 0)
+    if (char* real = ::realpath(path_.c_str(), nullptr)) target_ = real, std::free(real);
+  tmp_ = target_ + ".tmp";
+  // Never through whatever else holds the name: not a symlink's target (O_NOFOLLOW), and a
+  // FIFO fails at once (O_NONBLOCK: ENXIO without a reader) instead of blocking in open(2),
+  // which a signal cannot end; a directory fails with EISDIR.
+  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+  struct stat st;
+  if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    const int e = fd < 0 ? errno : 0;
+    if (fd >= 0) ::close(fd);
+    const std::string t = tmp_;
+    tmp_.clear();  // not ours: never removed
+    throw ResourceError(path_ + ": cannot write its temporary " + t + ": " +
+                        (e ? std::string(std::strerror(e)) : std::string("not a regular file")) + "; move it away");
+  }
+  // The replaced file's permissions carry over (a private file stays private); a new file
+  // gets 0666 less the umask, as open(2) gave it.
+  if (mode >= 0) ::fchmod(fd, mode_t(mode));
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  f_ = ::fdopen(fd, "wb");
+  if (!f_) {
+    const int e = errno;
+    ::close(fd);
+    std::remove(tmp_.c_str());
+    tmp_.clear();
+    throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
+  }
+}
+
 OutputFile::~OutputFile() {
-  if (!f_) return;
-  if (f_ != stdout) std::fclose(f_);
+  if (f_ && f_ != stdout) std::fclose(f_);
   if (!tmp_.empty()) std::remove(tmp_.c_str());
 }
 
@@ -95,7 +134,7 @@ void OutputFile::flush() {
   flushed_ = written_;
 }
 
-void OutputFile::close() {
+void OutputFile::finish() {
   if (!f_) return;
   flush();
   if (f_ == stdout) {
@@ -106,19 +145,26 @@ void OutputFile::close() {
   std::FILE* f = f_;
   f_ = nullptr;
   if (std::fclose(f) != 0) {
-    f_ = nullptr;
     const int e = errno;
-    if (!tmp_.empty()) std::remove(tmp_.c_str());
+    if (!tmp_.empty()) std::remove(tmp_.c_str()), tmp_.clear();
     throw ResourceError(path_ + ": write failed: " + std::strerror(e));
   }
-  if (!tmp_.empty()) {
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-      const int e = errno;
-      std::remove(tmp_.c_str());
-      throw ResourceError(path_ + ": cannot rename " + tmp_ + " onto it: " + std::strerror(e));
-    }
+}
+
+void OutputFile::commit() {
+  if (tmp_.empty()) return;
+  if (std::rename(tmp_.c_str(), target_.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp_.c_str());
     tmp_.clear();
+    throw ResourceError(path_ + ": cannot replace it with " + target_ + ".tmp: " + std::strerror(e));
   }
+  tmp_.clear();
+}
+
+void OutputFile::close() {
+  finish();
+  commit();
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {
@@ -128,21 +174,15 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 }
 
 void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::string> tmp;
-  try {
-    for (const auto& [path, content] : files) {
-      tmp.push_back(path + ".tmp");
-      OutputFile f(tmp.back(), OutputFile::kDirect);
-      f.write(content);
-      f.close();
-    }
-  } catch (...) {
-    for (const std::string& t : tmp) std::remove(t.c_str());
-    throw;
+  // Every temporary complete before the first rename; on a failure the ones this call
+  // created are removed (by their OutputFile), never a name it did not create.
+  std::vector<std::unique_ptr<OutputFile>> out;
+  for (const auto& [path, content] : files) {
+    out.push_back(std::make_unique<OutputFile>(path, OutputFile::kAtomic));
+    out.back()->write(content);
+    out.back()->finish();
   }
-  for (std::size_t i = 0; i < files.size(); ++i)
-    if (std::rename(tmp[i].c_str(), files[i].first.c_str()) != 0)
-      throw ResourceError(files[i].first + ": cannot replace it: " + std::strerror(errno));
+  for (auto& f : out) f->commit();
 }
 
 namespace {
@@ -161,6 +201,26 @@ std::string parent_of(const std::string& path) {
   const std::filesystem::path p(path);
   const std::string parent = p.parent_path().string();
   return parent.empty() ? "." : parent;
+}
+}  // namespace
+
+namespace {
+// PATH.tmp, which an atomic output is written to first, must be a name the directory can
+// hold and not be taken by anything but a regular file: a 253-character name, or a
+// directory or FIFO called PATH.tmp, failed the command after its work (exit 5).
+void check_temporary_name(const std::string& path, const std::string& where) {
+  const std::string name = std::filesystem::path(path).filename().string();
+  long max = ::pathconf(parent_of(path).c_str(), _PC_NAME_MAX);
+  if (max <= 0) max = 255;
+  if (long(name.size()) + 4 > max)
+    throw InputError(where + "a name of " + std::to_string(name.size()) + " characters; with the .tmp it is written under " +
+                     "first it must fit the directory's " + std::to_string(max));
+  struct stat st;
+  const std::string tmp = path + ".tmp";
+  if (::lstat(tmp.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(where + "it is written to " + tmp + " first, which is " +
+                     (S_ISDIR(st.st_mode) ? "a directory" : S_ISLNK(st.st_mode) ? "a symbolic link" : "a special file") +
+                     "; move it away");
 }
 }  // namespace
 
@@ -195,6 +255,7 @@ void check_output_file(const std::string& path, const std::string& what, bool al
       const std::string dir = parent_of(path);
       if (::access(dir.c_str(), W_OK | X_OK) != 0)
         throw InputError(where + "cannot replace it: cannot write in directory " + dir + ": " + std::strerror(errno));
+      check_temporary_name(path, where);
     }
     return;
   }
@@ -205,6 +266,7 @@ void check_output_file(const std::string& path, const std::string& what, bool al
   if (!S_ISDIR(st.st_mode)) throw InputError(where + dir + " is not a directory");
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw InputError(where + "cannot write in directory " + dir + ": " + std::strerror(errno));
+  if (!in_place) check_temporary_name(path, where);
 }
 
 void check_output_dir(const std::string& path, const std::string& what) {
@@ -298,6 +360,9 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
         return ::stat(p.c_str(), &st) == 0 && st.st_dev == so.st_dev && st.st_ino == so.st_ino;
       };
       std::string hit = u.output_dir ? "" : (is_stream(u.path) ? u.path : "");
+      // An atomic output's temporary, renamed onto it at the end: the stream's buffered
+      // text, flushed at exit, would land in the finished output.
+      if (hit.empty() && u.output && !u.output_dir && !u.in_place && is_stream(u.path + ".tmp")) hit = u.path + ".tmp";
       std::error_code ec;
       if (u.output_dir)
         for (const auto& e : std::filesystem::directory_iterator(u.path, ec))

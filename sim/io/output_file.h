@@ -30,7 +30,9 @@ class OutputFile {
  public:
   // kDirect writes PATH in place ("-" is standard output). kAtomic writes PATH.tmp and
   // renames it onto PATH in close(), so PATH never holds a partial file (an existing
-  // device or FIFO is written in place).
+  // device or FIFO is written in place). The replaced file's permissions carry over, and a
+  // symlink at PATH stays one (its target is replaced). A PATH.tmp that is not a regular
+  // file (a directory, FIFO or symlink) is never written through: ResourceError.
   enum Mode { kDirect, kAtomic };
   OutputFile(std::string path, Mode mode = kDirect);
   ~OutputFile();  // without close(): a kAtomic temporary is removed
@@ -40,13 +42,16 @@ class OutputFile {
   void write(const std::string& s) { write(s.data(), s.size()); }
   void write(const char* data, std::size_t n);
   void flush();  // to the OS; checked
-  void close();  // flush, close (checked), then the rename for kAtomic
+  void close();  // finish(), then commit()
+  void finish();  // flush and close (checked); a kAtomic temporary is complete but not renamed yet
+  void commit();  // kAtomic: renames the temporary onto PATH (a symlink's target: the link stays)
   bool is_stdout() const { return f_ == stdout; }
   const std::string& path() const { return path_; }
 
  private:
   [[noreturn]] void fail(const char* what);
-  std::string path_, tmp_;
+  void open_temporary(int mode);  // kAtomic: target_ and tmp_ set, f_ open on tmp_; mode < 0: a new file
+  std::string path_, tmp_, target_;
   std::FILE* f_ = nullptr;
   bool regular_ = false;  // kDirect onto a regular file: cut back on failure
   long long written_ = 0, flushed_ = 0;  // bytes handed to write(), and at the last good flush
@@ -66,7 +71,8 @@ void check_no_nul(const std::string& path, const std::string& what);
 // created or overwritten at path: not a directory, its directory exists and is writable,
 // an existing file is writable. "-" (standard output) passes when allow_stdout. An
 // existing regular file also needs a writable directory (write_file_atomic writes PATH.tmp
-// there) unless in_place (OutputFile kDirect).
+// there) unless in_place (OutputFile kDirect); then PATH.tmp must fit the directory's name
+// length and not be anything but a regular file.
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout = false,
                        bool in_place = false);
 

@@ -5,7 +5,8 @@
 #   naming the file, the CSV cut back to its last complete row, no PATH.tmp left), where
 #   SIGXFSZ had killed the program mid-row;
 # - a TetGen .node/.ele pair is replaced both or neither: the second file failing keeps
-#   the old pair (a new .node had been left beside the old .ele).
+#   the old pair (a new .node had been left beside the old .ele);
+# - a temporary's name (PATH.tmp) taken by a directory is refused before the work.
 set -u
 expect=$1 exe=$2 data=$3
 tmp=$(mktemp -d)
@@ -19,8 +20,16 @@ echo old > m.vtu
 [ "$(cat m.vtu)" = old ] && [ ! -e m.vtu.tmp ] || { echo "FAIL: m.vtu replaced or m.vtu.tmp left"; status=1; }
 bash "$expect" 0 "Mesh tetrahedra" "$exe" mesh --surface "$data/tetrahedron.obj" --write m || status=1
 sum=$(cat m.node m.ele | md5sum)
-mkdir m.ele.tmp  # the second file cannot be written
-bash "$expect" 5 "m.ele" "$exe" mesh --scene "$data/surface.toml" --write m --set "body.shape=sphere" --set body.radius=3 || status=1
-[ "$(cat m.node m.ele | md5sum)" = "$sum" ] && [ ! -e m.node.tmp ] || { echo "FAIL: the .node/.ele pair changed or m.node.tmp left"; status=1; }
+# The second file past the size limit (this mesh: .node 212 KiB, .ele 233 KiB).
+(ulimit -f 220; bash "$expect" 5 "m.ele" "$exe" mesh --scene "$data/surface.toml" --write m --set "body.shape=sphere" \
+  --set body.radius=3 --set mesh.max_volume=0.05) || status=1
+[ "$(cat m.node m.ele | md5sum)" = "$sum" ] && [ ! -e m.node.tmp ] && [ ! -e m.ele.tmp ] ||
+  { echo "FAIL: the .node/.ele pair changed or a .tmp left"; status=1; }
+# A temporary's name taken by a directory: refused before meshing (exit 2), the directory
+# left alone (it had been removed), the pair unchanged.
+mkdir m.ele.tmp
+bash "$expect" 2 "--write m.ele: it is written to m.ele.tmp first, which is a directory" "$exe" mesh \
+  --scene "$data/surface.toml" --write m --set "body.shape=sphere" --set body.radius=3 || status=1
+[ -d m.ele.tmp ] && [ "$(cat m.node m.ele | md5sum)" = "$sum" ] || { echo "FAIL: m.ele.tmp removed or the pair changed"; status=1; }
 [ $status -eq 0 ] && echo "ok: file-size limit and a failing pair leave no broken output"
 exit $status

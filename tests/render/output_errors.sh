@@ -87,6 +87,10 @@ check 2 "--stem '../escaped'" "$exe" render "${common[@]}" --at 0.001 --stem ../
 check 2 "--stem '..'" "$exe" render "${common[@]}" --at 0.001 --stem .. --out "$out/r"
 [ -e "$out/escaped_t0.0010.png" ] && bad "--stem ../escaped wrote outside --out"
 [ -e "$out/r" ] && bad "a refused render created --out"
+# a later frame's name taken by a directory: refused before meshing, no earlier frame written
+mkdir -p "$out/rd/torus_drop_t0.0020.png"
+check 2 "--out $out/rd/torus_drop_t0.0020.png: is a directory" "$exe" render "${common[@]}" --at 0.001,0.002 --out "$out/rd"
+[ -e "$out/rd/torus_drop_t0.0010.png" ] && bad "a render refused for its second frame wrote the first"
 
 # render's PNG and video writes on a full disk (need EGL; the video also ffmpeg)
 "$exe" render "${common[@]}" --at 0 --out "$out/egl" >"$out/egl.txt" 2>&1
