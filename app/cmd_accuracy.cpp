@@ -220,10 +220,16 @@ Command add_accuracy_command(CLI::App& app) {
     const std::string header =
         "level,ntet,precision,element,lambda,dt_us,steps,us_per_step,wall_s,centroid_rms_mm,max_err_mm_t1,mean_err_mm_t1,"
         "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm,dt_mode";
-    OutputFile csv(csv_path);
-    csv.write(header + "\n");
-    csv.flush();
+    // accuracy.csv and accuracy.md are each rewritten whole (atomically) with every row, so an
+    // earlier result in --out stays intact until this run has a row to replace it with (the
+    // CSV opened in place had been emptied at once, and a stop before the first row left an
+    // empty CSV beside the old table).
     std::vector<std::string> rows;
+    auto write_csv = [&] {
+      std::string text = header + "\n";
+      for (const auto& r : rows) text += r + "\n";
+      write_file_atomic(csv_path, text);
+    };
     auto write_md = [&] {
       std::ostringstream md;
       md << "# Speed for accuracy\n\nScene `" << o->scene << "`, backend " << backend << ", t_end " << o->t_end
@@ -241,9 +247,8 @@ Command add_accuracy_command(CLI::App& app) {
       write_file_atomic(md_path, md.str());
     };
     auto add_row = [&](const std::string& row) {
-      csv.write(row + "\n");
-      csv.flush();
       rows.push_back(row);
+      write_csv();
       write_md();
       std::fputs((row + "\n").c_str(), stdout);
       flush_stdout();
@@ -293,9 +298,12 @@ Command add_accuracy_command(CLI::App& app) {
     };
 
     auto stopped = [&]() {
-      csv.close();
-      std::fprintf(stderr, "softtled: stopped by signal %d after %zu of %zu runs; wrote %zu rows to %s and %s\n",
-                   stop_signal(), rows.size(), jobs.size(), rows.size(), csv_path.c_str(), md_path.c_str());
+      if (rows.empty())
+        std::fprintf(stderr, "softtled: stopped by signal %d after 0 of %zu runs; wrote nothing (%s and %s as they were)\n",
+                     stop_signal(), jobs.size(), csv_path.c_str(), md_path.c_str());
+      else
+        std::fprintf(stderr, "softtled: stopped by signal %d after %zu of %zu runs; wrote %zu rows to %s and %s\n",
+                     stop_signal(), rows.size(), jobs.size(), rows.size(), csv_path.c_str(), md_path.c_str());
       return exit_code_for_signal(stop_signal());
     };
     if (stop_requested()) return stopped();
@@ -334,7 +342,6 @@ Command add_accuracy_command(CLI::App& app) {
       end_job(j, t0);
     }
     if (stop_requested()) return stopped();
-    csv.close();
     std::fprintf(stderr, "wrote %s and %s\n", csv_path.c_str(), md_path.c_str());
     return 0;
   };
