@@ -127,11 +127,6 @@ Command add_run_command(CLI::App& app) {
       last_row_t = row.substr(0, row.find(','));
       ++rows;
     };
-    if (!o->csv.empty()) {
-      csv = std::make_unique<OutputFile>(o->csv);
-      csv->write(csv_header(int(sim.tracked_nodes().size()), sim.mesh().nbody()));
-    }
-    FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     std::unique_ptr<VtuSeries> vtu;
     long out_index = 0;
     auto write_frame = [&](double t, const HostState& st) {
@@ -139,13 +134,21 @@ Command add_run_command(CLI::App& app) {
       vtu->add(t, sim.mesh(), st, sim.time_step().dt, sim.materials());
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
+    // The first frame before the CSV is opened (in place, emptied): a frame that cannot be
+    // written (a full disk) leaves an earlier CSV as it was, as VtuSeries leaves an earlier
+    // series.
+    write_frame(sim.time(), sim.state());
+    if (!o->csv.empty()) {
+      csv = std::make_unique<OutputFile>(o->csv);
+      csv->write(csv_header(int(sim.tracked_nodes().size()), sim.mesh().nbody()));
+    }
+    FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     auto written = [&]() {
       std::string w;
       if (csv) w += std::to_string(rows) + " CSV rows to " + (csv->is_stdout() ? std::string("stdout") : o->csv);
       if (vtu) w += std::string(w.empty() ? "" : ", ") + std::to_string(vtu->size()) + " frames to " + o->vtu + "/series.pvd";
       return w.empty() ? std::string("no output files") : w;
     };
-    write_frame(sim.time(), sim.state());
     const bool tty = isatty(2);
     // A changing step (time.dt = "adaptive") advances by output times, not step counts.
     // Either way an output time is never closer than one step to the one before (the row
