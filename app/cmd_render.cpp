@@ -128,6 +128,7 @@ Command add_render_command(CLI::App& app) {
   c->add_option("--stem", o->stem, "PNG file name stem (default: the scene file's name)");
   return [o, c]() {
     HeadlessOptions h;
+    if (c->count("--video") && o->video.empty()) throw InputError("--video: empty path");
     const bool is_video = !o->video.empty();
     if (!is_video && o->at.empty()) throw InputError("render: give --at TIMES (PNGs) or --video FILE --to T (a video)");
     if (!is_video)

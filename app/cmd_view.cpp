@@ -36,12 +36,13 @@ Command add_view_command(CLI::App& app) {
   c->add_option("--record-fps", o->record_fps, "frames per second of simulated time in recordings")
       ->check(finite_range(1, 1000))->capture_default_str();
   c->add_option("--quit-after", o->quit_after, "close after this many seconds (for tests; 0: never)")->check(finite_range(0, 1e6));
-  return [o, size]() {
+  return [o, size, c]() {
     char rest = 0;
     if (std::sscanf(size->c_str(), "%dx%d%c", &o->width, &o->height, &rest) != 2 || o->width < 320 || o->height < 240 ||
         o->width > 16384 || o->height > 16384)
       throw InputError("--size '" + *size + "': expected WxH from 320x240 to 16384x16384");
     check_output_dir(o->screenshot_dir, "--screenshot-dir");
+    if (c->count("--record") && o->record.empty()) throw InputError("--record: empty path");
     if (!o->record.empty()) check_video_output(o->record, "--record");  // ffmpeg missing: exit 5
     if (o->scene.empty()) o->scene = default_scene();
     if (!(o->time_scale > 0)) throw InputError("--time-scale must be positive");
