@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "sim/core/input_error.h"
+#include "sim/io/abrupt_exit.h"
 #include "sim/io/output_file.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/solver/solver_factory.h"
@@ -26,6 +27,7 @@ std::string fmt(double v) {
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_stop_signal(int sig) {
   if (g_stop) {  // second signal: do not wait for the step to finish
+    remove_on_abrupt_exit();  // temporaries being written, ffmpeg's process group
     std::signal(sig, SIG_DFL);
     std::raise(sig);
     return;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "sim/core/input_error.h"
+#include "sim/io/abrupt_exit.h"
 #include "sim/io/output_file.h"
 
 extern char** environ;
@@ -150,11 +151,23 @@ VideoEncoder::VideoEncoder(std::string path, int w, int h, double fps)
     throw ResourceError("cannot start " + ffmpeg + ": " + std::strerror(rc));
   }
   fd_ = pipe_fd[1];
+  // A second Ctrl-C ends softtled at once: ffmpeg's group is killed and its files removed.
+  group_slot_ = track_abrupt_exit_group(pid_);  // its own group: pgid = pid
+  tmp_slot_ = track_abrupt_exit_file(tmp_);
+  log_slot_ = track_abrupt_exit_file(log_);
+}
+
+void VideoEncoder::reaped() {
+  pid_ = -1;
+  untrack_abrupt_exit_group(group_slot_);  // the pid may be reused from now on
+  group_slot_ = -1;
 }
 
 VideoEncoder::~VideoEncoder() {
   abort_child();
   if (!log_.empty()) std::remove(log_.c_str());
+  untrack_abrupt_exit_file(tmp_slot_);
+  untrack_abrupt_exit_file(log_slot_);
 }
 
 void VideoEncoder::abort_child() {
@@ -164,7 +177,7 @@ void VideoEncoder::abort_child() {
     int st = 0;
     while (::waitpid(pid_, &st, 0) < 0 && errno == EINTR) {
     }
-    pid_ = -1;
+    reaped();
     std::remove(tmp_.c_str());
   }
 }
@@ -195,7 +208,7 @@ void VideoEncoder::fail(const std::string& what) {
     int st = 0;
     while (::waitpid(pid_, &st, 0) < 0 && errno == EINTR) {
     }
-    pid_ = -1;
+    reaped();
   }
   std::remove(tmp_.c_str());
   throw ResourceError(path_ + ": " + what + " (ffmpeg: " + ffmpeg_log() + ")");
@@ -242,11 +255,11 @@ void VideoEncoder::finish() {
   int st = 0;
   while (::waitpid(pid_, &st, 0) < 0) {
     if (errno != EINTR) {
-      pid_ = -1;
+      reaped();
       fail(std::string("waiting for ffmpeg: ") + std::strerror(errno));
     }
   }
-  pid_ = -1;
+  reaped();
   if (!WIFEXITED(st) || WEXITSTATUS(st) != 0)
     fail(WIFEXITED(st) ? "ffmpeg failed with exit code " + std::to_string(WEXITSTATUS(st))
                        : "ffmpeg ended by signal " + std::to_string(WTERMSIG(st)));

@@ -48,6 +48,7 @@ class VideoEncoder {
  private:
   [[noreturn]] void fail(const std::string& what);
   void abort_child();
+  void reaped();  // ffmpeg waited for: pid_ = -1, its group no longer tracked
   std::string ffmpeg_log() const;  // the last lines ffmpeg wrote to its standard error
   bool ffmpeg_logged_errors() const;  // ffmpeg (at -loglevel error) wrote any message
   std::string path_, tmp_, log_;
@@ -56,6 +57,7 @@ class VideoEncoder {
   int fd_ = -1;      // ffmpeg's standard input
   pid_t pid_ = -1;
   long frames_ = 0;
+  int group_slot_ = -1, tmp_slot_ = -1, log_slot_ = -1;  // abrupt_exit.h's table
 };
 
 }  // namespace softtled

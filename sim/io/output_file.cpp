@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "sim/core/input_error.h"
+#include "sim/io/abrupt_exit.h"
 
 namespace softtled {
 
@@ -68,6 +69,14 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (tmp_.empty() && ::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
 }
 
+void OutputFile::drop_temporary(bool remove) {
+  if (tmp_.empty()) return;
+  if (remove) std::remove(tmp_.c_str());
+  untrack_abrupt_exit_file(abrupt_slot_);
+  abrupt_slot_ = -1;
+  tmp_.clear();
+}
+
 void OutputFile::open_temporary(int mode) {
   // A symlink is kept: its target is replaced (the temporary written beside it).
   target_ = path_;
@@ -88,6 +97,7 @@ void OutputFile::open_temporary(int mode) {
     throw ResourceError(path_ + ": cannot write its temporary " + t + ": " +
                         (e ? std::string(std::strerror(e)) : std::string("not a regular file")) + "; move it away");
   }
+  abrupt_slot_ = track_abrupt_exit_file(tmp_);  // removed even if a second Ctrl-C ends the program
   // The replaced file's permissions carry over (a private file stays private); a new file
   // gets 0666 less the umask, as open(2) gave it.
   if (mode >= 0) ::fchmod(fd, mode_t(mode));
@@ -97,15 +107,14 @@ void OutputFile::open_temporary(int mode) {
   if (!f_) {
     const int e = errno;
     ::close(fd);
-    std::remove(tmp_.c_str());
-    tmp_.clear();
+    drop_temporary(true);
     throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
   }
 }
 
 OutputFile::~OutputFile() {
   if (f_ && f_ != stdout) std::fclose(f_);
-  if (!tmp_.empty()) std::remove(tmp_.c_str());
+  drop_temporary(true);
 }
 
 void OutputFile::fail(const char* what) {
@@ -113,7 +122,7 @@ void OutputFile::fail(const char* what) {
   std::string msg = (f_ == stdout ? std::string("standard output") : path_) + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string());
   if (f_ && f_ != stdout) std::fclose(f_);  // may write more of the buffer: cut back after it
   f_ = nullptr;
-  if (!tmp_.empty()) std::remove(tmp_.c_str());
+  drop_temporary(true);
   if (regular_ && ::truncate(path_.c_str(), off_t(flushed_)) != 0)
     msg += std::string(" (and it could not be cut back to its last complete record: ") + std::strerror(errno) + ")";
   regular_ = false;
@@ -146,7 +155,7 @@ void OutputFile::finish() {
   f_ = nullptr;
   if (std::fclose(f) != 0) {
     const int e = errno;
-    if (!tmp_.empty()) std::remove(tmp_.c_str()), tmp_.clear();
+    drop_temporary(true);
     throw ResourceError(path_ + ": write failed: " + std::strerror(e));
   }
 }
@@ -155,11 +164,10 @@ void OutputFile::commit() {
   if (tmp_.empty()) return;
   if (std::rename(tmp_.c_str(), target_.c_str()) != 0) {
     const int e = errno;
-    std::remove(tmp_.c_str());
-    tmp_.clear();
+    drop_temporary(true);
     throw ResourceError(path_ + ": cannot replace it with " + target_ + ".tmp: " + std::strerror(e));
   }
-  tmp_.clear();
+  drop_temporary(false);
 }
 
 void OutputFile::close() {

@@ -51,6 +51,8 @@ class OutputFile {
  private:
   [[noreturn]] void fail(const char* what);
   void open_temporary(int mode);  // kAtomic: target_ and tmp_ set, f_ open on tmp_; mode < 0: a new file
+  void drop_temporary(bool remove);  // forget tmp_ (renamed, or removed when remove)
+  int abrupt_slot_ = -1;             // tmp_ in abrupt_exit.h's table
   std::string path_, tmp_, target_;
   std::FILE* f_ = nullptr;
   bool regular_ = false;  // kDirect onto a regular file: cut back on failure

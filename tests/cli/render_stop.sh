@@ -36,3 +36,25 @@ n=$(sed -n 's/.*; \([0-9]*\) complete PNGs in .*/\1/p' "$tmp/log.txt")
 [ "$(ls "$tmp/png" | grep -vc '\.png$')" -eq 0 ] || fail "other files left: $(ls "$tmp/png")"
 for f in "$tmp"/png/*.png; do "$probe" "$f" >/dev/null || fail "$f does not decode"; done
 echo "ok: SIGTERM -> 143 with $n complete PNGs"
+
+# Two signals at once during `render --video`: the second ends softtled at once, and nothing
+# it was writing outlives it: no PATH.tmp (ffmpeg, in its own process group, had finished
+# it after softtled was gone), no ffmpeg log, no ffmpeg still running.
+if command -v ffmpeg >/dev/null; then
+  logs_before=$(ls /tmp/softtled-ffmpeg-* 2>/dev/null | wc -l)
+  "$exe" render --scene "$data/surface.toml" --set time.lambda=0.002 --video "$tmp/v.mp4" --to 50 --fps 100 \
+    --size 64x48 --backend cpu >"$tmp/log.txt" 2>&1 &
+  pid=$!
+  for _ in $(seq 300); do grep -q "video" "$tmp/log.txt" 2>/dev/null && break; sleep 0.1; done
+  sleep 1
+  kill -INT "$pid"; kill -INT "$pid"
+  wait "$pid"
+  rc=$?
+  pid=
+  [ "$rc" -eq 130 ] || fail "video, two signals: exit code $rc, wanted 130"
+  sleep 1
+  [ -e "$tmp/v.mp4.tmp" ] && fail "video, two signals: v.mp4.tmp left"
+  [ "$(ls /tmp/softtled-ffmpeg-* 2>/dev/null | wc -l)" -le "$logs_before" ] || fail "video, two signals: ffmpeg's log left"
+  pgrep -f "ffmpeg.*$tmp/v.mp4.tmp" | xargs -r ps -o stat= -p | grep -qv Z && fail "video, two signals: ffmpeg still running"
+  echo "ok: two signals during a video leave no temporary, log or ffmpeg behind"
+fi
