@@ -135,6 +135,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   check_closing_speeds(scene_, mesh_, ts_.dt);
   warn_float_far_from_origin();
   warn_friction_creep();
+  warn_thin_obstacles();
   tracked_ = scene_tracked_nodes(scene_, mesh_);
   apply_initial_state();
 }
@@ -154,6 +155,48 @@ void Simulation::warn_float_far_from_origin() const {
                "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
                "set solver.precision = \"double\"\n",
                scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
+}
+
+void Simulation::warn_thin_obstacles() const {
+  // Contact with an obstacle is tested at the body's nodes (node_contact.h): an obstacle
+  // that fits through a surface triangle without touching its corners can pass between
+  // them, through the body, unseen (a probe's torus fell clean through a 0.3 mm rod, exit 0,
+  // min_gap positive throughout). A sphere of radius r fits through a triangle whose
+  // circumradius exceeds r (centred on its circumcentre); a capsule or a box's thinnest
+  // side likewise, by its radius or half-thickness. Said once per obstacle, at the start,
+  // naming the body with the largest such triangle. (A mesh obstacle's thinness is its
+  // distance grid's business: mesh_sdf.cpp refuses one thinner than its cells.)
+  std::vector<double> circum(std::size_t(mesh_.nbody()), 0.0);
+  for (int t = 0; t < mesh_.nbtri(); ++t) {
+    const int* v = &mesh_.boundary_tri[3 * t];
+    double len[3];
+    for (int k = 0; k < 3; ++k) {
+      const double* p = &mesh_.X[3 * v[k]];
+      const double* q = &mesh_.X[3 * v[(k + 1) % 3]];
+      len[k] = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+    }
+    const double s = 0.5 * (len[0] + len[1] + len[2]);
+    const double area = std::sqrt(std::max(0.0, s * (s - len[0]) * (s - len[1]) * (s - len[2])));
+    if (area > 0) {
+      double& c = circum[std::size_t(mesh_.body_of_node(v[0]))];
+      c = std::max(c, len[0] * len[1] * len[2] / (4 * area));
+    }
+  }
+  for (std::size_t i = 0; i < params_.obstacles.size(); ++i) {
+    const ObstacleSpec& o = params_.obstacles[i];
+    if (o.shape == kObstacleMesh) continue;
+    const double h = o.shape == kObstacleBox ? std::min({o.half[0], o.half[1], o.half[2]}) : o.radius;
+    const char* what = o.shape == kObstacleSphere ? "sphere of radius" : o.shape == kObstacleCapsule ? "capsule of radius"
+                                                                                                       : "box of half-thickness";
+    const auto widest = std::max_element(circum.begin(), circum.end());
+    if (widest == circum.end() || !(h < *widest)) continue;
+    const int b = int(widest - circum.begin());
+    std::fprintf(stderr,
+                 "warning: %s: obstacle[%zu] (a %s %.4g mm) fits through %s's largest surface triangles "
+                 "(circumradius %.4g mm): contact is tested at the body's nodes, so it can pass between them, "
+                 "into or through the body, unseen. Refine the body's surface or make the obstacle thicker\n",
+                 scene_.source.c_str(), i, what, h * 1e3, scene_.body(b).key.c_str(), *widest * 1e3);
+  }
 }
 
 void Simulation::warn_friction_creep() const {

@@ -186,6 +186,7 @@ class Simulation {
   // A warning where float precision rounds node positions to 1 % of the smallest element.
   void warn_float_far_from_origin() const;
   void warn_friction_creep() const;
+  void warn_thin_obstacles() const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
   // and the adaptive step goes on (check_state).
   bool check_health();
