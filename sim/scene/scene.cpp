@@ -511,12 +511,16 @@ void read_obstacles(Reader& r, Scene& s) {
         out[k] = *v;
       }
     };
+    // A size at least 1e-6 m, as for a mesh obstacle's extent and a body's surface: a
+    // radius of 5e-324 (subnormal) or a 1e-320 box ran as an obstacle of no size.
+    const double tiny = 1e-6 / s.length_unit;  // scene units
     auto positive = [&](const char* name, double v) {
       if (!(v > 0)) {
         std::ostringstream m;
         m << "must be positive, got " << v;
         r.fail(key + "." + name, m.str());
       }
+      if (v < tiny) r.fail(key + "." + name, "value " + exact(v) + " is below 1e-6 m (" + exact(tiny) + " in the scene's units)");
     };
     vec3("velocity", false, kMaxSpeed, o.velocity);
     if (o.shape == kObstacleSphere || o.shape == kObstacleCapsule) {
@@ -534,8 +538,12 @@ void read_obstacles(Reader& r, Scene& s) {
     } else if (o.shape == kObstacleBox) {
       vec3("center", true, far, o.center);
       vec3("size", true, far, o.size);
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < 3; ++k) {
         if (!(o.size[k] > 0)) r.fail(key + ".size", "element " + std::to_string(k) + " must be positive");
+        if (o.size[k] < tiny)
+          r.fail(key + ".size", "element " + std::to_string(k) + " = " + exact(o.size[k]) + " is below 1e-6 m (" + exact(tiny) +
+                                    " in the scene's units)");
+      }
       vec3("rotation_deg", false, kMaxRotationDeg, o.rotation_deg);
     } else if (o.shape == kObstacleMesh) {
       // The file is read, checked and turned into a distance grid at start-up
