@@ -327,14 +327,17 @@ PYBIND11_MODULE(_softtled, m) {
             if (t < now - 0.5 * s.sim().params().dt)
               throw InputError(what + ": t = " + number_text(t) + " s is earlier than the current time " + number_text(now) +
                                " s; the simulation only goes forward (reset() starts again from t = 0)");
+            // A t within half a step ahead is reached already, as one within half a step
+            // behind (a sampling loop finer than dt raised "shorter than half the time step").
             if (s.sim().params().dt_adaptive)
               run_adaptive(s, t, what);
-            else if (t > s.sim().time())
-              run_steps(s, s.steps_for(t - s.sim().time(), what));
+            else if (std::nearbyint((t - now) / s.sim().params().dt) >= 1)
+              run_steps(s, s.steps_for(t - now, what));
           },
           py::arg("t"),
-          "To simulated time t (as `softtled run` reaches its output times); a t more than half a step before the "
-          "current time raises InputError (the simulation only goes forward).")
+          "To simulated time t (as `softtled run` reaches its output times): the step nearest t; a t within half a "
+          "step of the current time takes none, and one more than half a step before it raises InputError (the "
+          "simulation only goes forward).")
       .def(
           "reset", [](PySimulation& s) {
             s.sim().reset();

@@ -249,6 +249,19 @@ def test_advance_to_an_earlier_time_is_refused(sets):
     assert sim.time > now
 
 
+def test_advance_to_samples_finer_than_the_step():
+    """advance_to times closer than a step apart (as `run --set time.output_every` below dt):
+    each goes to the step nearest it, one within half a step ahead takes none (it raised
+    "shorter than half the time step"), and time never lags t by more than half a step."""
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=["body.segments=[24,8]"])
+    dt = sim.dt
+    for k in range(1, 40):
+        t = k * 0.35 * dt
+        sim.advance_to(t)
+        assert abs(sim.time - t) <= 0.5 * dt * (1 + 1e-9), (k, sim.time, t)
+    assert sim.steps == round(39 * 0.35)
+
+
 def test_toml_text_has_the_scene_files_size_limit(exe, tmp_path):
     """from_toml (and a dict scene) take at most kMaxSceneBytes (4 MiB), as a scene file,
     refused with the file's message (they took 5 MiB)."""
