@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "app/cli_support.h"
 #include "sim/core/input_error.h"
+#include "sim/scene/closing_speeds.h"
 #include "sim/scene/plane_motion.h"
 #include "sim/scene/scene_geometry.h"
 
@@ -26,6 +28,13 @@ PySimulation::PySimulation(const std::string& path, const std::string& text, con
   // (resolve_backend; meshing errors get the scene's name).
   scene_ = path.empty() ? parse_scene(text, source, overrides) : load_scene(path, overrides);
   sim_ = make_simulation(scene_, backend);
+  // `run` stops at time.duration, which bounds its collision-course check (closing_speeds.h:
+  // bodies that would meet only later are let through); advance() goes on past it, so every
+  // collision course counts here (two plates closing at 10 m/s passed the check and met
+  // after the duration, as a "numerical blow-up").
+  Scene unbounded = scene_;
+  unbounded.duration = std::numeric_limits<double>::infinity();
+  check_closing_speeds(unbounded, sim_->mesh(), sim_->time_step().dt);
   floor_ = scene_.floor;
   slope_ = scene_.slope;
   slope_deg_ = scene_.slope_angle_deg;
