@@ -737,6 +737,14 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
 
   read_bodies(r, root, s, body_sets, surface);
   read_mesh_keys(r, s);
+  {  // TetGen's options do nothing where no body is meshed: say so rather than take them silently
+    bool meshed = false;
+    for (int b = 0; b < s.body_count(); ++b) meshed = meshed || s.body(b).shape != "tet_file";
+    for (const char* k : {"radius_edge", "min_dihedral_deg", "max_volume", "keep_boundary", "switches", "time_limit_s"})
+      if (!meshed && root.at_path(std::string("mesh.") + k).node())
+        std::fprintf(stderr, "warning: %s: mesh.%s is not used: every body is a tet_file mesh (not meshed again); ignored\n",
+                     s.source.c_str(), k);
+  }
   if (const toml::node* fx = r.get("fixed")) {
     auto arr = fx->as_array();
     if (!arr) r.fail("fixed", "expected [[fixed]] tables");
@@ -857,6 +865,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     }
   }
   s.lambda = r.num("time.lambda", s.lambda, 0, 1, true);
+  // A fixed step takes no fraction of dt_cr: say so rather than run as if it did (a scene's
+  // lambda = 0.5 under --set time.dt=1e-5 ran at 1e-5 whatever lambda said).
+  if (root.at_path("time.lambda").node() && !s.dt_auto && !s.dt_adaptive)
+    std::fprintf(stderr, "warning: %s: time.lambda is not used with a fixed time.dt (%.4g s); ignored\n",
+                 s.source.c_str(), s.dt);
   s.dt_max = r.num("time.dt_max", s.dt_max, 0, INFINITY, true);
   if (root.at_path("time.dt_max").node() && !s.dt_adaptive)
     r.fail("time.dt_max", std::string("applies only with time.dt = \"adaptive\" (here time.dt is ") +
