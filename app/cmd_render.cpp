@@ -2,6 +2,7 @@
 // or a video of a time range (--video, encoded by ffmpeg: video_encoder.h), through an EGL
 // offscreen context (no window system; never calls glfwInit).
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cmath>
 #include <regex>
 #include <cstdio>
@@ -65,7 +66,10 @@ std::vector<double> parse_times(const std::string& s) {
   for (;;) {
     const std::size_t comma = s.find(',', start);
     const std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    errno = 0;
     const double v = std::regex_match(item, decimal) ? std::strtod(item.c_str(), nullptr) : -1;
+    if (errno == ERANGE && v < 1)  // 1e-400 read as 0 rendered t = 0
+      throw InputError("--at '" + s + "': '" + item + "' underflows (below 1e-308 s); give 0 for the start");
     if (!(v >= 0) || !std::isfinite(v))
       throw InputError("--at '" + s + "': '" + item +
                        "' is not a time: expected finite non-negative decimal times in seconds separated by commas, "
