@@ -129,25 +129,47 @@ void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
   run_interruptible(s, [&](auto interrupted) { return s.advance_to_adaptive(t_end, what, interrupted); });
 }
 
+// A NumPy boolean (np.bool_, or a 0-d bool array) is a bool, not the number 0 or 1 its
+// __float__ gives: floor=np.bool_(False) raised "takes a bool", mu=np.bool_(True) set mu = 1.
+bool numpy_bool(const py::handle& v) {
+  if (!py::hasattr(v, "dtype") || py::hasattr(v, "__len__")) return false;
+  return py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b";
+}
+
+// Each item of a vector value a number, not itself a sequence (np.zeros((3, 1)) passed as
+// three one-element arrays).
+std::vector<double> flat_numbers(const std::string& key, const py::handle& v) {
+  std::vector<double> out;
+  for (const py::handle item : v) {
+    if (py::isinstance<py::str>(item) || py::hasattr(item, "__len__") || py::isinstance<py::bool_>(item) || numpy_bool(item))
+      throw py::type_error("set_params: " + key + ": expected a flat sequence of numbers, got an item " +
+                           std::string(py::repr(item)));
+    out.push_back(item.cast<double>());
+  }
+  return out;
+}
+
 ParamValue param_value_cast(const std::string& key, const py::handle& v) {
   ParamValue p;
-  if (py::isinstance<py::bool_>(v)) {
+  if (py::isinstance<py::bytes>(v) || py::isinstance<py::bytearray>(v))
+    throw py::type_error("set_params: " + key + ": got bytes; give a str (e.g. 'static'), a number or a sequence of numbers");
+  if (py::isinstance<py::bool_>(v) || numpy_bool(v)) {
     p.kind = ParamValue::kBool;
-    p.flag = v.cast<bool>();
+    p.flag = PyObject_IsTrue(v.ptr()) == 1;
   } else if (py::isinstance<py::str>(v)) {
     p.kind = ParamValue::kString;
     p.text = v.cast<std::string>();
   } else if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::hasattr(v, "__float__")) {
     if (py::hasattr(v, "__len__")) {  // a NumPy array of one value passes __float__ too
       p.kind = ParamValue::kVector;
-      p.vec = v.cast<std::vector<double>>();
+      p.vec = flat_numbers(key, v);
     } else {
       p.kind = ParamValue::kNumber;
       p.number = v.cast<double>();
     }
-  } else if (py::isinstance<py::sequence>(v)) {
+  } else if (py::isinstance<py::sequence>(v) || py::hasattr(v, "__iter__")) {
     p.kind = ParamValue::kVector;
-    p.vec = v.cast<std::vector<double>>();
+    p.vec = flat_numbers(key, v);
   } else {
     throw py::type_error("set_params: " + key + ": unsupported value type " + std::string(py::str(v.get_type())));
   }

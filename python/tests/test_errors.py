@@ -66,6 +66,13 @@ def test_set_params_errors():
         sim.set_params(g=[0, -9.81])
     with pytest.raises(TypeError, match="takes a number"):
         sim.set_params(E="stiff")
+    # a vector's items are numbers, not sequences or bools; bytes are not a str
+    with pytest.raises(TypeError, match=r"g: expected a flat sequence of numbers, got an item \[0\]"):
+        sim.set_params(g=[[0], [-9.81], [0]])
+    with pytest.raises(TypeError, match="g: expected a flat sequence of numbers, got an item True"):
+        sim.set_params(g=[0, True, 0])
+    with pytest.raises(TypeError, match="contact_mode: got bytes; give a str"):
+        sim.set_params(contact_mode=b"static")
     # nothing was applied by a refused call (all values are checked first)
     with pytest.raises(softtled.InputError):
         sim.set_params(mu=0.9, E=-1.0)
@@ -292,3 +299,19 @@ def test_a_collision_course_beyond_time_duration_is_refused():
         softtled.Simulation.from_toml(text, backend="cpu")
     # Apart, the same plates are fine.
     softtled.Simulation.from_toml(text.replace("velocity = [0, -10, 0]", "velocity = [0, 10, 0]"), backend="cpu")
+
+
+def test_numpy_values_are_what_they_hold():
+    """A NumPy bool is a bool (floor=np.bool_(False) raised "takes a bool", mu=np.bool_(True)
+    set mu = 1), a NumPy vector of the right length is a vector, and a (3, 1) array is refused
+    rather than read as three numbers."""
+    np = pytest.importorskip("numpy")
+    sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
+    sim.set_params(floor=np.bool_(False))
+    assert sim.params()["floor"] is False
+    with pytest.raises(TypeError, match="takes a number"):
+        sim.set_params(mu=np.bool_(True))
+    sim.set_params(g=np.array([0.0, -5.0, 0.0]))
+    assert tuple(sim.params()["g"]) == (0.0, -5.0, 0.0)
+    with pytest.raises(TypeError, match="flat sequence"):
+        sim.set_params(g=np.zeros((3, 1)))
