@@ -137,6 +137,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   warn_friction_creep();
   warn_thin_obstacles();
   tracked_ = scene_tracked_nodes(scene_, mesh_);
+  warn_far_track_points();
   apply_initial_state();
 }
 
@@ -155,6 +156,33 @@ void Simulation::warn_float_far_from_origin() const {
                "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
                "set solver.precision = \"double\"\n",
                scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
+}
+
+void Simulation::warn_far_track_points() const {
+  // output.track_points are followed at the node nearest each: one farther from it than
+  // the longest surface edge is not on the body, and its CSV columns would follow a node
+  // it did not mean (a point 1 km away tracked some node, silently).
+  double longest = 0;
+  for (int t = 0; t < mesh_.nbtri(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const double* p = &mesh_.X[3 * mesh_.boundary_tri[3 * t + k]];
+      const double* q = &mesh_.X[3 * mesh_.boundary_tri[3 * t + (k + 1) % 3]];
+      longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                            (p[2] - q[2]) * (p[2] - q[2])));
+    }
+  for (std::size_t j = 0; j < tracked_.size(); ++j) {
+    const auto& q = scene_.track_points[j];
+    const double* x = &mesh_.X[3 * tracked_[j]];
+    double d = 0;
+    for (int k = 0; k < 3; ++k) d += (x[k] - q[k] * scene_.length_unit) * (x[k] - q[k] * scene_.length_unit);
+    d = std::sqrt(d);
+    if (d > longest)
+      std::fprintf(stderr,
+                   "warning: %s: output.track_points[%zu] = [%g, %g, %g] is %.4g mm from the nearest node (node %d), "
+                   "farther than the longest surface edge (%.4g mm): it is not on the body; its columns follow that "
+                   "node\n",
+                   scene_.source.c_str(), j, q[0], q[1], q[2], d * 1e3, tracked_[j], longest * 1e3);
+  }
 }
 
 void Simulation::warn_thin_obstacles() const {

@@ -187,6 +187,7 @@ class Simulation {
   void warn_float_far_from_origin() const;
   void warn_friction_creep() const;
   void warn_thin_obstacles() const;
+  void warn_far_track_points() const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
   // and the adaptive step goes on (check_state).
   bool check_health();
