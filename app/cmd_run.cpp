@@ -1,4 +1,5 @@
 // `softtled run`: headless simulation of a scene with CSV output.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -134,14 +135,21 @@ Command add_run_command(CLI::App& app) {
       vtu->add(t, sim.mesh(), st, sim.time_step().dt, sim.materials());
     };
     if (!o->vtu.empty()) vtu = std::make_unique<VtuSeries>(o->vtu);
-    // The first frame before the CSV is opened (in place, emptied): a frame that cannot be
-    // written (a full disk) leaves an earlier CSV as it was, as VtuSeries leaves an earlier
-    // series.
-    write_frame(sim.time(), sim.state());
-    if (!o->csv.empty()) {
+    // Whichever output can fail first without destroying the other goes first. A regular
+    // CSV is emptied when opened, so the first frame comes before it (a frame that cannot be
+    // written leaves an earlier CSV as it was); a FIFO, a device or stdout destroys nothing
+    // when opened but can fail or wait there (a FIFO's reader), so it comes before the frame,
+    // which replaces an earlier series.
+    struct stat cs;
+    const bool csv_first = !o->csv.empty() && (o->csv == "-" || (::stat(o->csv.c_str(), &cs) == 0 && !S_ISREG(cs.st_mode)));
+    auto open_csv = [&] {
+      if (o->csv.empty()) return;
       csv = std::make_unique<OutputFile>(o->csv);
       csv->write(csv_header(int(sim.tracked_nodes().size()), sim.mesh().nbody()));
-    }
+    };
+    if (csv_first) open_csv();
+    write_frame(sim.time(), sim.state());
+    if (!csv_first) open_csv();
     FILE* summary = csv && csv->is_stdout() ? stderr : stdout;
     auto written = [&]() {
       std::string w;

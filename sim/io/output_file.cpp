@@ -23,6 +23,17 @@ bool (*g_stop_check)() = nullptr;  // set_output_stop_check
 
 void set_output_stop_check(bool (*stop)()) { g_stop_check = stop; }
 
+std::string atomic_target(const std::string& path) {
+  struct stat lst, st;
+  if (::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode) && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+    if (char* real = ::realpath(path.c_str(), nullptr)) {
+      std::string r = real;
+      std::free(real);
+      return r;
+    }
+  return path;
+}
+
 OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (path_ == "-" && mode == kDirect) {
     f_ = stdout;
@@ -79,10 +90,7 @@ void OutputFile::drop_temporary(bool remove) {
 
 void OutputFile::open_temporary(int mode) {
   // A symlink is kept: its target is replaced (the temporary written beside it).
-  target_ = path_;
-  struct stat lst;
-  if (::lstat(path_.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode) && mode >= 0)
-    if (char* real = ::realpath(path_.c_str(), nullptr)) target_ = real, std::free(real);
+  target_ = atomic_target(path_);
   tmp_ = target_ + ".tmp";
   // Never through whatever else holds the name: not a symlink's target (O_NOFOLLOW), and a
   // FIFO fails at once (O_NONBLOCK: ENXIO without a reader) instead of blocking in open(2),
@@ -216,7 +224,8 @@ namespace {
 // PATH.tmp, which an atomic output is written to first, must be a name the directory can
 // hold and not be taken by anything but a regular file: a 253-character name, or a
 // directory or FIFO called PATH.tmp, failed the command after its work (exit 5).
-void check_temporary_name(const std::string& path, const std::string& where) {
+void check_temporary_name(const std::string& output, const std::string& where) {
+  const std::string path = atomic_target(output);  // where the temporary goes: beside a symlink's target
   const std::string name = std::filesystem::path(path).filename().string();
   long max = ::pathconf(parent_of(path).c_str(), _PC_NAME_MAX);
   if (max <= 0) max = 255;
@@ -259,8 +268,8 @@ void check_output_file(const std::string& path, const std::string& what, bool al
                          (allow_stdout && stream == kStdoutName ? " (give - to write it to standard output)" : ""));
     }
     if (::access(path.c_str(), W_OK) != 0) throw InputError(where + "cannot write: " + std::strerror(errno));
-    if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its directory
-      const std::string dir = parent_of(path);
+    if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its (target's) directory
+      const std::string dir = parent_of(atomic_target(path));
       if (::access(dir.c_str(), W_OK | X_OK) != 0)
         throw InputError(where + "cannot replace it: cannot write in directory " + dir + ": " + std::strerror(errno));
       check_temporary_name(path, where);
@@ -370,7 +379,8 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
       std::string hit = u.output_dir ? "" : (is_stream(u.path) ? u.path : "");
       // An atomic output's temporary, renamed onto it at the end: the stream's buffered
       // text, flushed at exit, would land in the finished output.
-      if (hit.empty() && u.output && !u.output_dir && !u.in_place && is_stream(u.path + ".tmp")) hit = u.path + ".tmp";
+      if (hit.empty() && u.output && !u.output_dir && !u.in_place && is_stream(atomic_target(u.path) + ".tmp"))
+        hit = atomic_target(u.path) + ".tmp";
       std::error_code ec;
       if (u.output_dir)
         for (const auto& e : std::filesystem::directory_iterator(u.path, ec))

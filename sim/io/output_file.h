@@ -59,6 +59,10 @@ class OutputFile {
   long long written_ = 0, flushed_ = 0;  // bytes handed to write(), and at the last good flush
 };
 
+// The file an atomic write replaces: PATH, or the regular file a symlink at PATH names (the
+// link stays a link); its temporary is that name + ".tmp".
+std::string atomic_target(const std::string& path);
+
 // Writes a whole file atomically (OutputFile kAtomic).
 void write_file_atomic(const std::string& path, const std::string& content);
 // Writes files that belong together (a TetGen .node/.ele pair): every PATH.tmp first, and

@@ -520,6 +520,9 @@ void read_obstacles(Reader& r, Scene& s) {
         m << "must be positive, got " << v;
         r.fail(key + "." + name, m.str());
       }
+    };
+    auto length = [&](const char* name, double v) {  // a positive length of at least 1e-6 m
+      positive(name, v);
       if (v < tiny) r.fail(key + "." + name, "value " + exact(v) + " is below 1e-6 m (" + exact(tiny) + " in the scene's units)");
     };
     vec3("velocity", false, kMaxSpeed, o.velocity);
@@ -530,7 +533,7 @@ void read_obstacles(Reader& r, Scene& s) {
       else if (auto f = n->as_floating_point()) o.radius = f->get();
       else r.fail(key + ".radius", "expected a number");
       if (!std::isfinite(o.radius)) r.fail(key + ".radius", "must be finite, got " + std::to_string(o.radius));
-      positive("radius", o.radius);
+      length("radius", o.radius);
       if (o.radius > far) r.fail(key + ".radius", "larger than the coordinate range (1e4 m)");
     }
     if (o.shape == kObstacleSphere) {

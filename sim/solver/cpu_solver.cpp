@@ -6,18 +6,19 @@
 // or its own nodes, and the gather sums in a fixed order, so results are bitwise
 // identical for any thread count.
 #include <omp.h>
+#include <pthread.h>
 #include <sched.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <memory>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <type_traits>
 #include <utility>
 #include <stdexcept>
@@ -42,20 +43,45 @@ namespace softtled {
 namespace {
 
 // libgomp ends the process (exit 1, "Thread creation failed") when it cannot start a team's
-// threads, e.g. 1,000 threads' stacks under an address-space limit. Starting the same number
-// of threads (same default stack) here first turns that into an error naming the setting.
+// threads, e.g. 1,000 threads' stacks under an address-space limit. Starting as many threads
+// here first, with the stack libgomp would give them (OMP_STACKSIZE, else the default),
+// turns that into an error naming the setting. Only above the most threads already shown
+// to start: libgomp keeps its idle team, so a later solver with as many threads costs
+// nothing (a second Python Simulation of 80 threads was refused while the first's team held
+// its stacks).
+std::size_t omp_stack_bytes() {  // OMP_STACKSIZE: a size, K by default, or B, K, M, G; 0: unset
+  const char* v = std::getenv("OMP_STACKSIZE");
+  if (!v || !*v) return 0;
+  char* end = nullptr;
+  const double n = std::strtod(v, &end);
+  while (end && *end == ' ') ++end;
+  const char u = end && *end ? char(std::toupper(static_cast<unsigned char>(*end))) : 'K';
+  const double scale = u == 'B' ? 1 : u == 'K' ? 1024 : u == 'M' ? 1024.0 * 1024 : u == 'G' ? 1024.0 * 1024 * 1024 : 0;
+  return n > 0 && scale > 0 ? std::size_t(n * scale) : 0;
+}
+
+extern "C" void* idle_thread(void*) { return nullptr; }
+
 void check_threads_can_start(int threads) {
-  std::vector<std::thread> team;
-  std::string why;
-  try {
-    for (int i = 1; i < threads; ++i) team.emplace_back([] {});
-  } catch (const std::system_error& e) {
-    why = e.code().message();
+  static int shown = 1;  // the most threads started so far
+  if (threads <= shown) return;
+  pthread_attr_t attr;
+  pthread_attr_init(&attr);
+  if (const std::size_t stack = omp_stack_bytes()) pthread_attr_setstacksize(&attr, stack);
+  std::vector<pthread_t> team;
+  int err = 0;
+  for (int i = 1; i < threads && !err; ++i) {
+    pthread_t t;
+    err = pthread_create(&t, &attr, idle_thread, nullptr);
+    if (!err) team.push_back(t);
   }
-  for (std::thread& t : team) t.join();
-  if (!why.empty())
-    throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): could not start " + std::to_string(threads - 1) +
-                        " more threads (" + why + " after " + std::to_string(team.size()) + "); use fewer (0: the automatic choice)");
+  for (pthread_t t : team) pthread_join(t, nullptr);
+  pthread_attr_destroy(&attr);
+  if (err)
+    throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): could not start " +
+                        std::to_string(threads - 1) + " more threads (" + std::strerror(err) + " after " +
+                        std::to_string(team.size()) + "); use fewer (0: the automatic choice)");
+  shown = threads;
 }
 
 template <class T>
@@ -92,7 +118,7 @@ class CpuSolver final : public Solver {
   bool cpu_simd() const override { return simd_; }
   void set_cpu_threads(int threads) override {
     const int n = threads > 0 ? threads : auto_cpu_threads(rest_.ntet);
-    if (n > threads_) check_threads_can_start(n);
+    check_threads_can_start(n);
     threads_ = n;
   }
   Precision precision() const override { return sizeof(T) == 4 ? Precision::kFloat : Precision::kDouble; }

@@ -30,3 +30,11 @@ small=$(dirname "${BASH_SOURCE[0]}")/data/surface.toml
   bash "$expect" 5 "1000 CPU threads (solver.threads, --threads): could not start 999 more threads" \
     "$exe" run --scene "$small" --set solver.threads=1000 &&
   bash "$expect" 0 "final centroid" "$exe" run --scene "$small" --set solver.threads=2 ) || { echo "FAIL: threads"; exit 1; }
+# ... but threads that libgomp's idle team already holds are not started again: accuracy
+# makes a solver per run, and 40 threads (320 MB of stacks) fit 500 MB once, not twice.
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+printf '\n[solver]\nthreads = 40\n' | cat "$(dirname "${BASH_SOURCE[0]}")/../../assets/scenes/torus_coarse.toml" - >"$tmp/t40.toml"
+( ulimit -v $(( base + 500000 ))
+  bash "$expect" 0 "wrote $tmp/acc/accuracy.csv" "$exe" accuracy --scene "$tmp/t40.toml" --levels 24x8 --ref 30x8 \
+    --lambdas 1.0 --precisions float --elements T4 --t-end 0.002 --out "$tmp/acc" ) || { echo "FAIL: threads again"; exit 1; }

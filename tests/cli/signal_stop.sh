@@ -117,10 +117,16 @@ echo "ok: bench stopped within $(( $(date +%s) - t0 )) s of SIGINT, nothing writ
 
 # An output FIFO with no reader: the run waits up to 5 s for one; a signal ends that wait at
 # once and reads as the stop it is (exit 130), not as "no reader" (exit 5).
+# An earlier VTU series in --vtu stays whole: the FIFO is opened before the first frame,
+# which would replace it.
+rm -rf "$tmp/fv"
+"$exe" run --scene "$data/surface.toml" --vtu "$tmp/fv" >/dev/null 2>&1 || fail "FIFO: the earlier series was not written"
+series=$(md5sum <"$tmp/fv/series.pvd")
 mkfifo "$tmp/fifo.csv"
-"$exe" run --scene "$data/surface.toml" --csv "$tmp/fifo.csv" >"$tmp/out.txt" 2>"$tmp/err.txt" &
+"$exe" run --scene "$data/surface.toml" --csv "$tmp/fifo.csv" --vtu "$tmp/fv" >"$tmp/out.txt" 2>"$tmp/err.txt" &
 pid=$!
 sleep 1
 interrupt 1 "waiting for a FIFO's reader"
 grep -q "stopped by signal 2 (.*stopped while waiting for the FIFO's reader)" "$tmp/err.txt" || fail "FIFO: no stop message"
-echo "ok: the wait for a FIFO's reader stopped within 1 s of SIGINT"
+[ "$(md5sum <"$tmp/fv/series.pvd")" = "$series" ] || fail "FIFO: the earlier VTU series was replaced"
+echo "ok: the wait for a FIFO's reader stopped within 1 s of SIGINT, the earlier series kept"

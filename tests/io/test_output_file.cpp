@@ -94,6 +94,26 @@ TEST(OutputFile, ATemporaryNameTakenByAFifoOrADirectoryIsLeftAloneAndRefused) {
   fs::remove(base + ".ele.tmp");
 }
 
+TEST(OutputFile, ASymlinksTemporaryIsCheckedBesideItsTarget) {
+  // The temporary of a symlinked output is written beside the link's target, so that is
+  // the name checked before the work; one beside the link itself is never used.
+  const std::string real = scratch("target.vtu"), link = scratch("alias.vtu");
+  write_file_atomic(real, "old");
+  fs::create_symlink(real, link);
+  fs::create_directory(real + ".tmp");
+  try {
+    check_output_file(link, "--vtu");
+    ADD_FAILURE() << "the target's temporary, a directory, passed the check";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("it is written to " + real + ".tmp first, which is a directory"), std::string::npos)
+        << e.what();
+  }
+  fs::remove(real + ".tmp");
+  fs::create_directory(link + ".tmp");
+  EXPECT_NO_THROW(check_output_file(link, "--vtu")) << "a directory beside the link, never used, was refused";
+  fs::remove(link + ".tmp");
+}
+
 TEST(OutputFile, ANameWithoutRoomForItsTemporaryIsRefusedBeforeTheWork) {
   const long max = ::pathconf(fs::temp_directory_path().c_str(), _PC_NAME_MAX);
   ASSERT_GT(max, 10);

@@ -52,6 +52,21 @@ TEST(Scene, ASlopeThatCannotTiltIsRefused) {
   EXPECT_NO_THROW(parse_scene("", "t.toml", {"floor.normal=[0.1, 0, 1]", "slope.enabled=true"}));  // tilted a little
 }
 
+TEST(Scene, ObstacleLengthsHaveAFloorButAMeshScaleIsAFactor) {
+  // Radii and box sides below 1e-6 m are refused (a subnormal radius ran as an obstacle of
+  // no size); a mesh obstacle's scale is a factor, not a length: 0.0005 in a mm scene is
+  // fine (its scaled size is checked when the file is read).
+  const std::string head = "units = \"mm\"\n[[obstacle]]\n";
+  try {
+    parse_scene(head + "shape = \"sphere\"\ncenter = [0, -30, 0]\nradius = 1e-4\n", "s.toml");
+    FAIL() << "a 0.1 um sphere loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("obstacle[0].radius: value 0.0001 is below 1e-6 m"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(parse_scene(head + "shape = \"sphere\"\ncenter = [0, -30, 0]\nradius = 1e-3\n", "s.toml"));
+  EXPECT_NO_THROW(parse_scene(head + "shape = \"mesh\"\nfile = \"big.obj\"\nscale = 0.0005\n", "m.toml"));
+}
+
 TEST(Scene, OverridesByDottedKey) {
   const Scene s = parse_scene("", "s", {"material.E=5000", "contact.mode=coulomb", "slope.angle_deg=30",
                                         "slope.enabled=true", "time.dt=2e-6", "body.segments=[45, 9]"});
