@@ -781,6 +781,7 @@ const Simulation::Checkpoint& Simulation::collect() {
     }
     c.state = state();
     c.diag = diagnostics();
+    c.dt = params_.dt;
     return c;
   }
   double se = 0;
@@ -790,6 +791,7 @@ const Simulation::Checkpoint& Simulation::collect() {
   try {
     solver_->end_snapshot(q.slot, c.state, se, health);
     restore(q.at);
+    c.dt = params_.dt;
     c.diag = diagnostics_of(c.state, se);
     c.rolled_back = check_state(c.state, c.diag, health);
   } catch (const SimulationDiverged&) {

@@ -122,6 +122,7 @@ class Simulation {
   struct Checkpoint {
     HostState state;
     Diagnostics diag;
+    double dt = 0;  // the step state.du spans [s] (the adaptive step's at that time, not the live one)
     bool rolled_back = false;
     // The queued steps were cut short by the stop check (set_stop_check): the state is
     // not at the time asked for; the caller stops there.
