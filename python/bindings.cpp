@@ -57,7 +57,16 @@ py::array_t<double> rows_of(int n, F f) {
   return a;
 }
 
-PySimulation& self_of(const py::object& self) { return self.cast<PySimulation&>(); }
+// The Simulation behind self, refused with a TypeError where there is none: an instance
+// made by __new__ alone (its methods reached through the class, past __getattribute__'s
+// guard, had read uninitialised memory: a crash) or an object of another type.
+PySimulation& self_of(py::handle self) {
+  if (!py::isinstance<PySimulation>(self))
+    throw py::type_error("Simulation method called on a " + std::string(py::str(self.get_type())));
+  if (!reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed())
+    throw py::type_error("this Simulation was never initialised (create it with softtled.Simulation(scene), not __new__ alone)");
+  return self.cast<PySimulation&>();
+}
 
 // One live state array in GPU memory for CuPy, PyTorch or Numba: __cuda_array_interface__
 // version 3 (https://numba.readthedocs.io/en/stable/cuda/cuda_array_interface.html),
@@ -319,7 +328,8 @@ PYBIND11_MODULE(_softtled, m) {
            })
       // ---- stepping ----
       .def(
-          "step", [](PySimulation& s, long n) {
+          "step", [](py::handle self_, long n) {
+            PySimulation& s = self_of(self_);
             if (n < 0) throw py::value_error("step: n must be >= 0");
             if (double(n) > kMaxRunSteps)  // as advance and softtled run: the step count past it overflows
               throw py::value_error("step: n = " + std::to_string(n) + " is above the limit of 1e11 steps");
@@ -329,7 +339,8 @@ PYBIND11_MODULE(_softtled, m) {
           "n steps, as `softtled run` takes them: chunks of at most CHUNK_STEPS, the watchdog checking after each "
           "(SimulationDiverged: the state is rolled back to the last healthy check); Ctrl-C between chunks.")
       .def(
-          "advance", [](PySimulation& s, double seconds) {
+          "advance", [](py::handle self_, double seconds) {
+            PySimulation& s = self_of(self_);
             if (!(seconds >= 0) || !std::isfinite(seconds)) throw InputError("advance: seconds must be finite and >= 0");
             const std::string what = "advance(" + number_text(seconds) + ")";
             if (s.sim().params().dt_adaptive)
@@ -340,7 +351,8 @@ PYBIND11_MODULE(_softtled, m) {
           py::arg("seconds"),
           "Simulated seconds: round(seconds / dt) steps as step(); with time.dt = \"adaptive\" to time + seconds.")
       .def(
-          "advance_to", [](PySimulation& s, double t) {
+          "advance_to", [](py::handle self_, double t) {
+            PySimulation& s = self_of(self_);
             if (!std::isfinite(t)) throw InputError("advance_to: t must be finite");
             const std::string what = "advance_to(" + number_text(t) + ")";
             // The facade steps to t within half a step (Simulation::step_to): a t further
@@ -361,32 +373,33 @@ PYBIND11_MODULE(_softtled, m) {
           "step of the current time takes none, and one more than half a step before it raises InputError (the "
           "simulation only goes forward).")
       .def(
-          "reset", [](PySimulation& s) {
+          "reset", [](py::handle self_) {
+            PySimulation& s = self_of(self_);
             s.sim().reset();
             s.refresh();
           },
           "Back to the initial state (the viewer's drop again); parameters stay as set.")
-      .def_property_readonly("time", [](PySimulation& s) { return s.sim().time(); }, "simulated time [s]")
-      .def_property_readonly("dt", [](PySimulation& s) { return s.sim().params().dt; }, "time step in use [s]")
-      .def_property_readonly("dt_cr", [](PySimulation& s) { return s.sim().time_step().dt_cr; },
+      .def_property_readonly("time", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().time(); }, "simulated time [s]")
+      .def_property_readonly("dt", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().params().dt; }, "time step in use [s]")
+      .def_property_readonly("dt_cr", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().time_step().dt_cr; },
                              "stable step bound [s] (min of Le/c and 2/omega_max)")
-      .def_property_readonly("steps", [](PySimulation& s) { return s.sim().total_steps(); }, "steps taken")
-      .def("time_step", [](PySimulation& s) { return time_step_dict(s.sim()); }, "Stable-step details [m/s, m, s].")
+      .def_property_readonly("steps", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().total_steps(); }, "steps taken")
+      .def("time_step", [](py::handle self_) { PySimulation& s = self_of(self_); return time_step_dict(s.sim()); }, "Stable-step details [m/s, m, s].")
       // ---- the scene ----
-      .def_property_readonly("backend", [](PySimulation& s) { return s.sim().backend(); })
-      .def_property_readonly("precision", [](PySimulation& s) { return std::string(precision_name(s.scene().precision)); })
-      .def_property_readonly("source", [](PySimulation& s) { return s.scene().source; })
-      .def_property_readonly("duration", [](PySimulation& s) { return s.scene().duration; }, "the scene's time.duration [s]")
-      .def_property_readonly("output_every", [](PySimulation& s) { return s.scene().output_every; },
+      .def_property_readonly("backend", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().backend(); })
+      .def_property_readonly("precision", [](py::handle self_) { PySimulation& s = self_of(self_); return std::string(precision_name(s.scene().precision)); })
+      .def_property_readonly("source", [](py::handle self_) { PySimulation& s = self_of(self_); return s.scene().source; })
+      .def_property_readonly("duration", [](py::handle self_) { PySimulation& s = self_of(self_); return s.scene().duration; }, "the scene's time.duration [s]")
+      .def_property_readonly("output_every", [](py::handle self_) { PySimulation& s = self_of(self_); return s.scene().output_every; },
                              "the scene's time.output_every [s]")
-      .def_property_readonly("adaptive", [](PySimulation& s) { return s.sim().params().dt_adaptive; },
+      .def_property_readonly("adaptive", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().params().dt_adaptive; },
                              "time.dt = \"adaptive\"")
-      .def_property_readonly("nnode", [](PySimulation& s) { return s.sim().mesh().nnode(); })
-      .def_property_readonly("ntet", [](PySimulation& s) { return s.sim().mesh().ntet(); })
-      .def_property_readonly("nbody", [](PySimulation& s) { return s.sim().mesh().nbody(); })
-      .def_property_readonly("tracked_nodes", [](PySimulation& s) { return s.sim().tracked_nodes(); },
+      .def_property_readonly("nnode", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().mesh().nnode(); })
+      .def_property_readonly("ntet", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().mesh().ntet(); })
+      .def_property_readonly("nbody", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().mesh().nbody(); })
+      .def_property_readonly("tracked_nodes", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().tracked_nodes(); },
                              "node of each output.track_points entry")
-      .def_property_readonly("fixed_node_count", [](PySimulation& s) { return s.sim().fixed_node_count(); })
+      .def_property_readonly("fixed_node_count", [](py::handle self_) { PySimulation& s = self_of(self_); return s.sim().fixed_node_count(); })
       // ---- arrays ----
       .def(
           "displacements", [](py::object self) {
@@ -405,7 +418,8 @@ PYBIND11_MODULE(_softtled, m) {
           },
           "ContactState per node (0 free, 1 sticking, 2 sliding): a read-only view like displacements().")
       .def(
-          "positions", [](PySimulation& s) {
+          "positions", [](py::handle self_) {
+            PySimulation& s = self_of(self_);
             const HostState& st = s.sim().state();
             const std::vector<double>& X = s.sim().mesh().X;
             const int n = s.sim().mesh().nnode();
@@ -413,7 +427,8 @@ PYBIND11_MODULE(_softtled, m) {
           },
           "x = X + u [m], nnode x 3 (a new array).")
       .def(
-          "velocities", [](PySimulation& s) {
+          "velocities", [](py::handle self_) {
+            PySimulation& s = self_of(self_);
             const HostState& st = s.sim().state();
             const double dt = s.sim().params().dt;
             const int n = s.sim().mesh().nnode();
@@ -455,7 +470,8 @@ PYBIND11_MODULE(_softtled, m) {
           "lumped mass per node [kg]: read-only view.")
       // ---- parameters and measures ----
       .def(
-          "set_params", [](PySimulation& s, py::kwargs kw) {
+          "set_params", [](py::handle self_, py::kwargs kw) {
+            PySimulation& s = self_of(self_);
             std::map<std::string, ParamValue> changes;
             const auto& names = PySimulation::param_names();
             for (const auto& [k, v] : kw) {
@@ -477,11 +493,12 @@ PYBIND11_MODULE(_softtled, m) {
           "Live changes as the viewer's panel makes them (LIVE_PARAMETERS); returns a warning (a fixed dt "
           "above dt_cr is clamped) or ''.")
       .def("params", &params_dict, "The live parameters now.")
-      .def("diagnostics", [](PySimulation& s) { return diagnostics_dict(s.sim()); },
+      .def("diagnostics", [](py::handle self_) { PySimulation& s = self_of(self_); return diagnostics_dict(s.sim()); },
            "The CSV's measures of the state now (energies [J], centroid [m], min_gap [m], contacts, watchdog).")
       // ---- output ----
       .def(
-          "write_vtu", [](PySimulation& s, const std::string& path) {
+          "write_vtu", [](py::handle self_, const std::string& path) {
+            PySimulation& s = self_of(self_);
             check_output_file(path, "write_vtu");
             check_not_scene_input(s.scene(), "the scene", {path, "write_vtu", true});
             Simulation& sim = s.sim();
@@ -489,8 +506,9 @@ PYBIND11_MODULE(_softtled, m) {
           },
           py::arg("path"), "One ParaView .vtu of the state now (the point and cell data of `run --vtu`).")
       .def(
-          "render_png", [](PySimulation& s, const std::string& path, int width, int height, const std::string& color,
+          "render_png", [](py::handle self_, const std::string& path, int width, int height, const std::string& color,
                            int samples, float azimuth, float elevation, float zoom) {
+            PySimulation& s = self_of(self_);
             PngOptions o;
             o.width = width;
             o.height = height;

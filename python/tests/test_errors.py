@@ -180,6 +180,14 @@ def test_an_instance_never_initialised_is_refused_not_crashed():
     for name in ("time", "step", "displacements", "diagnostics", "write_vtu"):
         with pytest.raises(TypeError, match="never initialised"):
             getattr(sim, name)
+    # ... also reached through the class, past the instance's attribute lookup (a crash)
+    cls = softtled._softtled.Simulation
+    for call in (lambda: cls.step(sim, 10), lambda: cls.time.__get__(sim), lambda: cls.diagnostics(sim),
+                 lambda: cls.positions(sim), lambda: cls.set_params(sim, mu=0.1)):
+        with pytest.raises(TypeError, match="never initialised"):
+            call()
+    with pytest.raises(TypeError, match="Simulation method called on a <class 'int'>"):
+        cls.step(5, 10)
 
 
 def test_set_params_refuses_what_would_be_ignored_and_names_values_as_given():
