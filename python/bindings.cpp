@@ -343,10 +343,14 @@ PYBIND11_MODULE(_softtled, m) {
             PySimulation& s = self_of(self_);
             if (!(seconds >= 0) || !std::isfinite(seconds)) throw InputError("advance: seconds must be finite and >= 0");
             const std::string what = "advance(" + number_text(seconds) + ")";
-            if (s.sim().params().dt_adaptive)
+            if (s.sim().params().dt_adaptive) {
+              // As a fixed step: a span shorter than half the step in use takes no step and is
+              // refused, not ignored (`while sim.time < T: sim.advance(h)` never ended).
+              (void)s.steps_for(seconds, what);
               run_adaptive(s, s.sim().time() + seconds, what);
-            else
+            } else {
               run_steps(s, s.steps_for(seconds, what));
+            }
           },
           py::arg("seconds"),
           "Simulated seconds: round(seconds / dt) steps as step(); with time.dt = \"adaptive\" to time + seconds.")

@@ -323,3 +323,17 @@ def test_numpy_values_are_what_they_hold():
     assert tuple(sim.params()["g"]) == (0.0, -5.0, 0.0)
     with pytest.raises(TypeError, match="flat sequence"):
         sim.set_params(g=np.zeros((3, 1)))
+
+
+def test_advance_shorter_than_half_a_step_is_refused_with_either_step():
+    """advance(h) with h below half the step in use takes no step: refused with the fixed
+    step, and now with the adaptive one too, where it returned having done nothing (a loop
+    `while sim.time < T: sim.advance(h)` never ended)."""
+    for sets in ([], ['time.dt="adaptive"']):
+        sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=["body.segments=[24,8]"] + sets)
+        with pytest.raises(softtled.InputError, match="shorter than half the time step"):
+            sim.advance(0.2 * sim.dt)
+        assert sim.steps == 0
+        sim.advance(0)  # nothing asked, nothing done
+        sim.advance(2 * sim.dt)
+        assert sim.steps >= 1
