@@ -337,3 +337,22 @@ def test_advance_shorter_than_half_a_step_is_refused_with_either_step():
         sim.advance(0)  # nothing asked, nothing done
         sim.advance(2 * sim.dt)
         assert sim.steps >= 1
+
+
+@pytest.mark.parametrize("sets", [[], ['time.dt="adaptive"']])
+def test_a_refused_set_params_changes_nothing(sets):
+    """A set_params refused by a late check (E = 1e-20 is in E's range, but gives a step
+    below 1e-15 s) leaves the run exactly as one never asked: the step bounds, and with the
+    adaptive step its ladder and the estimate in flight (dt_cr had kept the refused E's
+    value and the adaptive run went on differently)."""
+    make = lambda: softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=["body.segments=[24,8]"] + sets)
+    asked, never = make(), make()
+    asked.advance(0.01)
+    never.advance(0.01)
+    with pytest.raises(softtled.InputError, match="outside"):
+        asked.set_params(E=1e-20)
+    assert asked.time_step() == never.time_step()
+    asked.advance(0.03)
+    never.advance(0.03)
+    assert asked.steps == never.steps and asked.dt == never.dt
+    assert (asked.positions() == never.positions()).all()

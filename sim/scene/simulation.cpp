@@ -270,7 +270,22 @@ std::string Simulation::set_params(const PhysicsParams& p) {
                          p.element == params_.element && p.body_laws == params_.body_laws &&
                          p.lambda == params_.lambda && p.beta == params_.beta && p.dt_max == params_.dt_max &&
                          p.alpha == params_.alpha;
-  if (!same_step) drop_estimate();  // of the old parameters
+  // A refused call changes nothing: what the checks below compute on the way (the step
+  // bounds, the adaptive ladder) is put back if one of them throws. (A refused E = 1e-20
+  // had left dt_cr and the ladder of that E behind, and an adaptive run's estimate dropped,
+  // so the run went on differently from one never asked.)
+  struct Undo {
+    Simulation& sim;
+    const TimeStepInfo ts;
+    const double c_min, ladder_ref;
+    const int rung;
+    bool done = false;
+    ~Undo() {
+      if (!done) sim.ts_ = ts, sim.c_min_ = c_min, sim.ladder_ref_ = ladder_ref, sim.rung_ = rung;
+    }
+  } undo{*this, ts_, c_min_, ladder_ref_, rung_};
+  if (p.obstacles.size() > std::size_t(kMaxObstacles))
+    throw InputError("at most " + std::to_string(kMaxObstacles) + " obstacles");
   PhysicsParams q = p;
   // Body-body contact: only between several bodies.
   if (q.body_contact && mesh_.nbody() < 2) q.body_contact = false;
@@ -397,6 +412,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
                   q.dt_auto || q.dt_adaptive ? "" : " (or the time.dt given)");
     throw InputError(buf);
   }
+  undo.done = true;  // every check passed: from here on the call takes effect
+  if (!same_step) drop_estimate();  // of the old parameters
   if (q.dt != params_.dt) {  // keep simulated time continuous across a dt change
     t_offset_ = time();
     nsteps_ = 0;
@@ -405,8 +422,6 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   for (std::size_t i = 0; i < std::min(q.planes.size(), plane_motion_.size()); ++i)
     if (same_pose(q.planes[i], params_.planes[i])) motion[i] = plane_motion_[i];
   plane_motion_ = motion;
-  if (q.obstacles.size() > std::size_t(kMaxObstacles))
-    throw InputError("at most " + std::to_string(kMaxObstacles) + " obstacles");
   obstacle_start_.resize(q.obstacles.size());
   for (std::size_t i = 0; i < q.obstacles.size(); ++i)
     if (i >= params_.obstacles.size() || !same_obstacle(q.obstacles[i], params_.obstacles[i]))
