@@ -193,6 +193,8 @@ Command add_render_command(CLI::App& app) {
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
     if (is_video) h.times = video_frame_times(o->from, o->to, o->fps, o->speed, sim.time_step().dt);
     for (double t : h.times) (void)checked_step_count(t, sim.time_step().dt, "--at");  // before the GL context
+    // Frames after time.duration step past it: the collision-course check covers them too.
+    if (!h.times.empty() && h.times.back() > s.duration) sim.check_collision_courses_until(h.times.back());
     const TimeStepInfo& ts = sim.time_step();
     std::printf("scene %s: %d nodes, %d tets, %zu surface nodes; dt = %.4g us (dt_cr %.4g us); backend %s\n", o->scene.c_str(),
                 sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.dt * 1e6, ts.dt_cr * 1e6,

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
+#include <limits>
 #include <memory>
 
 #include "app/render_handoff.h"
@@ -45,6 +46,7 @@ class Viewer {
     scene_ = load_scene(o.scene, o.set);
     if (!o.record.empty()) check_not_scene_input(scene_, "--scene", {o.record, "--record", true});
     sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend));
+    sim_->check_collision_courses_until(std::numeric_limits<double>::infinity());  // the viewer steps on without end
     settings_from_scene();
     set_.paused = o.paused;
     if (o.substeps > 0) set_.fixed_substeps = true, set_.substeps = o.substeps;
@@ -579,7 +581,11 @@ class Viewer {
     st_.rebuild_error.clear();
     st_.rebuilding = true;
     log("re-meshing: segments %dx%d, rho %.0f", s.segments[0], s.segments[1], s.rho);
-    rebuild_ = std::async(std::launch::async, [s, backend] { return std::make_unique<Simulation>(s, backend); });
+    rebuild_ = std::async(std::launch::async, [s, backend] {
+      auto sim = std::make_unique<Simulation>(s, backend);
+      sim->check_collision_courses_until(std::numeric_limits<double>::infinity());
+      return sim;
+    });
   }
 
   void poll_rebuild() {

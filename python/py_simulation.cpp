@@ -8,7 +8,6 @@
 
 #include "app/cli_support.h"
 #include "sim/core/input_error.h"
-#include "sim/scene/closing_speeds.h"
 #include "sim/scene/plane_motion.h"
 #include "sim/scene/scene_geometry.h"
 
@@ -32,9 +31,7 @@ PySimulation::PySimulation(const std::string& path, const std::string& text, con
   // bodies that would meet only later are let through); advance() goes on past it, so every
   // collision course counts here (two plates closing at 10 m/s passed the check and met
   // after the duration, as a "numerical blow-up").
-  Scene unbounded = scene_;
-  unbounded.duration = std::numeric_limits<double>::infinity();
-  check_closing_speeds(unbounded, sim_->mesh(), sim_->time_step().dt);
+  sim_->check_collision_courses_until(std::numeric_limits<double>::infinity());
   floor_ = scene_.floor;
   slope_ = scene_.slope;
   slope_deg_ = scene_.slope_angle_deg;

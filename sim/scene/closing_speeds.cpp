@@ -27,7 +27,7 @@ std::vector<double> body_depths(const TetMesh& m) {
   return depth;
 }
 
-void check_closing_speeds(const Scene& s, const TetMesh& m, double dt) {
+void check_closing_speeds(const Scene& s, const TetMesh& m, double dt, double t_end) {
   const int nb = m.nbody();
   if (nb < 2 || !s.body_contact()) return;
   // Each body's bounding sphere about the mean of its nodes.
@@ -64,7 +64,7 @@ void check_closing_speeds(const Scene& s, const TetMesh& m, double dt) {
       const double disc = pw * pw - ww * (pp - reach * reach);
       if (disc < 0) continue;  // the spheres pass each other
       const double t_meet = std::max(0.0, (-pw - std::sqrt(disc)) / ww);
-      if (t_meet > s.duration) continue;
+      if (t_meet > t_end) continue;
       const double v = std::sqrt(ww), thin = std::min(depth[i], depth[j]);
       if (v * dt > thin) {
         char buf[700];

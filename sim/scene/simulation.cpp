@@ -132,7 +132,7 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
       std::fprintf(stderr, "warning: %s\n", warn.c_str());
     }
   }
-  check_closing_speeds(scene_, mesh_, ts_.dt);
+  check_closing_speeds(scene_, mesh_, ts_.dt, scene_.duration);
   warn_float_far_from_origin();
   warn_friction_creep();
   warn_thin_obstacles();
@@ -156,6 +156,10 @@ void Simulation::warn_float_far_from_origin() const {
                "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
                "set solver.precision = \"double\"\n",
                scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
+}
+
+void Simulation::check_collision_courses_until(double t_end) const {
+  check_closing_speeds(scene_, mesh_, ts_.dt, t_end);
 }
 
 void Simulation::warn_far_track_points() const {

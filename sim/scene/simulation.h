@@ -128,6 +128,10 @@ class Simulation {
     // not at the time asked for; the caller stops there.
     bool stopped = false;
   };
+  // The start's collision-course check (closing_speeds.h) to t_end instead of
+  // time.duration, for callers that step past it: render's last frame, the viewer and
+  // Python (infinity). InputError as at the start.
+  void check_collision_courses_until(double t_end) const;
   bool pipelines() const;
   void queue(long n);
   void queue_until(double t_end);
