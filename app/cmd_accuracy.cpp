@@ -6,6 +6,8 @@
 // each variant prints a progress line with an estimate of the time left.
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -224,8 +226,22 @@ Command add_accuracy_command(CLI::App& app) {
     // earlier result in --out stays intact until this run has a row to replace it with (the
     // CSV opened in place had been emptied at once, and a stop before the first row left an
     // empty CSV beside the old table).
+    // A FIFO or device (a reader taking the rows as they come) is written in place, once:
+    // reopened for each row, its reader saw the end after the first.
+    struct stat cst;
+    std::unique_ptr<OutputFile> csv_stream;
+    if (::stat(csv_path.c_str(), &cst) == 0 && !S_ISREG(cst.st_mode)) {
+      csv_stream = std::make_unique<OutputFile>(csv_path);
+      csv_stream->write(header + "\n");
+      csv_stream->flush();
+    }
     std::vector<std::string> rows;
     auto write_csv = [&] {
+      if (csv_stream) {
+        csv_stream->write(rows.back() + "\n");
+        csv_stream->flush();
+        return;
+      }
       std::string text = header + "\n";
       for (const auto& r : rows) text += r + "\n";
       write_file_atomic(csv_path, text);
@@ -342,6 +358,7 @@ Command add_accuracy_command(CLI::App& app) {
       end_job(j, t0);
     }
     if (stop_requested()) return stopped();
+    if (csv_stream) csv_stream->close();
     std::fprintf(stderr, "wrote %s and %s\n", csv_path.c_str(), md_path.c_str());
     return 0;
   };

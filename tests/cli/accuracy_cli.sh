@@ -43,5 +43,14 @@ grep -q '^| level | ntet |' "$dir/accuracy.md" && [ "$(grep -c '^| 1' "$dir/accu
   { echo "FAIL: accuracy.md"; cat "$dir/accuracy.md"; status=1; }
 grep -q '^\[1/4\] 12x5 double T4ANP' err.txt && grep -q '^\[4/4\] 10x4 float T4 lambda 0.5.*left)' err.txt ||
   { echo "FAIL: progress lines"; cat err.txt; status=1; }
-[ $status -eq 0 ] && echo "ok: validated first, $dir/accuracy.csv and accuracy.md, progress with ETA"
+# accuracy.csv a FIFO: its reader takes every row (the CSV, rewritten whole per row for a
+# file, is written once, in place, to a FIFO: reopened, its reader saw the end after one row)
+mkdir fifo_out && mkfifo fifo_out/accuracy.csv
+cat fifo_out/accuracy.csv >fifo_rows.csv &
+reader=$!
+"$exe" accuracy --scene "$scene" --ref 12x5 --levels 10x4 --lambdas 0.5 --precisions float --elements T4 \
+  --t-end 0.01 --out fifo_out >/dev/null 2>err.txt || { echo "FAIL: accuracy into a FIFO exited with $?"; cat err.txt; status=1; }
+wait $reader
+[ "$(wc -l <fifo_rows.csv)" -eq 4 ] || { echo "FAIL: the FIFO's reader got:"; cat fifo_rows.csv; status=1; }
+[ $status -eq 0 ] && echo "ok: validated first, $dir/accuracy.csv and accuracy.md, progress with ETA, a FIFO's reader"
 exit $status
