@@ -123,8 +123,9 @@ int main(int argc, char** argv) {
     if (stop_requested()) return stopped(e.what());  // e.g. TetGen's child ended by the same Ctrl-C
     error(e.what());
     return kExitInput;
+  } catch (const StoppedWhileWaiting& e) {  // a FIFO's wait for its reader, ended by Ctrl-C
+    return stopped(e.what());
   } catch (const ResourceError& e) {
-    if (stop_requested()) return stopped(e.what());  // e.g. a FIFO's wait for its reader, ended by Ctrl-C
     error(e.what());
     return kExitResource;
   } catch (const std::filesystem::filesystem_error& e) {  // a path the OS refused (checks catch most before)

@@ -59,7 +59,7 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
       e = errno;
       if (fd >= 0 || e != ENXIO) break;
       if (g_stop_check && g_stop_check())
-        throw ResourceError(open_path + ": stopped while waiting for the FIFO's reader");
+        throw StoppedWhileWaiting(open_path + ": stopped while waiting for the FIFO's reader");
       ::usleep(50000);
     }
     if (fd < 0)
