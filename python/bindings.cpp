@@ -141,7 +141,7 @@ void run_adaptive(PySimulation& s, double t_end, const std::string& what) {
 // A NumPy boolean (np.bool_, or a 0-d bool array) is a bool, not the number 0 or 1 its
 // __float__ gives: floor=np.bool_(False) raised "takes a bool", mu=np.bool_(True) set mu = 1.
 bool numpy_bool(const py::handle& v) {
-  if (!py::hasattr(v, "dtype") || py::hasattr(v, "__len__")) return false;
+  if (!py::hasattr(v, "dtype") || (py::hasattr(v, "ndim") && v.attr("ndim").cast<int>() != 0)) return false;
   return py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b";
 }
 
@@ -169,14 +169,14 @@ ParamValue param_value_cast(const std::string& key, const py::handle& v) {
     p.kind = ParamValue::kString;
     p.text = v.cast<std::string>();
   } else if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::hasattr(v, "__float__")) {
-    if (py::hasattr(v, "__len__")) {  // a NumPy array of one value passes __float__ too
+    if (py::hasattr(v, "__len__") && !(py::hasattr(v, "ndim") && v.attr("ndim").cast<int>() == 0)) {  // a NumPy array of one value passes __float__ too
       p.kind = ParamValue::kVector;
       p.vec = flat_numbers(key, v);
     } else {
       p.kind = ParamValue::kNumber;
       p.number = v.cast<double>();
     }
-  } else if (py::isinstance<py::sequence>(v) || py::hasattr(v, "__iter__")) {
+  } else if (py::isinstance<py::sequence>(v) || py::hasattr(v, "__array__")) {  // ordered: not a set or generator
     p.kind = ParamValue::kVector;
     p.vec = flat_numbers(key, v);
   } else {

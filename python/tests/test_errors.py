@@ -73,6 +73,9 @@ def test_set_params_errors():
         sim.set_params(g=[0, True, 0])
     with pytest.raises(TypeError, match="contact_mode: got bytes; give a str"):
         sim.set_params(contact_mode=b"static")
+    for unordered in ({0.0, -9.81, 1.0}, (x for x in (0.0, -9.81, 0.0))):  # no order to read x, y, z in
+        with pytest.raises(TypeError, match="g: "):
+            sim.set_params(g=unordered)
     # nothing was applied by a refused call (all values are checked first)
     with pytest.raises(softtled.InputError):
         sim.set_params(mu=0.9, E=-1.0)
@@ -317,6 +320,10 @@ def test_numpy_values_are_what_they_hold():
     sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu")
     sim.set_params(floor=np.bool_(False))
     assert sim.params()["floor"] is False
+    sim.set_params(floor=np.array(True))  # a 0-d bool array
+    assert sim.params()["floor"] is True
+    sim.set_params(mu=np.array(0.25))  # a 0-d number
+    assert sim.params()["mu"] == 0.25
     with pytest.raises(TypeError, match="takes a number"):
         sim.set_params(mu=np.bool_(True))
     sim.set_params(g=np.array([0.0, -5.0, 0.0]))
