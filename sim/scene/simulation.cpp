@@ -164,16 +164,17 @@ void Simulation::check_collision_courses_until(double t_end) const {
 
 void Simulation::warn_far_track_points() const {
   // output.track_points are followed at the node nearest each: one farther from it than
-  // the longest surface edge is not on the body, and its CSV columns would follow a node
-  // it did not mean (a point 1 km away tracked some node, silently).
+  // the longest element edge is farther from every node than any point of the body (a
+  // point 1 km away tracked some node, silently).
   double longest = 0;
-  for (int t = 0; t < mesh_.nbtri(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const double* p = &mesh_.X[3 * mesh_.boundary_tri[3 * t + k]];
-      const double* q = &mesh_.X[3 * mesh_.boundary_tri[3 * t + (k + 1) % 3]];
-      longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                            (p[2] - q[2]) * (p[2] - q[2])));
-    }
+  for (int e = 0; e < mesh_.ntet(); ++e)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const double* p = &mesh_.X[3 * mesh_.tet[4 * e + a]];
+        const double* q = &mesh_.X[3 * mesh_.tet[4 * e + b]];
+        longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                              (p[2] - q[2]) * (p[2] - q[2])));
+      }
   for (std::size_t j = 0; j < tracked_.size(); ++j) {
     const auto& q = scene_.track_points[j];
     const double* x = &mesh_.X[3 * tracked_[j]];
@@ -183,7 +184,7 @@ void Simulation::warn_far_track_points() const {
     if (d > longest)
       std::fprintf(stderr,
                    "warning: %s: output.track_points[%zu] = [%g, %g, %g] is %.4g mm from the nearest node (node %d), "
-                   "farther than the longest surface edge (%.4g mm): it is not on the body; its columns follow that "
+                   "farther than the longest element edge (%.4g mm): it is not on the body; its columns follow that "
                    "node\n",
                    scene_.source.c_str(), j, q[0], q[1], q[2], d * 1e3, tracked_[j], longest * 1e3);
   }
