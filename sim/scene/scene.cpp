@@ -871,7 +871,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   // A fixed step takes no fraction of dt_cr: say so rather than run as if it did (a scene's
   // lambda = 0.5 under --set time.dt=1e-5 ran at 1e-5 whatever lambda said).
   if (root.at_path("time.lambda").node() && !s.dt_auto && !s.dt_adaptive)
-    std::fprintf(stderr, "warning: %s: time.lambda is not used with a fixed time.dt (%.4g s); ignored\n",
+    std::fprintf(stderr,
+                 "warning: %s: time.lambda is not used while time.dt is fixed (%.4g s); it applies only if the step "
+                 "is switched to auto live, or a live dt above the stable step is clamped\n",
                  s.source.c_str(), s.dt);
   s.dt_max = r.num("time.dt_max", s.dt_max, 0, INFINITY, true);
   if (root.at_path("time.dt_max").node() && !s.dt_adaptive)
