@@ -100,7 +100,7 @@ void check_video_output(const std::string& path, const std::string& what) {
 }
 
 VideoEncoder::VideoEncoder(std::string path, int w, int h, double fps)
-    : path_(std::move(path)), tmp_(path_ + ".tmp"), w_(w), h_(h), fps_(fps) {
+    : path_(std::move(path)), target_(atomic_target(path_)), tmp_(target_ + ".tmp"), w_(w), h_(h), fps_(fps) {
   check_video_output(path_, "video");
   const std::string ffmpeg = find_ffmpeg();
   char log_name[] = "/tmp/softtled-ffmpeg-XXXXXX";
@@ -274,7 +274,11 @@ void VideoEncoder::finish() {
     const std::string why = mp4_incomplete(tmp_);
     if (!why.empty()) fail("the video ffmpeg wrote is incomplete: " + why);
   }
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+  // As every atomic output (output_file.h): the replaced file's permissions carry over and
+  // a symlink at PATH stays one (target_ is what it names).
+  struct stat old;
+  if (::stat(target_.c_str(), &old) == 0 && S_ISREG(old.st_mode)) ::chmod(tmp_.c_str(), old.st_mode & 07777);
+  if (std::rename(tmp_.c_str(), target_.c_str()) != 0) {
     const int e = errno;
     std::remove(tmp_.c_str());
     throw ResourceError(path_ + ": cannot rename " + tmp_ + " onto it: " + std::strerror(e));

@@ -5,7 +5,7 @@
 // at run time, so a machine without it still builds and runs everything else), the API's
 // version churn stays ffmpeg's problem, and ffprobe, which the tests use, comes with it.
 //
-// The video is written to PATH.tmp (the container named with -f) and renamed onto PATH by
+// The video is written to PATH.tmp (beside a symlink's target) (the container named with -f) and renamed onto PATH by
 // finish(): PATH never holds a partial video. ffmpeg runs in its own process group, so a
 // Ctrl-C in the terminal reaches only softtled, which then finishes the frames it has.
 #include <string>
@@ -51,7 +51,7 @@ class VideoEncoder {
   void reaped();  // ffmpeg waited for: pid_ = -1, its group no longer tracked
   std::string ffmpeg_log() const;  // the last lines ffmpeg wrote to its standard error
   bool ffmpeg_logged_errors() const;  // ffmpeg (at -loglevel error) wrote any message
-  std::string path_, tmp_, log_;
+  std::string path_, target_, tmp_, log_;  // target_: path_, or the file a symlink there names
   int w_ = 0, h_ = 0;
   double fps_ = 0;
   int fd_ = -1;      // ffmpeg's standard input

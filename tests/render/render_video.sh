@@ -25,6 +25,12 @@ if [ $rc -ne 0 ]; then
 fi
 [ -s "$out/drop.mp4" ] || fail "drop.mp4 not written"
 [ -e "$out/drop.mp4.tmp" ] && fail "drop.mp4.tmp left behind"
+# A symlink at the path stays one (its target is replaced) and keeps the target's mode, as
+# every atomic output does.
+echo old >"$out/kept.mp4" && chmod 640 "$out/kept.mp4" && ln -sf kept.mp4 "$out/alias.mp4"
+"$exe" render "${common[@]}" --video "$out/alias.mp4" --to 0.02 >"$out/alias.txt" 2>&1 || fail "render --video onto a symlink"
+[ -L "$out/alias.mp4" ] && [ "$(stat -c %a "$out/kept.mp4")" = 640 ] && [ "$(head -c 3 "$out/kept.mp4")" != old ] ||
+  fail "render --video replaced the symlink or the target's mode: $(ls -l "$out/alias.mp4" "$out/kept.mp4")"
 frames=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 "$out/drop.mp4")
 duration=$(ffprobe -v error -show_entries format=duration -of csv=p=0 "$out/drop.mp4")
 size=$(ffprobe -v error -select_streams v:0 -show_entries stream=width,height -of csv=s=x:p=0 "$out/drop.mp4")
