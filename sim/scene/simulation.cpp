@@ -195,7 +195,8 @@ void Simulation::warn_thin_obstacles() const {
   // that fits through a surface triangle without touching its corners can pass between
   // them, through the body, unseen (a probe's torus fell clean through a 0.3 mm rod, exit 0,
   // min_gap positive throughout). A sphere of radius r fits through a triangle whose
-  // circumradius exceeds r (centred on its circumcentre); a capsule or a box's thinnest
+  // circumradius exceeds r (centred on its circumcentre; for an obtuse triangle at most
+  // half its longest edge); a capsule or a box's thinnest
   // side likewise, by its radius or half-thickness. Said once per obstacle, at the start,
   // naming the body with the largest such triangle. (A mesh obstacle's thinness is its
   // distance grid's business: mesh_sdf.cpp refuses one thinner than its cells.)
@@ -211,8 +212,11 @@ void Simulation::warn_thin_obstacles() const {
     const double s = 0.5 * (len[0] + len[1] + len[2]);
     const double area = std::sqrt(std::max(0.0, s * (s - len[0]) * (s - len[1]) * (s - len[2])));
     if (area > 0) {
+      // An obtuse triangle's circumcentre lies outside it (a sliver's far outside): within
+      // it no point is farther than half its longest edge from the nearer end of that edge.
+      const double R = std::min(len[0] * len[1] * len[2] / (4 * area), 0.5 * std::max({len[0], len[1], len[2]}));
       double& c = circum[std::size_t(mesh_.body_of_node(v[0]))];
-      c = std::max(c, len[0] * len[1] * len[2] / (4 * area));
+      c = std::max(c, R);
     }
   }
   for (std::size_t i = 0; i < params_.obstacles.size(); ++i) {
@@ -226,7 +230,7 @@ void Simulation::warn_thin_obstacles() const {
     const int b = int(widest - circum.begin());
     std::fprintf(stderr,
                  "warning: %s: obstacle[%zu] (a %s %.4g mm) fits through %s's largest surface triangles "
-                 "(circumradius %.4g mm): contact is tested at the body's nodes, so it can pass between them, "
+                 "(a point in one %.4g mm from every corner): contact is tested at the body's nodes, so it can pass between them, "
                  "into or through the body, unseen. Refine the body's surface or make the obstacle thicker\n",
                  scene_.source.c_str(), i, what, h * 1e3, scene_.body(b).key.c_str(), *widest * 1e3);
   }
