@@ -34,6 +34,9 @@ bool same_obstacle(const ObstacleSpec& a, const ObstacleSpec& b) {
     if (a.R[k] != b.R[k]) return false;
   return true;
 }
+double distance(const double* p, const double* q) {
+  return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+}
 }  // namespace
 
 double dilatational_wave_speed(double E, double nu, double rho) {
@@ -170,17 +173,12 @@ void Simulation::warn_far_track_points() const {
   for (int e = 0; e < mesh_.ntet(); ++e)
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
-        const double* p = &mesh_.X[3 * mesh_.tet[4 * e + a]];
-        const double* q = &mesh_.X[3 * mesh_.tet[4 * e + b]];
-        longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                              (p[2] - q[2]) * (p[2] - q[2])));
+        longest = std::max(longest, distance(&mesh_.X[3 * mesh_.tet[4 * e + a]], &mesh_.X[3 * mesh_.tet[4 * e + b]]));
       }
   for (std::size_t j = 0; j < tracked_.size(); ++j) {
     const auto& q = scene_.track_points[j];
-    const double* x = &mesh_.X[3 * tracked_[j]];
-    double d = 0;
-    for (int k = 0; k < 3; ++k) d += (x[k] - q[k] * scene_.length_unit) * (x[k] - q[k] * scene_.length_unit);
-    d = std::sqrt(d);
+    const double point[3] = {q[0] * scene_.length_unit, q[1] * scene_.length_unit, q[2] * scene_.length_unit};
+    const double d = distance(&mesh_.X[3 * tracked_[j]], point);
     if (d > longest)
       std::fprintf(stderr,
                    "warning: %s: output.track_points[%zu] = [%g, %g, %g] is %.4g mm from the nearest node (node %d), "
@@ -204,11 +202,7 @@ void Simulation::warn_thin_obstacles() const {
   for (int t = 0; t < mesh_.nbtri(); ++t) {
     const int* v = &mesh_.boundary_tri[3 * t];
     double len[3];
-    for (int k = 0; k < 3; ++k) {
-      const double* p = &mesh_.X[3 * v[k]];
-      const double* q = &mesh_.X[3 * v[(k + 1) % 3]];
-      len[k] = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
-    }
+    for (int k = 0; k < 3; ++k) len[k] = distance(&mesh_.X[3 * v[k]], &mesh_.X[3 * v[(k + 1) % 3]]);
     const double s = 0.5 * (len[0] + len[1] + len[2]);
     const double area = std::sqrt(std::max(0.0, s * (s - len[0]) * (s - len[1]) * (s - len[2])));
     if (area > 0) {
