@@ -97,8 +97,13 @@ def main(argv=None):
     try:
         t_dec = softtled.time_decimals(sim.dt)
         out.write(csv_header(sim))
+        last_t = None  # the time column of the last row written
         for d, diverged in rows(sim):
-            out.write(csv_row(d, t_dec))
+            row = csv_row(d, t_dec)
+            t = row.split(",", 1)[0]
+            if t != last_t:  # as `run`: the rolled-back state is no new row when it is the last one
+                out.write(row)
+                last_t = t
             if diverged:
                 print(f"torus_drop.py: {diverged}", file=sys.stderr)
                 return 4

@@ -50,6 +50,22 @@ def test_example_csv_equals_cli_csv(exe, tmp_path, case):
     assert cli == py
 
 
+def test_a_run_the_watchdog_stops_writes_the_same_csv(exe, tmp_path):
+    """Stopped by the watchdog (a forced step of 1.3 x dt_cr), both exit 4 and end on the
+    rolled-back state, written only when it is not the last row already (the example wrote
+    it again)."""
+    sets = ["time.allow_unstable=true", "time.dt=4e-4", "time.duration=0.05"]
+    set_args = [a for s in sets for a in ("--set", s)]
+    cli_csv, py_csv = tmp_path / "cli.csv", tmp_path / "py.csv"
+    rc_cli, _, _ = run_cli(exe, "run", "--scene", scene("torus_coarse.toml"), "--backend", "cpu", "--csv", str(cli_csv),
+                           *set_args, check=False)
+    rc_py, _, err = run_example("torus_drop.py", "--scene", scene("torus_coarse.toml"), "--backend", "cpu", "--csv",
+                                str(py_csv), *set_args)
+    assert rc_cli == 4 and rc_py == 4, err
+    assert len(cli_csv.read_text().splitlines()) > 3
+    assert py_csv.read_text() == cli_csv.read_text()
+
+
 def test_rows_in_process_repeat_bit_for_bit():
     sets = SHORT + ["time.duration=0.01"]
     states = []
