@@ -363,3 +363,19 @@ def test_a_refused_set_params_changes_nothing(sets):
     never.advance(0.03)
     assert asked.steps == never.steps and asked.dt == never.dt
     assert (asked.positions() == never.positions()).all()
+
+
+def test_adaptive_set_params_before_the_first_step_is_the_scene_with_those_values():
+    """Before the first step, set_params(E=...) on an adaptive run rebuilds the start as a
+    scene with that E starts (warm-up estimate, first step, start increment): the two runs
+    are the same bit for bit (the start had been rescaled from the old E's step instead)."""
+    base = ["body.segments=[24,8]", 'time.dt="adaptive"']
+    for key, value in (("E", 6000.0), ("nu", 0.45)):
+        scene_run = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=base + [f"material.{key}={value}"])
+        live_run = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=base)
+        live_run.set_params(**{key: value})
+        assert live_run.dt == scene_run.dt
+        for sim in (scene_run, live_run):
+            sim.advance(0.03)
+        assert live_run.steps == scene_run.steps
+        assert (live_run.positions() == scene_run.positions()).all()

@@ -366,7 +366,10 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     } else {
       q.dt = std::min(dt_old, q.dt_max);
       rung_ = ladder_rung(q.dt);
-      estimate_now = true;  // the material or lambda may have changed: follow at once
+      // The material or lambda may have changed: follow at once. Before the first step the
+      // start is rebuilt instead (below), with the warm-up estimate a scene of these
+      // parameters starts from: the same run as that scene's.
+      estimate_now = !at_start_;
     }
   } else if (q.dt_auto) {
     q.dt = q.lambda * ts_.dt_cr;
@@ -450,7 +453,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // Before the first step the start's du (apply_initial_state) is rebuilt from the new g,
   // alpha and dt: rescaled by change_step it would keep the old g's half step, and a body
   // at rest in zero gravity would drift at g_old dt / 2.
-  if (start_changed || (at_start_ && q.dt != dt_old)) apply_initial_state();
+  if (start_changed || (at_start_ && (q.dt != dt_old || (q.dt_adaptive && !same_step)))) apply_initial_state();
   return warning;
 }
 
