@@ -47,8 +47,8 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
     open_temporary(exists ? int(st.st_mode & 07777) : -1);
     return;
   }
-  const std::string& open_path = path_;
-  if (tmp_.empty() && exists && S_ISFIFO(st.st_mode)) {
+  const std::string& open_path = path_;  // written in place from here on
+  if (exists && S_ISFIFO(st.st_mode)) {
     // Opened without blocking: open(2) on a FIFO nobody reads waits for a reader, and a
     // signal (which only sets the stop flag) restarts it, so Ctrl-C could not stop the run.
     // A reader started beside the run (`run --csv p & cat p`) gets kFifoReaderWaitS to
@@ -77,7 +77,7 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   }
   f_ = std::fopen(open_path.c_str(), "wb");
   if (!f_) throw ResourceError(open_path + ": cannot write: " + std::strerror(errno));
-  if (tmp_.empty() && ::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
+  if (::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
 }
 
 void OutputFile::drop_temporary(bool remove) {
