@@ -102,8 +102,12 @@ void OutputFile::open_temporary(int mode) {
     if (fd >= 0) ::close(fd);
     const std::string t = tmp_;
     tmp_.clear();  // not ours: never removed
-    throw ResourceError(path_ + ": cannot write its temporary " + t + ": " +
-                        (e ? std::string(std::strerror(e)) : std::string("not a regular file")) + "; move it away");
+    // Something else holds the temporary's name (a directory, a FIFO, a symlink): say so.
+    // Any other reason (a missing directory, no permission) is the output's own.
+    if (e == 0 || e == EISDIR || e == ENXIO || e == ELOOP)
+      throw ResourceError(path_ + ": cannot write its temporary " + t + ": " +
+                          (e ? std::string(std::strerror(e)) : std::string("not a regular file")) + "; move it away");
+    throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
   }
   abrupt_slot_ = track_abrupt_exit_file(tmp_);  // removed even if a second Ctrl-C ends the program
   // The replaced file's permissions carry over (a private file stays private); a new file
