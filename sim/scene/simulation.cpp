@@ -169,6 +169,7 @@ void Simulation::warn_far_track_points() const {
   // output.track_points are followed at the node nearest each: one farther from it than
   // the longest element edge is farther from every node than any point of the body (a
   // point 1 km away tracked some node, silently).
+  if (tracked_.empty()) return;  // (the edge scan below is start-up time a scene without them need not pay)
   double longest = 0;
   for (int e = 0; e < mesh_.ntet(); ++e)
     for (int a = 0; a < 4; ++a)
@@ -194,10 +195,11 @@ void Simulation::warn_thin_obstacles() const {
   // them, through the body, unseen (a probe's torus fell clean through a 0.3 mm rod, exit 0,
   // min_gap positive throughout). A sphere of radius r fits through a triangle whose
   // circumradius exceeds r (centred on its circumcentre; for an obtuse triangle at most
-  // half its longest edge); a capsule or a box's thinnest
-  // side likewise, by its radius or half-thickness. Said once per obstacle, at the start,
-  // naming the body with the largest such triangle. (A mesh obstacle's thinness is its
-  // distance grid's business: mesh_sdf.cpp refuses one thinner than its cells.)
+  // half its longest edge); a capsule or a box's thinnest side likewise, by its radius or
+  // half-thickness. Said once per obstacle, at the start, naming the body with the largest
+  // such triangle. (A mesh obstacle's thinness is its distance grid's business:
+  // mesh_sdf.cpp refuses one thinner than its cells.)
+  if (params_.obstacles.empty()) return;
   std::vector<double> circum(std::size_t(mesh_.nbody()), 0.0);
   for (int t = 0; t < mesh_.nbtri(); ++t) {
     const int* v = &mesh_.boundary_tri[3 * t];
@@ -213,15 +215,16 @@ void Simulation::warn_thin_obstacles() const {
       c = std::max(c, R);
     }
   }
+  const auto widest = std::max_element(circum.begin(), circum.end());
+  if (widest == circum.end()) return;
+  const int b = int(widest - circum.begin());
   for (std::size_t i = 0; i < params_.obstacles.size(); ++i) {
     const ObstacleSpec& o = params_.obstacles[i];
     if (o.shape == kObstacleMesh) continue;
     const double h = o.shape == kObstacleBox ? std::min({o.half[0], o.half[1], o.half[2]}) : o.radius;
     const char* what = o.shape == kObstacleSphere ? "sphere of radius" : o.shape == kObstacleCapsule ? "capsule of radius"
                                                                                                        : "box of half-thickness";
-    const auto widest = std::max_element(circum.begin(), circum.end());
-    if (widest == circum.end() || !(h < *widest)) continue;
-    const int b = int(widest - circum.begin());
+    if (!(h < *widest)) continue;
     std::fprintf(stderr,
                  "warning: %s: obstacle[%zu] (a %s %.4g mm) fits through %s's largest surface triangles "
                  "(a point in one %.4g mm from every corner): contact is tested at the body's nodes, so it can pass between them, "
