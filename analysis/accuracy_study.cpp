@@ -23,19 +23,19 @@ std::vector<std::string> level_overrides(const std::string& level) {
 
 }  // namespace
 
-AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
-                                 const std::string& prec, double lambda, const std::string& element, double t_end,
-                                 double t1, double t2, const std::vector<std::string>& extra, bool adaptive,
+AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const AccuracyVariant& v,
+                                 const AccuracyTimes& times, const std::vector<std::string>& extra,
                                  const std::function<bool()>& stop) {
-  std::vector<std::string> set = level_overrides(level);
-  set.insert(set.end(), {"solver.precision=" + prec, "time.lambda=" + std::to_string(lambda),
-                         "material.element=" + element, adaptive ? "time.dt=\"adaptive\"" : "time.dt=\"auto\""});
+  std::vector<std::string> set = level_overrides(v.level);
+  set.insert(set.end(), {"solver.precision=" + v.precision, "time.lambda=" + std::to_string(v.lambda),
+                         "material.element=" + v.element, v.adaptive ? "time.dt=\"adaptive\"" : "time.dt=\"auto\""});
   set.insert(set.end(), extra.begin(), extra.end());
   const Scene s = load_scene(scene_path, set);
+  const double t_end = times.t_end, t1 = times.t1, t2 = times.t2;
   Simulation sim(s, backend);
   if (stop) sim.set_stop_check(stop);
   AccuracyRun r;
-  r.level = level, r.precision = prec, r.element = element, r.lambda = lambda, r.adaptive = adaptive;
+  r.level = v.level, r.precision = v.precision, r.element = v.element, r.lambda = v.lambda, r.adaptive = v.adaptive;
   r.ntet = sim.mesh().ntet();
   r.dt = sim.time_step().dt;
   r.mesh = std::make_shared<TetMesh>(sim.mesh());
@@ -43,7 +43,7 @@ AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::strin
     const Diagnostics d = sim.diagnostics();
     r.cen.push_back({d.centroid[0], d.centroid[1], d.centroid[2]});
   };
-  if (adaptive) {
+  if (v.adaptive) {
     // The step changes as the run goes: advance_to lands on the step nearest each
     // millisecond (the snapshot times are whole milliseconds).
     record();

@@ -34,16 +34,25 @@ struct AccuracyErrors {
   double rest = 0;                      // |rest height - reference| [m]
 };
 
-// level: torus grid "NUxNV" (overrides body.segments), optionally "@qRHO" for the TetGen
-// radius-edge bound (mesh.radius_edge). adaptive: the live stable step with safety factor
-// lambda instead of lambda times the rest-state one. stop: asked between steps
-// (Simulation::set_stop_check); true ends the run at once, marked stopped (a 273x57
-// reference takes many minutes: a signal is answered within a step, not a run). Throws
-// SimulationDiverged.
-AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const std::string& level,
-                                 const std::string& precision, double lambda, const std::string& element, double t_end,
-                                 double t1, double t2, const std::vector<std::string>& extra_overrides = {},
-                                 bool adaptive = false, const std::function<bool()>& stop = {});
+// One variant of the study. level: torus grid "NUxNV" (overrides body.segments),
+// optionally "@qRHO" for the TetGen radius-edge bound (mesh.radius_edge). adaptive: the
+// live stable step with safety factor lambda instead of lambda times the rest-state one.
+struct AccuracyVariant {
+  std::string level, precision, element;
+  double lambda = 0;
+  bool adaptive = false;
+};
+// The run's end and the two times at which the displacement field is kept [s].
+struct AccuracyTimes {
+  double t_end, t1, t2;
+};
+
+// stop: asked between steps (Simulation::set_stop_check); true ends the run at once,
+// marked stopped (a 273x57 reference takes many minutes: a signal is answered within a
+// step, not a run). extra_overrides: more --set values. Throws SimulationDiverged.
+AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const AccuracyVariant& v,
+                                 const AccuracyTimes& times, const std::vector<std::string>& extra_overrides = {},
+                                 const std::function<bool()>& stop = {});
 
 AccuracyErrors compare_runs(const AccuracyRun& v, const AccuracyRun& ref, const FieldSampler& ref_sampler, double t_rms);
 

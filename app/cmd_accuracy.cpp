@@ -219,6 +219,7 @@ Command add_accuracy_command(CLI::App& app) {
     install_stop_signals();
 
     const double t1 = std::min(0.05, o->t_end), t2 = std::min(0.1, o->t_end);
+    const AccuracyTimes times{o->t_end, t1, t2};
     const std::string header =
         "level,ntet,precision,element,lambda,dt_us,steps,us_per_step,wall_s,centroid_rms_mm,max_err_mm_t1,mean_err_mm_t1,"
         "max_err_mm_t2,mean_err_mm_t2,rest_height_err_mm,dt_mode";
@@ -279,11 +280,7 @@ Command add_accuracy_command(CLI::App& app) {
     };
 
     // ---- progress: cost units of every run, the rate measured on the runs so far ----
-    struct Job {
-      std::string level, prec, element;
-      double lambda;
-      bool adaptive = false;
-    };
+    using Job = AccuracyVariant;
     std::vector<Job> jobs = {{o->ref, "double", "T4ANP", o->ref_lambda}, {o->ref, "double", "T4", o->ref_lambda}};
     for (const auto& level : levels)
       for (const auto& el : elements)
@@ -294,7 +291,7 @@ Command add_accuracy_command(CLI::App& app) {
         for (const auto& prec : precs)
           for (double l : adaptive_lambdas) jobs.push_back({level, prec, el, l, true});
     double units_left = 0, units_done = 0, wall_done = 0;
-    for (const auto& j : jobs) units_left += cost_units(j.level, j.prec, j.lambda);
+    for (const auto& j : jobs) units_left += cost_units(j.level, j.precision, j.lambda);
     const auto start = std::chrono::steady_clock::now();
     std::size_t k = 0;
     auto begin_job = [&](const Job& j) {
@@ -303,12 +300,12 @@ Command add_accuracy_command(CLI::App& app) {
       std::string eta = "ETA after the first run";
       if (units_done > 0) eta = "about " + duration_text(wall_done / units_done * units_left) + " left";
       std::fprintf(stderr, "[%zu/%zu] %s %s %s lambda %g, %g s simulated ... (%s elapsed, %s)\n", k, jobs.size(),
-                   j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, o->t_end, duration_text(elapsed).c_str(),
+                   j.level.c_str(), j.precision.c_str(), j.element.c_str(), j.lambda, o->t_end, duration_text(elapsed).c_str(),
                    eta.c_str());
       return std::chrono::steady_clock::now();
     };
     auto end_job = [&](const Job& j, std::chrono::steady_clock::time_point t0) {
-      const double u = cost_units(j.level, j.prec, j.lambda);
+      const double u = cost_units(j.level, j.precision, j.lambda);
       units_done += u, units_left -= u;
       wall_done += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
@@ -326,7 +323,7 @@ Command add_accuracy_command(CLI::App& app) {
     auto t0 = begin_job(jobs[0]);
     const auto stop = [] { return stop_requested(); };  // answered between steps
     const AccuracyRun ref =
-        run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4ANP", o->t_end, t1, t2, {}, false, stop);
+        run_accuracy_variant(o->scene, backend, jobs[0], times, {}, stop);
     if (ref.stopped) return stopped();
     end_job(jobs[0], t0);
     const FieldSampler sampler(*ref.mesh);
@@ -335,7 +332,7 @@ Command add_accuracy_command(CLI::App& app) {
     // The reference's own convergence: T4 on the same grid, and the next level down.
     t0 = begin_job(jobs[1]);
     const AccuracyRun ref_t4 =
-        run_accuracy_variant(o->scene, backend, o->ref, "double", o->ref_lambda, "T4", o->t_end, t1, t2, {}, false, stop);
+        run_accuracy_variant(o->scene, backend, jobs[1], times, {}, stop);
     if (ref_t4.stopped) return stopped();
     end_job(jobs[1], t0);
     emit(ref_t4, compare_runs(ref_t4, ref, sampler, t2));
@@ -344,15 +341,14 @@ Command add_accuracy_command(CLI::App& app) {
       const Job& j = jobs[i];
       t0 = begin_job(j);
       try {
-        const AccuracyRun r = run_accuracy_variant(o->scene, backend, j.level, j.prec, j.lambda, j.element, o->t_end,
-                                                   t1, t2, {}, j.adaptive, stop);
+        const AccuracyRun r = run_accuracy_variant(o->scene, backend, j, times, {}, stop);
         if (r.stopped) return stopped();
         emit(r, compare_runs(r, ref, sampler, t2));
       } catch (const SimulationDiverged& e) {
-        std::fprintf(stderr, "%s %s %s lambda %g: %s\n", j.level.c_str(), j.prec.c_str(), j.element.c_str(), j.lambda, e.what());
+        std::fprintf(stderr, "%s %s %s lambda %g: %s\n", j.level.c_str(), j.precision.c_str(), j.element.c_str(), j.lambda, e.what());
         char lam[32];
         std::snprintf(lam, sizeof lam, "%.3g", j.lambda);
-        add_row(j.level + ",," + j.prec + "," + j.element + "," + lam + ",diverged,,,,,,,,,," +
+        add_row(j.level + ",," + j.precision + "," + j.element + "," + lam + ",diverged,,,,,,,,,," +
                 (j.adaptive ? "adaptive" : "auto"));
       }
       end_job(j, t0);

@@ -63,6 +63,16 @@ struct NodeTriangleCorrection {
   T dp[3], da[3], db[3], dc[3];
 };
 
+// A triangle's normal times twice its area.
+template <class T>
+SIM_HD inline void triangle_cross(const T xa[3], const T xb[3], const T xc[3], T c[3]) {
+  const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
+  const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
+  c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
 // A point's projection onto triangle (a, b, c) (Ericson, Real-Time Collision Detection
 // 3.4): the triangle's unit normal n (right-handed a, b, c: outward on the boundary), the
 // point's signed distance d from its plane, and the barycentric weights w of its foot.
@@ -80,9 +90,7 @@ SIM_HD inline bool project_onto_triangle(const T xp[3], const T xa[3], const T x
   const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
   const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
   T* n = p.n;
-  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  triangle_cross(xa, xb, xc, n);
   const T nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
   if (!(nn > T(0))) return false;
   const T inv_len = T(1) / sqrt(nn);
@@ -121,15 +129,6 @@ SIM_HD inline bool project_onto_triangle(const T xp[3], const T xa[3], const T x
 // (rings face each other), and the sliding block moves as on the analytic box
 // (test_bodies.cpp).
 constexpr double kFacingCos = 1e-3;
-// A triangle's normal times twice its area.
-template <class T>
-SIM_HD inline void triangle_cross(const T xa[3], const T xb[3], const T xc[3], T c[3]) {
-  const T e1[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-  const T e2[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
-  c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-  c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-  c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-}
 // Whether two triangles' cross products face each other (angle above 90.06 degrees).
 template <class T>
 SIM_HD inline bool opposed(const T a[3], const T b[3]) {

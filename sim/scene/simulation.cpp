@@ -142,6 +142,29 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
   tracked_ = scene_tracked_nodes(scene_, mesh_);
   warn_far_track_points();
   apply_initial_state();
+  if (const std::string w = stiffness_damping_warning(params_.beta); !w.empty())
+    std::fprintf(stderr, "warning: %s: %s\n", scene_.source.c_str(), w.c_str());
+}
+
+double Simulation::damping_speed() const {
+  const std::vector<double>& mass = solver_->lumped_mass();
+  double m = 0;
+  for (double mi : mass) m += mi;
+  double v = m > 0 ? std::sqrt(2 * watchdog_.scale() / m) : 0;
+  const HostState& s = last_good_;
+  const std::size_t n = s.du.size() / 3;
+  if (last_good_dt_ > 0)
+    for (std::size_t i = 0; i < n; ++i)
+      v = std::max(v, std::sqrt(s.du[i] * s.du[i] + s.du[n + i] * s.du[n + i] + s.du[2 * n + i] * s.du[2 * n + i]) /
+                          last_good_dt_);
+  return v;
+}
+
+std::string Simulation::stiffness_damping_warning(double beta) const {
+  std::string w = stiffness_damping_cause(beta, damping_speed(), ts_.min_Le);
+  if (w.empty()) return w;
+  w.resize(w.size() - 5);  // the cause's trailing "; or "
+  return w + " (README, \"Friction on a slope\"); the run may blow up at an impact";
 }
 
 void Simulation::warn_float_far_from_origin() const {
@@ -435,6 +458,8 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   for (std::size_t i = 0; i < q.obstacles.size(); ++i)
     if (i >= params_.obstacles.size() || !same_obstacle(q.obstacles[i], params_.obstacles[i]))
       obstacle_start_[i] = moved(q.obstacles[i], -time());
+  if (q.beta != params_.beta)
+    if (const std::string w = stiffness_damping_warning(q.beta); !w.empty()) warning += (warning.empty() ? "" : "; ") + w;
   const bool energy_changed = q.E != params_.E || q.nu != params_.nu || q.material_model != params_.material_model ||
                               q.element != params_.element || q.g[0] != params_.g[0] || q.g[1] != params_.g[1] ||
                               q.g[2] != params_.g[2];
@@ -843,7 +868,9 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   if (models.empty()) models.push_back(params_.material_model);
   watchdog_.set_body_contact(params_.body_contact || params_.self_contact);
   std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
-  if (f && !unstable_dt) f->cause = fast_obstacle_cause(params_.obstacles, c_min_) + f->cause;
+  if (f && !unstable_dt)
+    f->cause = fast_obstacle_cause(params_.obstacles, c_min_) +
+               stiffness_damping_cause(params_.beta, damping_speed(), ts_.min_Le) + f->cause;
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane,
     // at the step in use now: du spans that step (change_step's rescaling).

@@ -193,6 +193,11 @@ class Simulation {
   void warn_friction_creep() const;
   void warn_thin_obstacles() const;
   void warn_far_track_points() const;
+  // The speed damping.beta's strain is judged at (stiffness_damping_cause): the larger of
+  // the fastest node's now and the speed the scene's energy allows its whole mass.
+  double damping_speed() const;
+  // stiffness_damping_cause as a warning for beta (empty when it is safe).
+  std::string stiffness_damping_warning(double beta) const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
   // and the adaptive step goes on (check_state).
   bool check_health();

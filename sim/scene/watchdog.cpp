@@ -144,6 +144,17 @@ std::string fast_obstacle_cause(const std::vector<ObstacleSpec>& obstacles, doub
   return buf;
 }
 
+std::string stiffness_damping_cause(double beta, double v, double le_min) {
+  if (!(beta > 0 && le_min > 0) || !(beta * v >= kDampingStrainMax * le_min)) return "";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "damping.beta = %.3g s times the speed %.3g m/s is %.3g mm, %.2g x the smallest element (%.3g mm): the "
+                "stiffness damping's forces, taken at u + beta v, fold elements over where they should be beta K v; use "
+                "damping.beta below %.2g s; or ",
+                beta, v, beta * v * 1e3, beta * v / le_min, le_min * 1e3, kDampingStrainMax * le_min / v);
+  return buf;
+}
+
 double watchdog_energy_scale(const TetMesh& m, const std::vector<double>& mass, const PhysicsParams& p, double ke0) {
   const int n = m.nnode();
   double mt = 0, lo = 1e300, hi = -1e300;

@@ -11,11 +11,12 @@ using namespace softtled::test;
 
 TEST(AccuracyTrade, RefinementAndT4ANPReduceTheError) {
   const std::string scene = assets_dir() + "/scenes/torus_drop.toml";
-  const double t_end = 0.04, t1 = 0.03, t2 = 0.04;  // through the first compression (contact at 0.02 s)
-  const AccuracyRun ref = run_accuracy_variant(scene, "cpu", "91x19", "double", 0.5, "T4ANP", t_end, t1, t2);
+  const double t_end = 0.04, t2 = 0.04;
+  const AccuracyTimes times{t_end, 0.03, t2};  // through the first compression (contact at 0.02 s)
+  const AccuracyRun ref = run_accuracy_variant(scene, "cpu", {"91x19", "double", "T4ANP", 0.5}, times);
   const FieldSampler sampler(*ref.mesh);
   auto err = [&](const std::string& level, const std::string& element) {
-    const AccuracyRun r = run_accuracy_variant(scene, "cpu", level, "double", 0.5, element, t_end, t1, t2);
+    const AccuracyRun r = run_accuracy_variant(scene, "cpu", {level, "double", element, 0.5}, times);
     const AccuracyErrors e = compare_runs(r, ref, sampler, t_end);
     std::printf("[accuracy] %-6s %-6s %5d tets: mean nodal error at %.2f s = %.4f mm, centroid RMS %.4f mm\n", level.c_str(),
                 element.c_str(), r.ntet, t2, e.mean_err[1] * 1e3, e.centroid_rms * 1e3);
