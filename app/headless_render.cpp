@@ -71,7 +71,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
   }
   {
     // GL objects live in this scope so they go before the context does.
-    SceneRenderer renderer;
+    SceneRenderer renderer = with_shader_dir_as_input([] { return SceneRenderer(); });
     const std::unique_ptr<BodyVertexBuffer> body = make_body_buffer(build_surface_topology(sim.mesh()));
     OffscreenTarget target(o.width, o.height, o.samples);
     if (info) info->samples = target.samples();

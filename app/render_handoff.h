@@ -9,6 +9,8 @@
 #include "render/body_buffer.h"
 #include "render/camera.h"
 #include "render/scene_renderer.h"
+#include "render/shader.h"
+#include "sim/core/input_error.h"
 #include "sim/mesh/surface_topology.h"
 #include "sim/scene/simulation.h"
 
@@ -25,6 +27,17 @@ void write_body_vertices(Simulation& sim, BodyVertexBuffer& body, ColorMode colo
 
 std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
 std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles);
+
+// make() (what builds shader programs) with a failure of SOFTTLED_SHADER_DIR's shaders
+// (render/shader.h, ShaderDirError) thrown as InputError: bad input, exit 2.
+template <class Make>
+auto with_shader_dir_as_input(Make&& make) -> decltype(make()) {
+  try {
+    return make();
+  } catch (const ShaderDirError& e) {
+    throw InputError(e.what());
+  }
+}
 
 // The legend of the colour map `style` uses, in plain numbers for render/: for |u| the
 // range the body shader maps, 0 .. style.umax, in mm ("displacement [mm]", "magnitude,

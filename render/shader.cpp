@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -10,12 +11,27 @@
 namespace softtled {
 
 namespace {
+// SOFTTLED_SHADER_DIR, or empty when unset or set to nothing (the embedded sources).
+std::string shader_dir() {
+  const char* dir = std::getenv("SOFTTLED_SHADER_DIR");
+  return dir ? dir : "";
+}
+
+// A failure of the shader sources: the user's when they come from SOFTTLED_SHADER_DIR.
+[[noreturn]] void fail(const std::string& what) {
+  if (!shader_dir().empty()) throw ShaderDirError("SOFTTLED_SHADER_DIR=" + shader_dir() + ": " + what);
+  throw std::runtime_error(what);
+}
+
 std::string raw_source(const std::string& name) {
-  if (const char* dir = std::getenv("SOFTTLED_SHADER_DIR")) {
-    std::ifstream f(std::string(dir) + "/" + name);
-    if (!f) throw std::runtime_error(std::string("SOFTTLED_SHADER_DIR=") + dir + ": cannot read " + name);
+  if (const std::string dir = shader_dir(); !dir.empty()) {
+    const std::string path = dir + "/" + name;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) fail("cannot read " + name + " (no such file)");
+    std::ifstream f(path);
     std::ostringstream s;
     s << f.rdbuf();
+    if (!f.good() && !f.eof()) fail("cannot read " + name);
     return s.str();
   }
   for (const EmbeddedShader* e = kEmbeddedShaders; e->name; ++e)
@@ -24,8 +40,17 @@ std::string raw_source(const std::string& name) {
 }
 }  // namespace
 
+void check_shader_dir() {
+  if (shader_dir().empty()) return;
+  for (const EmbeddedShader* e = kEmbeddedShaders; e->name; ++e) {
+    const std::string n = e->name;
+    if (n.size() > 5 && (n.compare(n.size() - 5, 5, ".vert") == 0 || n.compare(n.size() - 5, 5, ".frag") == 0))
+      (void)shader_source(n);  // with the pieces it includes
+  }
+}
+
 std::string shader_source(const std::string& name, int depth) {
-  if (depth > 8) throw std::runtime_error("shaders/" + name + ": #include nested too deeply");
+  if (depth > 8) fail("shaders/" + name + ": #include nested too deeply");
   std::istringstream in(raw_source(name));
   std::string out, line;
   while (std::getline(in, line)) {
@@ -53,7 +78,7 @@ GLuint compile(GLenum type, const std::string& name) {
     std::vector<char> log(std::max(n, 1));
     glGetShaderInfoLog(s, n, nullptr, log.data());
     glDeleteShader(s);
-    throw std::runtime_error("shaders/" + name + ": " + log.data());
+    fail("shaders/" + name + ": " + log.data());
   }
   return s;
 }
@@ -83,7 +108,7 @@ ShaderProgram::ShaderProgram(const std::string& vert, const std::string& frag) {
     glGetProgramInfoLog(id_, n, nullptr, log.data());
     glDeleteProgram(id_);
     id_ = 0;
-    throw std::runtime_error("linking " + vert + " + " + frag + ": " + log.data());
+    fail("linking " + vert + " + " + frag + ": " + log.data());
   }
 }
 

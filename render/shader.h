@@ -2,6 +2,7 @@
 // GLSL 330 core programs from shaders/*.vert|*.frag. The sources are embedded in the
 // binary at build time (embed_shaders.cmake, with the *.glsl pieces they include); SOFTTLED_SHADER_DIR=<dir> reads them from
 // disk instead, so shaders can be edited without a rebuild.
+#include <stdexcept>
 #include <string>
 
 #include "render/gl.h"
@@ -13,6 +14,17 @@ struct EmbeddedShader {
   const char* source;
 };
 extern const EmbeddedShader kEmbeddedShaders[];  // ends with {nullptr, nullptr}
+
+// A shader from SOFTTLED_SHADER_DIR that cannot be read, included or compiled: the
+// user's input, named with the variable (the embedded sources failing is an internal
+// error, std::runtime_error). An empty SOFTTLED_SHADER_DIR counts as unset.
+struct ShaderDirError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// With SOFTTLED_SHADER_DIR set: reads every program's source (and its includes) from it,
+// so a missing file is found before a run's meshing, not at its first frame. Throws
+// ShaderDirError.
+void check_shader_dir();
 
 // Source text of one shader file, with each line `#include "x.glsl"` replaced by that
 // file's text (shared functions such as the colour maps); throws std::runtime_error when a

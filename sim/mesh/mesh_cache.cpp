@@ -1,5 +1,7 @@
 #include "sim/mesh/mesh_cache.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -37,6 +39,45 @@ std::uint64_t payload_checksum(const std::vector<double>& X, const std::vector<i
   return fnv1a(tet.data(), tet.size() * sizeof(int), h);
 }
 
+// TetGen's mesh uses every node it lists (rest_state refuses one that belongs to no
+// element: an entry with one appended was refused on every run, blaming the scene).
+bool uses_every_node(const TetMesh& m) {
+  std::vector<bool> used(std::size_t(m.nnode()), false);
+  for (int i : m.tet) used[std::size_t(i)] = true;
+  for (bool u : used)
+    if (!u) return false;
+  return true;
+}
+
+// TetGen (-p) keeps every input point and adds its own only inside the surface's hull:
+// every surface vertex is a node (to rounding: TetGen returned 4 of a torus's 192 vertices
+// 1e-18 m off, near zero coordinates) and no node lies outside the surface's bounding box.
+// The volume alone let an entry translated by 5 mm, its checksum recomputed, run the body
+// at the wrong place with exit 0.
+bool holds_the_surface(const TetMesh& m, const SurfaceMesh& s) {
+  using P = std::array<double, 3>;
+  P lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i = 0; i + 2 < s.xyz.size(); i += 3)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.xyz[i + k]), hi[k] = std::max(hi[k], s.xyz[i + k]);
+  const double tol = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  std::vector<P> nodes(std::size_t(m.nnode()));
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    nodes[i] = {m.X[3 * i], m.X[3 * i + 1], m.X[3 * i + 2]};
+    for (int k = 0; k < 3; ++k)
+      if (!(nodes[i][k] >= lo[k] - tol && nodes[i][k] <= hi[k] + tol)) return false;
+  }
+  std::sort(nodes.begin(), nodes.end());  // by x first: a vertex's candidates are a window in x
+  for (std::size_t i = 0; i + 2 < s.xyz.size(); i += 3) {
+    const P p = {s.xyz[i], s.xyz[i + 1], s.xyz[i + 2]};
+    bool found = false;
+    for (auto it = std::lower_bound(nodes.begin(), nodes.end(), P{p[0] - tol, -INFINITY, -INFINITY});
+         !found && it != nodes.end() && (*it)[0] <= p[0] + tol; ++it)
+      found = std::fabs((*it)[1] - p[1]) <= tol && std::fabs((*it)[2] - p[2]) <= tol;
+    if (!found) return false;
+  }
+  return true;
+}
+
 // The cached mesh for this surface, or false when the entry is missing, not a regular
 // file, or does not verify. Never throws for a bad entry.
 bool read_entry(const std::string& path, const SurfaceMesh& s, long max_tets, TetMesh& out) {
@@ -65,6 +106,7 @@ bool read_entry(const std::string& path, const SurfaceMesh& s, long max_tets, Te
     TetMesh m = make_tet_mesh(std::move(X), std::move(tet));
     const double v = tet_mesh_volume(m), vs = std::fabs(enclosed_volume(s));
     if (!(std::fabs(v - vs) <= 1e-6 * vs)) return false;  // not this surface's mesh
+    if (!uses_every_node(m) || !holds_the_surface(m, s)) return false;
     out = std::move(m);
     return true;
   } catch (const InputError&) {
@@ -75,9 +117,15 @@ bool read_entry(const std::string& path, const SurfaceMesh& s, long max_tets, Te
 }  // namespace
 
 std::string default_mesh_cache_dir() {
-  if (const char* d = std::getenv("SOFTTLED_CACHE_DIR")) return d;
-  if (const char* x = std::getenv("XDG_CACHE_HOME")) return std::string(x) + "/softtled";
-  if (const char* h = std::getenv("HOME")) return std::string(h) + "/.cache/softtled";
+  // An empty variable is unset (an empty SOFTTLED_CACHE_DIR put entries at "/tet-...");
+  // the XDG Base Directory spec ignores a relative XDG_CACHE_HOME.
+  auto set = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v && *v ? std::string(v) : std::string();
+  };
+  if (const std::string d = set("SOFTTLED_CACHE_DIR"); !d.empty()) return d;
+  if (const std::string x = set("XDG_CACHE_HOME"); !x.empty() && x[0] == '/') return x + "/softtled";
+  if (const std::string h = set("HOME"); !h.empty()) return h + "/.cache/softtled";
   return ".softtled-cache";
 }
 
@@ -101,10 +149,20 @@ TetMesh cached_tetrahedralize(const SurfaceMesh& s, const TetgenOptions& o, cons
   check_surface_for_meshing(s);  // a cached mesh does not bypass the input checks
   {
     TetMesh m;
+    bool boundary_ok = true;
     if (read_entry(path, s, o.max_tets, m)) {
-      if (hit) *hit = true;
-      check_tetgen_boundary(m);  // as tetrahedralize_surface's (an entry older than that check)
-      return m;
+      // As tetrahedralize_surface's check (an entry older than it). A failure there is the
+      // surface's when TetGen repeats it below, and the entry's own (a crack edited in)
+      // when it does not: then the surface is meshed again and the entry replaced.
+      try {
+        check_tetgen_boundary(m);
+      } catch (const InputError&) {
+        boundary_ok = false;
+      }
+      if (boundary_ok) {
+        if (hit) *hit = true;
+        return m;
+      }
     }
   }
   TetMesh m = tetrahedralize_surface(s, o);

@@ -2,7 +2,9 @@
 // truncated or inflated entry, or one that is not a file, is meshed again.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
@@ -43,7 +45,99 @@ int interior_node(const TetMesh& m) {
   return -1;
 }
 
+// An entry written as the cache writes it (format 3: magic, format, nnode, ntet, the
+// payload's FNV-1a checksum), so that only the content checks can refuse it.
+void write_entry(const std::string& path, const std::vector<double>& X, const std::vector<int>& tet) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto fnv = [&](const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
+  };
+  fnv(X.data(), X.size() * sizeof(double));
+  fnv(tet.data(), tet.size() * sizeof(int));
+  char header[48] = {'S', 'O', 'F', 'T', 'T', 'E', 'T', '\0'};
+  const std::uint32_t format = 3;
+  const std::uint64_t n[3] = {X.size() / 3, tet.size() / 4, h};
+  std::memcpy(header + 8, &format, 4);
+  std::memcpy(header + 16, n, sizeof n);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(header, sizeof header);
+  out.write(reinterpret_cast<const char*>(X.data()), X.size() * sizeof(double));
+  out.write(reinterpret_cast<const char*>(tet.data()), tet.size() * sizeof(int));
+}
+
 }  // namespace
+
+// Entries edited with their checksum recomputed, each a valid tet mesh of the surface's
+// volume: translated by 5 mm (the body ran 5 mm off its place, exit 0), one unused node
+// appended (refused later, on every run, as "node 445 belongs to no element" of the scene),
+// and a crack (two tets no longer sharing a node: refused as the surface's non-manifold
+// boundary, every run). Each is meshed again and rewritten.
+TEST(MeshCacheVerify, EditedEntriesWithTheirChecksumAreMeshedAgain) {
+  const std::string dir = fresh_dir("cache_checksummed");
+  const SurfaceMesh s = make_torus(7.5e-3, 2.5e-3, 24, 8);
+  bool hit = true;
+  const TetMesh ref = cached_tetrahedralize(s, TetgenOptions{}, dir, &hit);
+  ASSERT_FALSE(hit);
+  const std::string path = mesh_cache_path(s, TetgenOptions{}, dir);
+  const std::string good = read_all(path);
+  std::vector<double> moved = ref.X;
+  for (std::size_t i = 0; i < moved.size(); i += 3) moved[i] += 5e-3;
+  std::vector<double> extra = ref.X;
+  extra.insert(extra.end(), {0.0, 0.0, 0.0});  // (the torus's centre: inside its box, outside the body)
+  // The crack: one use of a shared interior node in one tet goes to a copy of that node.
+  const int node = interior_node(ref);
+  ASSERT_GE(node, 0);
+  std::vector<double> cracked_X = ref.X;
+  cracked_X.insert(cracked_X.end(), ref.X.begin() + 3 * node, ref.X.begin() + 3 * node + 3);
+  std::vector<int> cracked_tet = ref.tet;
+  *std::find(cracked_tet.begin(), cracked_tet.end(), node) = ref.nnode();
+  const struct {
+    const char* what;
+    std::vector<double> X;
+    std::vector<int> tet;
+  } edits[] = {{"translated", moved, ref.tet}, {"an unused node", extra, ref.tet}, {"a crack", cracked_X, cracked_tet}};
+  for (const auto& e : edits) {
+    write_entry(path, e.X, e.tet);
+    TetMesh m;
+    ASSERT_NO_THROW(m = cached_tetrahedralize(s, TetgenOptions{}, dir, &hit)) << e.what;
+    EXPECT_FALSE(hit) << e.what;
+    EXPECT_EQ(m.X, ref.X) << e.what;
+    EXPECT_EQ(m.tet, ref.tet) << e.what;
+    EXPECT_EQ(read_all(path), good) << e.what << ": not rewritten";
+  }
+  write_entry(path, ref.X, ref.tet);  // the writer above is the cache's own: TetGen's mesh is a hit
+  cached_tetrahedralize(s, TetgenOptions{}, dir, &hit);
+  EXPECT_TRUE(hit);
+}
+
+// An empty variable is unset: an empty SOFTTLED_CACHE_DIR wrote entries at "/tet-...".
+// A relative XDG_CACHE_HOME is ignored (the XDG Base Directory spec).
+TEST(MeshCacheDir, EmptyOrRelativeVariablesAreNotADirectory) {
+  const char* names[] = {"SOFTTLED_CACHE_DIR", "XDG_CACHE_HOME", "HOME"};
+  std::string saved[3];
+  bool had[3];
+  for (int i = 0; i < 3; ++i)
+    if ((had[i] = std::getenv(names[i]) != nullptr)) saved[i] = std::getenv(names[i]);
+  ::setenv("HOME", "/home/someone", 1);
+  ::setenv("SOFTTLED_CACHE_DIR", "", 1);
+  ::setenv("XDG_CACHE_HOME", "", 1);
+  EXPECT_EQ(default_mesh_cache_dir(), "/home/someone/.cache/softtled");
+  ::setenv("XDG_CACHE_HOME", "relative/cache", 1);
+  EXPECT_EQ(default_mesh_cache_dir(), "/home/someone/.cache/softtled");
+  ::setenv("XDG_CACHE_HOME", "/var/cache/me", 1);
+  EXPECT_EQ(default_mesh_cache_dir(), "/var/cache/me/softtled");
+  ::setenv("SOFTTLED_CACHE_DIR", "/tmp/c", 1);
+  EXPECT_EQ(default_mesh_cache_dir(), "/tmp/c");
+  ::unsetenv("SOFTTLED_CACHE_DIR");
+  ::unsetenv("XDG_CACHE_HOME");
+  ::setenv("HOME", "", 1);
+  EXPECT_EQ(default_mesh_cache_dir(), ".softtled-cache");
+  for (int i = 0; i < 3; ++i)
+    if (had[i])
+      ::setenv(names[i], saved[i].c_str(), 1);
+    else
+      ::unsetenv(names[i]);
+}
 
 // A node of a cached mesh moved by hand changed the result (the stable step went from
 // 22.5 to 13.1 us) and the cache still reported a hit.
