@@ -193,7 +193,20 @@ Command add_render_command(CLI::App& app) {
     Simulation& sim = *sim_owner;
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
     if (is_video) h.times = video_frame_times(o->from, o->to, o->fps, o->speed, sim.time_step().dt);
-    for (double t : h.times) (void)checked_step_count(t, sim.time_step().dt, "--at");  // before the GL context
+    // Before the GL context: every frame's steps from the one before, as the frame loop
+    // counts them with a fixed step (two times within half a step of each other failed at
+    // the second frame, after the first was written); the adaptive step only starts at dt.
+    double at = 0;
+    for (double t : h.times) {
+      const double dt = sim.time_step().dt;
+      if (sim.params().dt_adaptive || at == 0) {
+        at = dt * double(checked_step_count(t, dt, "--at"));
+      } else if (t > at) {
+        char what[96];
+        std::snprintf(what, sizeof what, "--at %g (the frame before it is at %g s)", t, at);
+        at += dt * double(checked_step_count(t - at, dt, what));
+      }
+    }
     // Frames after time.duration step past it: the collision-course check covers them too.
     if (!h.times.empty() && h.times.back() > s.duration) sim.check_collision_courses_until(h.times.back());
     const TimeStepInfo& ts = sim.time_step();

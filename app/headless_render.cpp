@@ -53,6 +53,39 @@ std::vector<double> video_frame_times(double from, double to, double fps, double
   return t;
 }
 
+namespace {
+// Steps sim to the frame at time t, in chunks so that a stop request is answered within
+// one (false: stopped). A fixed step takes the step count nearest t (cmd_render checked the
+// frames' counts before meshing); the adaptive step, whose steps change as it goes, steps
+// until time() is within half a step of t (Simulation::advance_to), so the frame drawn is
+// the one at t (counting steps at the first frame's step drew the torus's 0.1 s frame at
+// 0.097 s). The watchdog throws SimulationDiverged with the cause; with the adaptive step
+// should_stop stays sim's stop check.
+bool step_to_frame(Simulation& sim, double t, const std::function<bool()>& should_stop, long& steps) {
+  constexpr long kChunk = 2000;
+  const long s0 = sim.total_steps();
+  if (sim.params().dt_adaptive) {
+    // One advance_to per frame, as `run` makes one per output row; the stop check is
+    // answered between its steps and changes none of them.
+    if (should_stop) sim.set_stop_check(should_stop);
+    sim.advance_to(t);
+    if (sim.stopped_early()) return false;
+  } else {
+    char what[64];
+    std::snprintf(what, sizeof what, "--at %g", t);
+    const long n = t > sim.time() ? checked_step_count(t - sim.time(), sim.params().dt, what) : 0;
+    for (long k = 0; k < n;) {
+      if (should_stop && should_stop()) return false;
+      const long m = std::min(kChunk, n - k);
+      sim.advance(m, kChunk);
+      k += m;
+    }
+  }
+  steps = sim.total_steps() - s0;
+  return true;
+}
+}  // namespace
+
 std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOptions& o, HeadlessInfo* info,
                                            const std::function<void(const HeadlessFrame&)>& on_frame) {
   ContextOptions co = o.context;
@@ -93,21 +126,13 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       }
       HeadlessFrame f;
       f.t = t;
-      const double dt = sim.params().dt;
-      const long n = t > sim.time() ? checked_step_count(t - sim.time(), dt, "time " + frame_file_name("", t)) : 0;
       // Timed to the end of diagnostics(), which reads the state back: a GPU backend's
       // step() only queues work.
       auto t0 = Clock::now();
-      for (long k = 0; k < n;) {  // in chunks, so that a stop request is answered within one
-        if (o.should_stop && o.should_stop()) {
-          if (info) info->stopped = true;
-          return frames;
-        }
-        const long m = std::min(2000L, n - k);
-        sim.advance(m, 2000);  // watchdog: throws SimulationDiverged with the cause
-        k += m;
+      if (!step_to_frame(sim, t, o.should_stop, f.steps)) {
+        if (info) info->stopped = true;
+        return frames;
       }
-      f.steps = n;
       const Diagnostics d = sim.diagnostics();
       f.sim_s = seconds_since(t0);
       if (!std::isfinite(d.ke)) throw std::runtime_error("simulation diverged before t = " + std::to_string(t) + " s (NaN)");
