@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
@@ -10,23 +13,64 @@
 
 namespace softtled {
 namespace {
-// A level is a torus grid "NUxNV", optionally with a TetGen radius-edge bound: "91x19@q1.4".
-std::vector<std::string> level_overrides(const std::string& level) {
-  const auto at = level.find("@q");
-  const std::string grid = level.substr(0, at);
+// The shortest decimal that reads back as v ("1.4", not "1.3999999999999999").
+std::string shortest(double v) {
+  char b[40];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
+  return b;
+}
+}  // namespace
+
+AccuracyLevel parse_accuracy_level(const std::string& flag, const std::string& text) {
+  const auto bad = [&] {
+    return InputError(flag + " '" + text + "': expected NUxNV[@qRHO] (whole numbers, RHO a number > 0), e.g. 91x19 or "
+                             "91x19@q1.4");
+  };
+  auto count = [&](const std::string& d) {
+    if (d.empty() || d.size() > 9 || d.find_first_not_of("0123456789") != std::string::npos) throw bad();
+    return unsigned(std::stoul(d));
+  };
+  const auto at = text.find("@q");
+  const std::string grid = text.substr(0, at);
   const auto x = grid.find('x');
-  if (x == std::string::npos) throw InputError("level '" + level + "': expected NUxNV[@qRHO], e.g. 91x19 or 91x19@q1.4");
-  std::vector<std::string> set = {"body.segments=[" + grid.substr(0, x) + ", " + grid.substr(x + 1) + "]"};
-  if (at != std::string::npos) set.push_back("mesh.radius_edge=" + level.substr(at + 2));
-  return set;
+  if (x == std::string::npos) throw bad();
+  AccuracyLevel l;
+  l.nu = count(grid.substr(0, x));
+  l.nv = count(grid.substr(x + 1));
+  if (at != std::string::npos) {
+    const std::string rho = text.substr(at + 2);
+    std::size_t used = 0;
+    try {
+      l.radius_edge = rho.empty() || !(std::isdigit(static_cast<unsigned char>(rho[0])) || rho[0] == '.')
+                          ? -1
+                          : std::stod(rho, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != rho.size() || !std::isfinite(l.radius_edge) || !(l.radius_edge > 0)) throw bad();
+  }
+  return l;
 }
 
-}  // namespace
+std::string AccuracyLevel::name() const {
+  std::string s = std::to_string(nu) + "x" + std::to_string(nv);
+  if (radius_edge > 0) s += "@q" + shortest(radius_edge);
+  return s;
+}
+
+std::vector<std::string> AccuracyLevel::overrides() const {
+  std::vector<std::string> set = {"body.segments=[" + std::to_string(nu) + ", " + std::to_string(nv) + "]"};
+  if (radius_edge > 0) set.push_back("mesh.radius_edge=" + shortest(radius_edge));
+  return set;
+}
 
 AccuracyRun run_accuracy_variant(const std::string& scene_path, const std::string& backend, const AccuracyVariant& v,
                                  const AccuracyTimes& times, const std::vector<std::string>& extra,
                                  const std::function<bool()>& stop) {
-  std::vector<std::string> set = level_overrides(v.level);
+  std::vector<std::string> set = parse_accuracy_level("level", v.level).overrides();
   set.insert(set.end(), {"solver.precision=" + v.precision, "time.lambda=" + std::to_string(v.lambda),
                          "material.element=" + v.element, v.adaptive ? "time.dt=\"adaptive\"" : "time.dt=\"auto\""});
   set.insert(set.end(), extra.begin(), extra.end());

@@ -34,8 +34,20 @@ struct AccuracyErrors {
   double rest = 0;                      // |rest height - reference| [m]
 };
 
-// One variant of the study. level: torus grid "NUxNV" (overrides body.segments),
-// optionally "@qRHO" for the TetGen radius-edge bound (mesh.radius_edge). adaptive: the
+// A level "NUxNV[@qRHO]": a torus grid (body.segments) and, optionally, TetGen's
+// radius-edge bound (mesh.radius_edge). Parsed strictly (digits, 'x', "@q" and a number;
+// no spaces or signs), so that what is checked is what runs and two spellings of one
+// level ("045x9", "45x9") are one level: name() is the canonical spelling.
+struct AccuracyLevel {
+  unsigned nu = 0, nv = 0;
+  double radius_edge = 0;  // 0: the scene's
+  std::string name() const;
+  std::vector<std::string> overrides() const;  // the --set values
+};
+// Throws InputError naming `flag` and the text.
+AccuracyLevel parse_accuracy_level(const std::string& flag, const std::string& text);
+
+// One variant of the study. level: an AccuracyLevel's text. adaptive: the
 // live stable step with safety factor lambda instead of lambda times the rest-state one.
 struct AccuracyVariant {
   std::string level, precision, element;

@@ -54,27 +54,11 @@ std::vector<std::string> list_of(const std::string& flag, const std::string& lis
   }
 }
 
-// The overrides run_accuracy_variant builds for a level ("NUxNV[@qRHO]"); a bad level is
-// an InputError naming the flag.
-std::vector<std::string> level_set(const std::string& flag, const std::string& level) {
-  unsigned nu = 0, nv = 0;
-  int used = 0;
-  const auto at = level.find("@q");
-  const std::string grid = level.substr(0, at);
-  if (std::sscanf(grid.c_str(), "%ux%u%n", &nu, &nv, &used) != 2 || used != int(grid.size()) ||
-      (at != std::string::npos && at + 2 >= level.size()))
-    throw InputError(flag + " '" + level + "': expected NUxNV[@qRHO], e.g. 91x19 or 91x19@q1.4");
-  std::vector<std::string> set = {"body.segments=[" + std::to_string(nu) + ", " + std::to_string(nv) + "]"};
-  if (at != std::string::npos) set.push_back("mesh.radius_edge=" + level.substr(at + 2));
-  return set;
-}
-
 // Relative cost of a variant: tets ~ NU NV, steps ~ sqrt(NU NV) / lambda (dt_cr ~ edge
 // length); doubles cost about 1.5 floats. Scaled by the measured rate for the ETA.
 double cost_units(const std::string& level, const std::string& prec, double lambda) {
-  unsigned nu = 1, nv = 1;
-  std::sscanf(level.c_str(), "%ux%u", &nu, &nv);
-  return std::pow(double(nu) * nv, 1.5) / lambda * (prec == "double" ? 1.5 : 1.0);
+  const AccuracyLevel l = parse_accuracy_level("level", level);
+  return std::pow(double(l.nu) * l.nv, 1.5) / lambda * (prec == "double" ? 1.5 : 1.0);
 }
 
 std::string duration_text(double s) {
@@ -162,8 +146,16 @@ Command add_accuracy_command(CLI::App& app) {
     };
     const std::vector<double> lambdas = parse_lambdas("--lambdas", o->lambdas);
     const std::vector<double> adaptive_lambdas = parse_lambdas("--adaptive-lambdas", o->adaptive_lambdas);
-    const std::vector<std::string> levels = list_of("--levels", o->levels), precs = list_of("--precisions", o->precisions),
-                                   elements = list_of("--elements", o->elements);
+    // Levels in their canonical spelling (AccuracyLevel::name), so that "045x9" and "45x9"
+    // are one level (given twice) and what runs is what was checked.
+    std::vector<std::string> levels;
+    for (const std::string& l : list_of("--levels", o->levels)) {
+      levels.push_back(parse_accuracy_level("--levels", l).name());
+      if (std::find(levels.begin(), levels.end() - 1, levels.back()) != levels.end() - 1)
+        throw InputError("--levels '" + o->levels + "': '" + l + "' is the same level as an earlier item");
+    }
+    o->ref = parse_accuracy_level("--ref", o->ref).name();
+    const std::vector<std::string> precs = list_of("--precisions", o->precisions), elements = list_of("--elements", o->elements);
     if (lambdas.empty() || levels.empty() || precs.empty() || elements.empty())
       throw InputError("--levels, --lambdas, --precisions and --elements each need at least one value");
     for (const auto& p : precs)
@@ -180,7 +172,7 @@ Command add_accuracy_command(CLI::App& app) {
         throw InputError(flag + " '" + level + "': the levels set body.segments, a torus's grid; " + o->scene + " has " +
                          (base.body_count() != 1 ? std::to_string(base.body_count()) + " bodies" : "body.shape = \"" + base.shape + "\"") +
                          " (the accuracy sweep takes one torus)");
-      std::vector<std::string> set = level_set(flag, level);
+      std::vector<std::string> set = parse_accuracy_level(flag, level).overrides();
       set.push_back("time.dt=\"auto\"");
       try {
         load_scene(o->scene, set);
@@ -193,9 +185,8 @@ Command add_accuracy_command(CLI::App& app) {
     // The reference is the finest mesh: a level finer in either direction would be measured
     // against a coarser answer than itself.
     auto grid = [](const std::string& level) {
-      unsigned nu = 0, nv = 0;
-      std::sscanf(level.c_str(), "%ux%u", &nu, &nv);
-      return std::make_pair(nu, nv);
+      const AccuracyLevel l = parse_accuracy_level("level", level);
+      return std::make_pair(l.nu, l.nv);
     };
     for (const auto& l : levels)
       if (grid(l).first > grid(o->ref).first || grid(l).second > grid(o->ref).second)
