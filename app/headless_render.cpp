@@ -95,6 +95,8 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
   std::unique_ptr<GlContext> ctx;
   try {
     ctx = make_gl_context(co);
+  } catch (const RenderInputError& e) {  // a setting of the user's
+    throw InputError(e.what());
   } catch (const std::exception& e) {  // no EGL device / display: the machine, not the input
     throw ResourceError(std::string("cannot create a ") + co.backend + " GL context: " + e.what());
   }
@@ -104,7 +106,7 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
   }
   {
     // GL objects live in this scope so they go before the context does.
-    SceneRenderer renderer = with_shader_dir_as_input([] { return SceneRenderer(); });
+    SceneRenderer renderer = with_render_input_errors([] { return SceneRenderer(); });
     const std::unique_ptr<BodyVertexBuffer> body = make_body_buffer(build_surface_topology(sim.mesh()));
     OffscreenTarget target(o.width, o.height, o.samples);
     if (info) info->samples = target.samples();

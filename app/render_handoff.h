@@ -9,6 +9,7 @@
 #include "render/body_buffer.h"
 #include "render/camera.h"
 #include "render/scene_renderer.h"
+#include "render/render_input_error.h"
 #include "render/shader.h"
 #include "sim/core/input_error.h"
 #include "sim/mesh/surface_topology.h"
@@ -28,13 +29,13 @@ void write_body_vertices(Simulation& sim, BodyVertexBuffer& body, ColorMode colo
 std::vector<RenderPlane> render_planes(const std::vector<PlaneSpec>& planes);
 std::vector<RenderObstacle> render_obstacles(const std::vector<ObstacleSpec>& obstacles);
 
-// make() (what builds shader programs) with a failure of SOFTTLED_SHADER_DIR's shaders
-// (render/shader.h, ShaderDirError) thrown as InputError: bad input, exit 2.
+// make() (what builds shader programs or a GL context) with a render setting of the
+// user's that cannot be used (render/render_input_error.h) thrown as InputError: exit 2.
 template <class Make>
-auto with_shader_dir_as_input(Make&& make) -> decltype(make()) {
+auto with_render_input_errors(Make&& make) -> decltype(make()) {
   try {
     return make();
-  } catch (const ShaderDirError& e) {
+  } catch (const RenderInputError& e) {
     throw InputError(e.what());
   }
 }

@@ -43,7 +43,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : opt_(o) {
-    with_shader_dir_as_input(check_shader_dir);  // before meshing
+    with_render_input_errors(check_shader_dir);  // before meshing
     scene_ = load_scene(o.scene, o.set);
     if (!o.record.empty()) check_not_scene_input(scene_, "--scene", {o.record, "--record", true});
     sim_ = std::make_unique<Simulation>(scene_, resolve_backend(o.backend));
@@ -83,7 +83,7 @@ class Viewer {
     ImGui_ImplGlfw_InitForOpenGL(win_, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
 
-    renderer_ = with_shader_dir_as_input([] { return std::make_unique<SceneRenderer>(); });
+    renderer_ = with_render_input_errors([] { return std::make_unique<SceneRenderer>(); });
     want_record_ = !o.record.empty();
     attach_simulation();
     cam_ = default_camera(*sim_);

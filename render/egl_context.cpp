@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "render/render_input_error.h"
 #include "render/gl.h"
 #include "render/gl_context.h"
 
@@ -55,6 +56,8 @@ class EglContext final : public GlContext {
     auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     const char* force = std::getenv("SOFTTLED_EGL_PLATFORM");
     const std::string only = force ? force : "";
+    if (!only.empty() && only != "device" && only != "surfaceless")
+      throw RenderInputError("SOFTTLED_EGL_PLATFORM='" + only + "': expected device or surfaceless (unset: try both)");
     std::string tried;
 
     struct Candidate {

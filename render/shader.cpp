@@ -19,7 +19,7 @@ std::string shader_dir() {
 
 // A failure of the shader sources: the user's when they come from SOFTTLED_SHADER_DIR.
 [[noreturn]] void fail(const std::string& what) {
-  if (!shader_dir().empty()) throw ShaderDirError("SOFTTLED_SHADER_DIR=" + shader_dir() + ": " + what);
+  if (!shader_dir().empty()) throw RenderInputError("SOFTTLED_SHADER_DIR=" + shader_dir() + ": " + what);
   throw std::runtime_error(what);
 }
 

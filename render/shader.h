@@ -6,6 +6,7 @@
 #include <string>
 
 #include "render/gl.h"
+#include "render/render_input_error.h"
 
 namespace softtled {
 
@@ -15,15 +16,10 @@ struct EmbeddedShader {
 };
 extern const EmbeddedShader kEmbeddedShaders[];  // ends with {nullptr, nullptr}
 
-// A shader from SOFTTLED_SHADER_DIR that cannot be read, included or compiled: the
-// user's input, named with the variable (the embedded sources failing is an internal
-// error, std::runtime_error). An empty SOFTTLED_SHADER_DIR counts as unset.
-struct ShaderDirError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 // With SOFTTLED_SHADER_DIR set: reads every program's source (and its includes) from it,
 // so a missing file is found before a run's meshing, not at its first frame. Throws
-// ShaderDirError.
+// RenderInputError (render_input_error.h) naming the variable, as every failure of the
+// sources from it does; an empty SOFTTLED_SHADER_DIR counts as unset.
 void check_shader_dir();
 
 // Source text of one shader file, with each line `#include "x.glsl"` replaced by that

@@ -13,6 +13,8 @@
 #include <chrono>
 #include <cmath>
 #include <cctype>
+#include <cerrno>
+#include <limits>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -38,6 +40,7 @@
 #include "sim/solver/rest_state.h"
 #include "sim/solver/solver.h"
 #include "sim/solver/step_params.h"
+#include "sim/core/env_setting.h"
 
 namespace softtled {
 namespace {
@@ -49,15 +52,24 @@ namespace {
 // to start: libgomp keeps its idle team, so a later solver with as many threads costs
 // nothing (a second Python Simulation of 80 threads was refused while the first's team held
 // its stacks).
-std::size_t omp_stack_bytes() {  // OMP_STACKSIZE: a size, K by default, or B, K, M, G; 0: unset
+// OMP_STACKSIZE as libgomp reads it: a whole number, K by default, or with B, K, M or G;
+// 0: unset, or a value libgomp itself ignores (it says so, "Invalid value"), among them
+// one beyond size_t (a probe's "1e30G" was an out-of-range conversion: undefined
+// behaviour).
+std::size_t omp_stack_bytes() {
   const char* v = std::getenv("OMP_STACKSIZE");
-  if (!v || !*v) return 0;
+  if (!v) return 0;
+  while (*v == ' ' || *v == '\t') ++v;
+  if (!std::isdigit(static_cast<unsigned char>(*v))) return 0;
+  errno = 0;
   char* end = nullptr;
-  const double n = std::strtod(v, &end);
-  while (end && *end == ' ') ++end;
-  const char u = end && *end ? char(std::toupper(static_cast<unsigned char>(*end))) : 'K';
-  const double scale = u == 'B' ? 1 : u == 'K' ? 1024 : u == 'M' ? 1024.0 * 1024 : u == 'G' ? 1024.0 * 1024 * 1024 : 0;
-  return n > 0 && scale > 0 ? std::size_t(n * scale) : 0;
+  const unsigned long long n = std::strtoull(v, &end, 10);
+  while (*end == ' ' || *end == '\t') ++end;
+  const char u = *end ? char(std::toupper(static_cast<unsigned char>(*end))) : 'K';
+  const unsigned long long scale = u == 'B' ? 1 : u == 'K' ? 1ull << 10 : u == 'M' ? 1ull << 20 : u == 'G' ? 1ull << 30 : 0;
+  if (scale == 0 || (*end && end[1] != '\0' && end[1] != ' ' && end[1] != '\t') || n == 0) return 0;
+  if (errno == ERANGE || n > std::numeric_limits<std::size_t>::max() / scale) return 0;
+  return std::size_t(n * scale);
 }
 
 extern "C" void* idle_thread(void*) { return nullptr; }
@@ -67,7 +79,11 @@ void check_threads_can_start(int threads) {
   if (threads <= shown) return;
   pthread_attr_t attr;
   pthread_attr_init(&attr);
-  if (const std::size_t stack = omp_stack_bytes()) pthread_attr_setstacksize(&attr, stack);
+  if (const std::size_t stack = omp_stack_bytes(); stack && pthread_attr_setstacksize(&attr, stack) != 0) {
+    pthread_attr_destroy(&attr);
+    throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): OMP_STACKSIZE=" +
+                        quoted(std::getenv("OMP_STACKSIZE")) + " is not a thread stack size this system accepts");
+  }
   std::vector<pthread_t> team;
   int err = 0;
   for (int i = 1; i < threads && !err; ++i) {
@@ -80,7 +96,9 @@ void check_threads_can_start(int threads) {
   if (err)
     throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): could not start " +
                         std::to_string(threads - 1) + " more threads (" + std::strerror(err) + " after " +
-                        std::to_string(team.size()) + "); use fewer (0: the automatic choice)");
+                        std::to_string(team.size()) +
+                        (omp_stack_bytes() ? ", each with OMP_STACKSIZE=" + quoted(std::getenv("OMP_STACKSIZE")) : "") +
+                        "); use fewer (0: the automatic choice)" + (omp_stack_bytes() ? " or a smaller stack" : ""));
   shown = threads;
 }
 
@@ -104,8 +122,7 @@ class CpuSolver final : public Solver {
     fblk_.assign(blocks_.force_size(), T(0));
     vol_blk_.assign(blocks_.padded(), T(0));  // fblk_'s last value stays 0 (cpu_blocks.h)
     F_blk_.assign(blocks_.padded() * kBlockFFields, T(0));
-    const char* env = std::getenv("SOFTTLED_CPU_SIMD");
-    set_cpu_simd(!(env && std::string(env) == "0"));
+    set_cpu_simd(env_switch("SOFTTLED_CPU_SIMD", true));
   }
 
   std::string backend() const override {

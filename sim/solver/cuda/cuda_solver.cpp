@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "sim/contact/body_contact_tables.h"
+#include "sim/core/env_setting.h"
 #include "sim/fem/step_health.h"
 #include "sim/solver/cuda/contact_stage.h"
 #include "sim/solver/cuda/cuda_check.h"
@@ -54,16 +55,30 @@ ExecMode parse_exec_mode(const std::string& s) {
 }
 
 Options options_from_env() {
+  // Each value checked and named (sim/core/env_setting.h): atoi read "1e9" as 1 and "abc" as 0.
   Options o;
-  if (const char* m = std::getenv("SOFTTLED_CUDA_MODE")) o.mode = parse_exec_mode(m);
-  if (const char* r = std::getenv("SOFTTLED_CUDA_REORDER")) o.reorder = std::string(r) != "0";
-  if (const char* k = std::getenv("SOFTTLED_CUDA_GRAPH_STEPS")) o.steps_per_graph = std::max(1, std::atoi(k));
-  if (const char* l = std::getenv("SOFTTLED_CUDA_NODE_LANES")) o.node_lanes = std::atoi(l);
-  if (const char* f = std::getenv("SOFTTLED_CUDA_FUSED_BLOCK")) o.fused_block = std::atoi(f);
-  if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_ELEMS")) o.halo_elements = std::atoi(h);
-  if (const char* h = std::getenv("SOFTTLED_CUDA_HALO_BLOCK")) o.halo_block = std::atoi(h);
-  if (const char* d = std::getenv("SOFTTLED_CUDA_DERIVE_GRADIENTS")) o.derive_gradients = std::atoi(d);
-  if (const char* p = std::getenv("SOFTTLED_CUDA_FUSED_PRELOAD")) o.fused_preload = std::atoi(p);
+  if (const std::optional<std::string> m = env_setting("SOFTTLED_CUDA_MODE")) {
+    try {
+      o.mode = parse_exec_mode(*m);
+    } catch (const InputError& e) {
+      throw InputError(std::string("SOFTTLED_CUDA_MODE: ") + e.what());
+    }
+  }
+  o.reorder = env_switch("SOFTTLED_CUDA_REORDER", o.reorder);
+  o.steps_per_graph = env_int("SOFTTLED_CUDA_GRAPH_STEPS", o.steps_per_graph, 1, 1024);
+  o.node_lanes = env_int("SOFTTLED_CUDA_NODE_LANES", o.node_lanes, 0, 8);
+  if (o.node_lanes != 0 && o.node_lanes != 1 && o.node_lanes != 4 && o.node_lanes != 8)
+    throw InputError("SOFTTLED_CUDA_NODE_LANES=" + std::to_string(o.node_lanes) + ": expected 1, 4 or 8 (0: by mesh size)");
+  o.fused_block = env_int("SOFTTLED_CUDA_FUSED_BLOCK", o.fused_block, 32, kFusedMaxThreads);
+  if (o.fused_block % 32)
+    throw InputError("SOFTTLED_CUDA_FUSED_BLOCK=" + std::to_string(o.fused_block) + ": expected a multiple of 32");
+  o.halo_elements = env_int("SOFTTLED_CUDA_HALO_ELEMS", o.halo_elements, 0, 1 << 16);
+  o.halo_block = env_int("SOFTTLED_CUDA_HALO_BLOCK", o.halo_block, 0, kHaloMaxThreads);
+  if (o.halo_block % 32)
+    throw InputError("SOFTTLED_CUDA_HALO_BLOCK=" + std::to_string(o.halo_block) +
+                     ": expected a multiple of 32 (0: by the block's elements)");
+  o.derive_gradients = env_int("SOFTTLED_CUDA_DERIVE_GRADIENTS", o.derive_gradients, -1, 1);
+  o.fused_preload = env_int("SOFTTLED_CUDA_FUSED_PRELOAD", o.fused_preload, -1, 1);
   return o;
 }
 
