@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/core/stop_request.h"
 #include "sim/core/input_error.h"
 #include "sim/io/abrupt_exit.h"
 #include "sim/io/output_file.h"
@@ -67,8 +68,9 @@ void install_stop_signals() {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: stop as for SIGTERM
-  set_meshing_stop_check([] { return stop_requested(); });  // TetGen is killed at once, not awaited
-  set_output_stop_check([] { return stop_requested(); });  // an output FIFO's wait for its reader
+  // TetGen is killed at once, not awaited; an output FIFO's wait for its reader and the
+  // start-up's stable-step estimate end too.
+  set_stop_request_check([] { return stop_requested(); });
 }
 
 int stop_signal() { return int(g_stop); }

@@ -13,15 +13,10 @@
 #include <utility>
 
 #include "sim/core/input_error.h"
+#include "sim/core/stop_request.h"
 #include "sim/io/abrupt_exit.h"
 
 namespace softtled {
-
-namespace {
-bool (*g_stop_check)() = nullptr;  // set_output_stop_check
-}
-
-void set_output_stop_check(bool (*stop)()) { g_stop_check = stop; }
 
 std::string atomic_target(const std::string& path) {
   struct stat lst, st;
@@ -58,7 +53,7 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
       fd = ::open(open_path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
       e = errno;
       if (fd >= 0 || e != ENXIO) break;
-      if (g_stop_check && g_stop_check())
+      if (stop_request_pending())
         throw StoppedWhileWaiting(open_path + ": stopped while waiting for the FIFO's reader");
       ::usleep(50000);
     }

@@ -20,17 +20,16 @@ struct ResourceError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The wait for an output FIFO's reader ended by the stop check (set_output_stop_check):
-// the command was stopped, not short of a resource.
+// The wait for an output FIFO's reader ended by the process-wide stop request
+// (sim/core/stop_request.h): the command was stopped, not short of a resource.
 struct StoppedWhileWaiting : ResourceError {
   using ResourceError::ResourceError;
 };
 
-// How long an output FIFO waits for its reader to open it [s] (OutputFile).
+// How long an output FIFO waits for its reader to open it [s] (OutputFile). The stop
+// request is polled while that wait lasts: true ends it at once with StoppedWhileWaiting,
+// which the CLI reports as the signal's stop.
 constexpr int kFifoReaderWaitS = 5;
-// A check polled while that wait lasts (the CLI's stop flag): true ends it at once with
-// StoppedWhileWaiting, which the CLI reports as the signal's stop.
-void set_output_stop_check(bool (*stop)());
 
 class OutputFile {
  public:

@@ -1,3 +1,4 @@
+#include "sim/core/stop_request.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/io/output_file.h"  // ResourceError
 
@@ -264,13 +265,6 @@ double estimate(const SurfaceMesh& s, const Switches& sw) {
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o) { return estimate(s, resolve(o)); }
 
 namespace {
-// Process-wide, as the signal it stands for: the mesher is called from scene loading,
-// tet-file checks and obstacle checks, none of which should carry a stop flag through.
-bool (*g_stop_check)() = nullptr;  // set_meshing_stop_check
-}  // namespace
-void set_meshing_stop_check(bool (*stop)()) { g_stop_check = stop; }
-
-namespace {
 
 // TetGen in a child process. TetGen 1.5 aborts on failed assertions and segfaults on
 // some inputs that pass every check we can make beforehand (the fuzzer found a rotated
@@ -311,14 +305,14 @@ bool read_all(int fd, void* p, std::size_t n, std::chrono::steady_clock::time_po
               bool* stopped) {
   char* c = static_cast<char*>(p);
   while (n > 0) {
-    if (g_stop_check && g_stop_check()) return *stopped = true, false;
+    if (stop_request_pending()) return *stopped = true, false;
     int wait_ms = -1;
     if (limited) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
       if (left <= 0) return *late = true, false;
       wait_ms = int(std::min<long long>(left, 1 << 30));
     }
-    if (g_stop_check && (wait_ms < 0 || wait_ms > kStopPollMs)) wait_ms = kStopPollMs;
+    if (stop_request_check_slot() && (wait_ms < 0 || wait_ms > kStopPollMs)) wait_ms = kStopPollMs;
     pollfd pfd{fd, POLLIN, 0};
     const int r = ::poll(&pfd, 1, wait_ms);
     if (r < 0 && errno == EINTR) continue;

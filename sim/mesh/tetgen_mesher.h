@@ -85,16 +85,15 @@ void check_surface_for_meshing(const SurfaceMesh& s, const std::string& what = "
 // Without -q and -a (radius_edge 0, no max_volume) it is 2.5 n_tri.
 double estimate_tet_count(const SurfaceMesh& s, const TetgenOptions& o);
 
-// Asked every 0.1 s while TetGen runs (in its child process): true kills it, and
-// tetrahedralize_surface throws InputError ("meshing stopped"). The CLI passes its signal
-// flag (install_stop_signals), so one Ctrl-C stops a long meshing at once instead of after
-// it (up to mesh.time_limit_s, 900 s by default). Null (the default): never asked.
-void set_meshing_stop_check(bool (*stop)());
+// While TetGen runs (in its child process) the process-wide stop request
+// (sim/core/stop_request.h) is asked every 0.1 s: true kills it, and tetrahedralize_surface
+// throws InputError ("meshing stopped"), so one Ctrl-C stops a long meshing at once instead
+// of after it (up to mesh.time_limit_s, 900 s by default).
 
 // Self-intersections of a surface (closed or not): the number of facets TetGen's -d probe
 // ("pdzQ", in a child process as for meshing) finds crossing others; 0 when none. -1 when
 // the probe could not answer (TetGen crashed, failed or ran past time_limit_s): unknown.
-// InputError ("meshing stopped") when the stop check ended it (set_meshing_stop_check).
+// InputError ("meshing stopped") when the stop request ended it.
 long count_self_intersections(const SurfaceMesh& s, double time_limit_s = 60);
 
 // One point strictly inside each cavity of a closed surface (a shell of odd nesting depth,
