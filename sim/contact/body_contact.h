@@ -11,34 +11,30 @@
 // node's step relative to that point (a moving obstacle's rule in node_contact.h, with the
 // triangle as the obstacle). project_step returns the relative step that lands on the
 // plane (normal) with the scene's sliding / static / Coulomb rule applied to the relative
-// tangential motion. The change Delta of the relative step is then made by one
-// impulse-like correction p:
-//   node:            du_p += p / m_p
-//   triangle node j: du_j -= w_j p / m_j
-// p = Delta / (1/m_p + sum_j w_j^2 / m_j), so the relative step changes by exactly Delta
-// and sum_i m_i du_i changes by p (1 - sum_j w_j) = 0: linear momentum is conserved to
-// rounding, with or without friction (the friction part of Delta is shared the same way).
-// A fixed node (1/m = 0) takes no share; the others take all of it.
+// tangential motion; Delta is its change. A node already behind the plane (an earlier
+// step's residual) also asks for a position-only shift of the same relative position
+// (split impulse, node_triangle_contact).
 //
-// All pairs of a step (Jacobi, with shares). Every accepted pair is computed from the same
-// state (the node stage's predicted steps), and node i, in c_i accepted pairs, receives
-// the sum of its pairs' corrections, each scaled by
-//   s = 1 / max(c_p, c_a, c_b, c_c)            (pair_share)
-// so a node never moves by more than the mean of its pairs' corrections (a triangle
-// touched by three nodes is not pushed three times over) and each pair is still scaled as
-// a whole, on all four nodes alike: momentum stays conserved pair by pair. The sums run in
-// the order of the pairs' keys (node, triangle), ascending, on both backends, so the
-// result does not depend on the order in which pairs are found: runs repeat bit for bit,
-// and CPU and GPU sum the same terms in the same order. (The mass-splitting idea is that
-// of position-based dynamics' Jacobi solvers: Macklin et al. 2014, "Unified particle
-// physics for real-time applications", sec. 4.2, which divides by the constraint count.)
+// All pairs of a step (Jacobi with mass splitting, pair_terms). Every accepted pair is
+// computed from the same state, and a node in c accepted pairs takes part in each as a
+// sub-body of mass m / c (Tonge, Benevolenski & Voroshilov, "Mass splitting for jitter-free
+// parallel rigid body simulation", ACM TOG 31(4), 2012). Each pair is solved exactly for
+// those masses by one impulse-like correction
+//   p = Delta / (c_p/m_p + sum_j w_j^2 c_j/m_j),  node: du_p += p/m_p,  triangle node j:
+//   du_j -= w_j p/m_j
+// (each node's change the mean of its sub-bodies'), so sum_i m_i du_i changes by
+// p (1 - sum_j w_j) = 0: linear momentum is conserved pair by pair, to rounding, with or
+// without friction; a pair whose nodes are in no other changes the relative step by
+// exactly Delta; a fixed node (1/m = 0) takes no share. The sums run in the order of the
+// pairs' keys (node, triangle), ascending, on both backends, so the result does not depend
+// on the order in which pairs are found: runs repeat bit for bit, and CPU and GPU sum the
+// same terms in the same order.
 //
-// One sweep of shares under-corrects where nodes share pairs (a ring resting on another:
-// 0.065 mm deepest penetration in torus_stack, beyond the 0.05 mm asked); sweeps from the
-// corrected state converge towards the sequential answer. Measured on torus_stack (CPU,
-// float, deepest penetration over the run): 1 sweep 0.065 mm, 2 sweeps 0.235 mm (a node
-// slipped past an edge), 3 sweeps 0.0036 mm, 4 sweeps 0.0010 mm, 5 sweeps 0.042 mm; two
-// rings: 0.018, 0.008, 0.004, 0.0016, 0.0009 mm. Four, with the sweeps' cost in the bench.
+// Sweeps from the corrected state converge towards the sequential answer; four are run.
+// The first rule scaled every pair by 1 / max(c) of its four nodes (a uniform share):
+// where a triangle's nodes were in six pairs a resting node was corrected by a sixth per
+// sweep, and half of each step's penetration was left after four; two soft cubes stacked
+// face to face buzzed and crept with it (a probe, 2026-11-28).
 //
 // Broad phase: a uniform hash grid of the triangles' swept boxes (Teschner et al. 2003,
 // "Optimized spatial hashing for collision detection of deformable objects"); both
@@ -56,11 +52,14 @@ namespace softtled {
 
 constexpr int kBodyContactSweeps = 4;
 
-// What one node-triangle contact changes: the four steps' corrections.
+// What one accepted node-triangle pair asks for, before it is shared among its four nodes
+// (pair_terms): the changes of the node's motion relative to its foot on the triangle.
 template <class T>
 struct NodeTriangleCorrection {
   std::uint8_t state = kFree;  // ContactState of the node
-  T dp[3], da[3], db[3], dc[3];
+  T w[3];                      // the foot's barycentric weights on a, b, c
+  T step[3];                   // Delta: change of the relative step (position and velocity)
+  T shift[3];                  // change of the relative position alone (split impulse)
 };
 
 // A triangle's normal times twice its area.
@@ -77,7 +76,14 @@ SIM_HD inline void triangle_cross(const T xa[3], const T xb[3], const T xc[3], T
 // 3.4): the triangle's unit normal n (right-handed a, b, c: outward on the boundary), the
 // point's signed distance d from its plane, and the barycentric weights w of its foot.
 // False when the triangle is degenerate, the point is behind the plane by more than -d_min,
-// or its foot falls outside the triangle.
+// or its foot falls outside the triangle (by more than kFootSnap).
+// A foot within kFootSnap (barycentric) of an edge or corner is on it: its weights there
+// are set to 0 and the others rescaled to sum 1. A node resting exactly on another body's
+// node or edge (two meshes face to face) has its foot on a shared corner or edge, where
+// rounding gave weights of -1e-17 in every triangle around it: it was in none, and such
+// nodes let a cube sink through the one under it (a probe's find); and a corner the foot is
+// on takes no part in the pair (takes_part).
+constexpr double kFootSnap = 1e-4;
 template <class T>
 struct TriangleProjection {
   T n[3];
@@ -108,7 +114,11 @@ SIM_HD inline bool project_onto_triangle(const T xp[3], const T xa[3], const T x
   p.w[1] = (d22 * q1 - d12 * q2) / den;
   p.w[2] = (d11 * q2 - d12 * q1) / den;
   p.w[0] = T(1) - p.w[1] - p.w[2];
-  return !(p.w[0] < T(0) || p.w[1] < T(0) || p.w[2] < T(0));
+  if (p.w[0] < T(-kFootSnap) || p.w[1] < T(-kFootSnap) || p.w[2] < T(-kFootSnap)) return false;
+  T sum = T(0);
+  for (int k = 0; k < 3; ++k) sum += p.w[k] = p.w[k] < T(kFootSnap) ? T(0) : p.w[k];
+  for (int k = 0; k < 3; ++k) p.w[k] /= sum;
+  return true;
 }
 
 // Which triangles may push a node: those facing it. A node on a face of its own body meets
@@ -145,17 +155,23 @@ SIM_HD inline bool faces_some(const T c[3], const T* around, int n) {
   return false;
 }
 
-// x*: positions at time t; du*: the steps from t (predicted); inv_m*: inverse lumped
-// masses (0: fixed). tol: a node behind the triangle's plane by more than tol (or whose
-// projection falls outside the triangle) is not in contact with it; a node behind it by
-// less (an earlier step's residual penetration) is pushed back onto the plane. facing:
-// some triangle around the node faces this one (opposed, above; always true for the
-// node's own body): false means no contact.
+// x*: positions at time t; du*: the steps from t (predicted). tol: a node behind the
+// triangle's plane by more than tol (or whose projection falls outside the triangle) is not
+// in contact with it. facing: some triangle around the node faces this one (opposed,
+// above; always true for the node's own body): false means no contact.
+//
+// A node behind the plane by less than tol (an earlier step's residual) is handled by a
+// split impulse (Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005; Box2D's
+// position correction): its step is projected as from the plane (it goes no deeper, with
+// the friction rule), and the depth is removed by a shift of position alone, shared as the
+// step's correction is, which leaves every velocity as it is. Pushed out within the step,
+// the node left with the speed depth / dt: two soft cubes resting on each other buzzed at
+// 1e-6 J under alpha = 150, and the upper one sank through the lower (a probe's find).
 template <class T>
-SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], const T dup[3], T inv_mp, bool facing,
-                                                              const T xa[3], const T dua[3], T inv_ma, const T xb[3],
-                                                              const T dub[3], T inv_mb, const T xc[3], const T duc[3],
-                                                              T inv_mc, T tol, int mode, T mu) {
+SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], const T dup[3], bool facing,
+                                                              const T xa[3], const T dua[3], const T xb[3],
+                                                              const T dub[3], const T xc[3], const T duc[3], T tol,
+                                                              int mode, T mu) {
   NodeTriangleCorrection<T> r;
   TriangleProjection<T> tp;
   if (!facing || !project_onto_triangle(xp, xa, xb, xc, -tol, tp)) return r;
@@ -166,29 +182,43 @@ SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], con
     rel[k] = dup[k] - (wa * dua[k] + wb * dub[k] + wc * duc[k]);
     proj[k] = rel[k];
   }
-  const std::uint8_t state = project_step(n, d0, proj, mode, mu);
-  if (state == kFree) return r;
-  const T w = inv_mp + wa * wa * inv_ma + wb * wb * inv_mb + wc * wc * inv_mc;
-  if (!(w > T(0))) return r;  // all four fixed
-  r.state = state;
+  const T depth = d0 < T(0) ? -d0 : T(0);
+  const std::uint8_t state = project_step(n, d0 < T(0) ? T(0) : d0, proj, mode, mu);
+  if (state == kFree && depth == T(0)) return r;
+  r.state = state == kFree ? std::uint8_t(kSlide) : state;  // (behind, leaving: in contact, no friction)
   for (int k = 0; k < 3; ++k) {
-    const T p = (proj[k] - rel[k]) / w;
-    r.dp[k] = p * inv_mp;
-    r.da[k] = -wa * p * inv_ma;
-    r.db[k] = -wb * p * inv_mb;
-    r.dc[k] = -wc * p * inv_mc;
+    r.w[k] = tp.w[k];
+    r.step[k] = proj[k] - rel[k];
+    r.shift[k] = depth * n[k];
   }
   return r;
 }
 
-// The share of one accepted pair (see the top): c* are the counts of accepted pairs each
-// of its four nodes takes part in (>= 1).
+// Whether node a of an accepted pair (0: the node, 1-3: the triangle's a, b, c) takes part
+// in it: the node always, a triangle's corner where the foot's weight on it is not zero.
+// Only those count as the pair's sub-bodies (pair_terms): a corner the foot is on the far
+// side of moves nothing, and counted it slowed its own pairs' correction (two cubes resting
+// node on node: each node sits in the corner of six triangles).
 template <class T>
-SIM_HD inline T pair_share(int cp, int ca, int cb, int cc) {
-  int c = cp > ca ? cp : ca;
-  c = c > cb ? c : cb;
-  c = c > cc ? c : cc;
-  return T(1) / T(c);
+SIM_HD inline bool takes_part(const NodeTriangleCorrection<T>& r, int a) {
+  return a == 0 || r.w[a - 1] != T(0);
+}
+
+// Node a's (0: the node, 1-3: the triangle's a, b, c) share of an accepted pair, by mass
+// splitting (see the top): count[4] the four nodes' accepted pairs in this sweep that they
+// take part in (takes_part; 0 where not), inv_m[4] their inverse lumped masses. Zero where
+// all four are fixed.
+template <class T>
+SIM_HD inline void pair_terms(const NodeTriangleCorrection<T>& r, const int count[4], const T inv_m[4], int a,
+                              T step[3], T shift[3]) {
+  const T weight[4] = {T(1), -r.w[0], -r.w[1], -r.w[2]};
+  T W = T(0);
+  for (int j = 0; j < 4; ++j) W += weight[j] * weight[j] * T(count[j]) * inv_m[j];
+  const T f = W > T(0) ? weight[a] * inv_m[a] / W : T(0);
+  for (int k = 0; k < 3; ++k) {
+    step[k] = f * r.step[k];
+    shift[k] = f * r.shift[k];
+  }
 }
 
 // Self-contact: node p against its own body's triangle (a, b, c) is skipped only when p is

@@ -32,6 +32,7 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   count_.assign(n, 0);
   moved_.assign(n, 0);
   acc_.assign(3 * std::size_t(n), T(0));
+  shift_.assign(3 * std::size_t(n), T(0));
 }
 
 template <class T>
@@ -113,32 +114,39 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
           x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
         }
       const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], inv_mass_[j[0]], facing_[c] != 0, x[1], d[1], inv_mass_[j[1]], x[2], d[2],
-                                inv_mass_[j[2]], x[3], d[3], inv_mass_[j[3]], tol_, mode, mu);
+          node_triangle_contact(x[0], d[0], facing_[c] != 0, x[1], d[1], x[2], d[2], x[3], d[3], tol_, mode, mu);
       if (r.state == kFree) continue;
       accepted_.push_back({i, t, r});
       for (int a = 0; a < 4; ++a)
-        if (count_[j[a]]++ == 0) touched_.push_back(j[a]);
+        if (takes_part(r, a) && count_[j[a]]++ == 0) touched_.push_back(j[a]);
     }
   }
   last_contacts_ = std::max(last_contacts_, int(accepted_.size()));
 
-  // 4. Each node's share-scaled sum, in key order; then applied once.
+  // 4. Each node's terms (pair_terms: mass splitting) summed in key order; then applied
+  //    once: the step's to u and du, the shift's to u alone (it moves the node at t too).
   for (const Accepted& q : accepted_) {
     const int j[4] = {q.p, tri[3 * q.t], tri[3 * q.t + 1], tri[3 * q.t + 2]};
-    const T share = pair_share<T>(count_[j[0]], count_[j[1]], count_[j[2]], count_[j[3]]);
-    const T* corr[4] = {q.r.dp, q.r.da, q.r.db, q.r.dc};
-    for (int a = 0; a < 4; ++a)
-      for (int k = 0; k < 3; ++k) acc_[std::size_t(k) * n + j[a]] += share * corr[a][k];
+    const int count[4] = {count_[j[0]], count_[j[1]], count_[j[2]], count_[j[3]]};
+    const T inv_m[4] = {inv_mass_[j[0]], inv_mass_[j[1]], inv_mass_[j[2]], inv_mass_[j[3]]};
+    for (int a = 0; a < 4; ++a) {
+      if (!takes_part(q.r, a)) continue;
+      T step[3], shift[3];
+      pair_terms(q.r, count, inv_m, a, step, shift);
+      for (int k = 0; k < 3; ++k) {
+        acc_[std::size_t(k) * n + j[a]] += step[k];
+        shift_[std::size_t(k) * n + j[a]] += shift[k];
+      }
+    }
     if (q.r.state > contact[q.p]) contact[q.p] = q.r.state;
   }
   for (int i : touched_) {
     for (int k = 0; k < 3; ++k) {
       const std::size_t q = std::size_t(k) * n + i;
       du[q] += acc_[q];
-      u[q] += acc_[q];
+      u[q] += acc_[q] + shift_[q];
       if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
-      acc_[q] = T(0);
+      acc_[q] = shift_[q] = T(0);
     }
     count_[i] = 0;
   }

@@ -19,7 +19,7 @@
 // Narrow phase: whether each candidate faces its node at t, then kBodyContactSweeps Jacobi
 // sweeps: node_triangle_contact on every candidate
 // from the same state, then each node's share-scaled sum of its accepted pairs
-// (pair_share), in key order (node, triangle): the order the candidates are visited in.
+// (pair_terms), in key order (node, triangle): the order the candidates are visited in.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -84,7 +84,8 @@ class CpuBodyContact {
   };
   std::vector<Accepted> accepted_;
   std::vector<int> count_;       // nnode
-  std::vector<T> acc_;           // 3 x nnode: this step's summed corrections
+  std::vector<T> acc_;           // 3 x nnode: this sweep's summed step corrections
+  std::vector<T> shift_;         // 3 x nnode: this sweep's summed position-only shifts
   std::vector<int> touched_;     // nodes with a correction this sweep
   std::vector<std::uint8_t> moved_;  // nnode: corrected by the last sweep (moved_list_)
   std::vector<int> moved_list_;

@@ -407,6 +407,24 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     warning = buf;
     q.dt = q.lambda * ts_.dt_cr;
   }
+  // Body contact switched on over bodies that overlap now (contact off let them pass into
+  // each other) would shoot them apart, or leave nodes deeper than its tolerance inside
+  // (the watchdog stopped a probe's rings 3 ms later): refused as the start refuses such
+  // bodies, at their positions now.
+  if (q.body_contact && !params_.body_contact && mesh_.nbody() >= 2) {
+    TetMesh now = mesh_;
+    const HostState& st = state();
+    const std::size_t n = std::size_t(mesh_.nnode());
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) now.X[3 * i + k] += st.u[k * n + i];
+    try {
+      check_bodies_apart(scene_, now);
+    } catch (const InputError& e) {
+      std::string why = e.what();
+      if (const auto at = why.find(" at the start"); at != std::string::npos) why.replace(at, 13, " now");
+      throw InputError("body contact cannot be switched on: " + why + "; move them apart first");
+    }
+  }
   // A plane switched on or moved live (not one kept where it is, as a turning slope's
   // pose) must not cut into the body: its projection would throw the nodes across the
   // depth in one step and the run blows up (a scene file's planes are refused so at the

@@ -112,14 +112,14 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
     char buf[200];
     std::snprintf(buf, sizeof buf, "the total energy rose %.3g J above its lowest value (%.3g J, scale %.3g J)", h - h_min_,
                   h_min_, scale_);
-    // With body contact the likelier source is a node pushed back out of another body
-    // within one step: it leaves with the speed depth / dt, more at a smaller step (README
-    // limits, "Energy from body contact").
+    // With body contact its own source comes first: the shifts that put a node found inside
+    // another body back onto its surface move nodes without work (README limits, "Energy
+    // from body contact"; until the split impulse a pushed-out node left with speed
+    // depth / dt).
     const char* why = unstable_dt    ? kDtCause
-                      : body_contact_ ? "energy from body contact: a node pushed back out of another body within one step "
-                                        "leaves with speed depth / dt (most where a light or soft body leaves a heavy or "
-                                        "stiff one; a smaller lambda makes it worse; README limits); or a numerical "
-                                        "blow-up"
+                      : body_contact_ ? "energy from body contact: the shifts that put nodes found inside another body "
+                                        "back onto its surface move them without work (README limits); or a numerical "
+                                        "blow-up; try a smaller lambda"
                                       : "energy from nowhere: a numerical blow-up; try a smaller lambda";
     return WatchdogFinding{buf, -1, why};
   }

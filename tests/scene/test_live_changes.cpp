@@ -93,6 +93,37 @@ TEST(LiveChanges, FloorSwitchedOnInsideTheBodyIsRefused) {
   EXPECT_TRUE(std::isfinite(sim.diagnostics().centroid[1]));
 }
 
+// Body contact switched on live over rings that passed into each other while it was off
+// is refused naming both (a probe's rings, 1.7 mm into each other, were stopped by the
+// watchdog 3 ms later); switched on before they meet it is accepted, and they bounce.
+TEST(LiveChanges, BodyContactSwitchedOnOverlappingIsRefused) {
+  const Scene rings = load_scene(assets_dir() + "/scenes/two_ring_collision.toml");
+  Simulation sim(rings, "cpu");
+  PhysicsParams off = sim.params();
+  off.body_contact = false;
+  sim.set_params(off);
+  sim.advance(std::lround(0.0045 / sim.params().dt), 100);
+  PhysicsParams on = sim.params();
+  on.body_contact = true;
+  try {
+    sim.set_params(on);
+    ADD_FAILURE() << "body contact switched on over overlapping rings";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("body contact cannot be switched on: "), std::string::npos) << msg;
+    EXPECT_NE(msg.find("overlap now"), std::string::npos) << msg;
+  }
+  EXPECT_FALSE(sim.params().body_contact);
+  Simulation early(rings, "cpu");
+  early.set_params(off);
+  early.advance(10, 10);
+  EXPECT_NO_THROW(early.set_params(on));
+  early.advance(std::lround(0.04 / early.params().dt), 1000);
+  const std::vector<double>& c = early.diagnostics().body_centroid;
+  ASSERT_EQ(c.size(), 6u);
+  EXPECT_LT(c[0], c[3]) << "the rings passed through each other";  // (ring 0 comes from -x)
+}
+
 // n steps are n steps kept: a trip the adaptive step survives rolls back, and advance
 // takes the dropped steps again (it returned with none taken and the time gone back).
 TEST(LiveChanges, AdaptiveAdvanceKeepsItsStepsThroughASurvivedTrip) {

@@ -30,7 +30,7 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   cand_.resize(slots);
   pair_state_.resize(slots);
   pair_facing_.resize(slots);
-  pair_corr_.resize(12 * slots);
+  pair_corr_.resize(kPairCorrValues * slots);
   node_box_.resize(6 * std::size_t(std::max(1, nsurf)));
   count0_.resize(n);
   count1_.resize(n);

@@ -17,12 +17,12 @@
 //   contact_pairs_kernel   a warp per surface node, a lane per candidate (the first sweep
 //                          also decides which candidates face the node, choose_facing):
 //                          node_triangle_contact; an accepted pair is kept in the node's
-//                          own slot (node, candidate) and its slot appended to its four
-//                          nodes' incoming lists
+//                          own slot (node, candidate) and its slot appended to the
+//                          incoming lists of the nodes that take part (takes_part)
 //   contact_apply_kernel   a warp per surface node: its incoming slots ranked into slot
 //                          order (the key order (node, triangle) the CPU sums in), each
-//                          lane one share-scaled term, summed in that order, added to u,
-//                          du (and ub)
+//                          lane one pair's terms (pair_terms), summed in that order, the
+//                          step's added to u, du (and ub), the shift's to u
 // Every kernel launches with PDL: it waits for the one before it (pdl_wait), and its own
 // launch overlaps that kernel's tail.
 // Counts are atomic increments (the same total in any order); no float is ever summed by
@@ -248,20 +248,18 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
         d[a][k] = du[k * n + j[a]];
         x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
       }
-    const NodeTriangleCorrection<T> r =
-        node_triangle_contact(x[0], d[0], m.inv_mass[j[0]], c.pair_facing[slot] != 0, x[1], d[1], m.inv_mass[j[1]],
-                              x[2], d[2],
-                              m.inv_mass[j[2]], x[3], d[3], m.inv_mass[j[3]], c.tol, mode, mu);
+    const NodeTriangleCorrection<T> r = node_triangle_contact(x[0], d[0], c.pair_facing[slot] != 0, x[1], d[1], x[2],
+                                                              d[2], x[3], d[3], c.tol, mode, mu);
     c.pair_state[slot] = r.state;
     if (r.state == kFree) continue;
-    T* corr = c.pair_corr + std::size_t(slot) * 12;
+    T* corr = c.pair_corr + std::size_t(slot) * kPairCorrValues;
     for (int k = 0; k < 3; ++k) {
-      corr[k] = r.dp[k];
-      corr[3 + k] = r.da[k];
-      corr[6 + k] = r.db[k];
-      corr[9 + k] = r.dc[k];
+      corr[k] = r.w[k];
+      corr[3 + k] = r.step[k];
+      corr[6 + k] = r.shift[k];
     }
     for (int a = 0; a < 4; ++a) {
+      if (!takes_part(r, a)) continue;
       atomicAdd(count + j[a], 1);
       const int e = atomicAdd(c.in_count + j[a], 1);
       if (e < kContactInCap)
@@ -273,9 +271,9 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
 }
 
 // A warp per surface node: its incoming entries (at most 64, distinct) ranked across the
-// lanes into slot order, the key order (node, triangle); lane r computes the r-th term
-// (share x correction), and the terms are added in that order through shuffles, so the
-// sum is the CPU's, term by term.
+// lanes into slot order, the key order (node, triangle); lane r computes the r-th terms
+// (pair_terms: the step's and the shift's), and the terms are added in that order through
+// shuffles, so the sums are the CPU's, term by term.
 constexpr int kApplyMaxWarps = 8;  // blocks of at most 256 threads (shape_for)
 template <class T>
 __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactView<T> c, T* __restrict__ u,
@@ -309,27 +307,31 @@ __global__ void contact_apply_kernel(const TetMeshView<T> m, const BodyContactVi
   for (int h = 0; h < 2; ++h)
     if (lane + 32 * h < ne) sorted[w][rank[h]] = v[h];
   __syncwarp();
-  T term[2][3];
+  T term[2][6];  // the step's three terms, then the shift's
   int state = 0;
   for (int h = 0; h < 2; ++h) {
-    for (int k = 0; k < 3; ++k) term[h][k] = T(0);
+    for (int k = 0; k < 6; ++k) term[h][k] = T(0);
     if (lane + 32 * h >= ne) continue;
     const int e = sorted[w][lane + 32 * h], slot = e >> 2, a = e & 3;
     const int p = c.surf[slot / kContactCandCap], t = c.cand[slot];
-    const T share = pair_share<T>(count[p], count[c.tri[3 * t]], count[c.tri[3 * t + 1]], count[c.tri[3 * t + 2]]);
-    const T* corr = c.pair_corr + std::size_t(slot) * 12 + 3 * a;
-    for (int k = 0; k < 3; ++k) term[h][k] = share * corr[k];
+    const int j[4] = {p, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2]};
+    const int cnt[4] = {count[j[0]], count[j[1]], count[j[2]], count[j[3]]};
+    const T inv_m[4] = {m.inv_mass[j[0]], m.inv_mass[j[1]], m.inv_mass[j[2]], m.inv_mass[j[3]]};
+    NodeTriangleCorrection<T> r;
+    const T* corr = c.pair_corr + std::size_t(slot) * kPairCorrValues;
+    for (int k = 0; k < 3; ++k) r.w[k] = corr[k], r.step[k] = corr[3 + k], r.shift[k] = corr[6 + k];
+    pair_terms(r, cnt, inv_m, a, term[h], term[h] + 3);
     if (a == 0) state = max(state, int(c.pair_state[slot]));
   }
-  T acc[3] = {T(0), T(0), T(0)};
+  T acc[6] = {T(0), T(0), T(0), T(0), T(0), T(0)};
   for (int r = 0; r < ne; ++r)  // in key order, on every lane alike
-    for (int k = 0; k < 3; ++k) acc[k] += __shfl_sync(0xffffffffu, r < 32 ? term[0][k] : term[1][k], r & 31);
+    for (int k = 0; k < 6; ++k) acc[k] += __shfl_sync(0xffffffffu, r < 32 ? term[0][k] : term[1][k], r & 31);
   for (int off = 16; off > 0; off /= 2) state = max(state, __shfl_xor_sync(0xffffffffu, state, off));
   if (lane != 0) return;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 3; ++k) {  // the shift moves u alone (as body_contact_cpu.cpp)
     const int q = k * n + i;
     du[q] += acc[k];
-    u[q] += acc[k];
+    u[q] += acc[k] + acc[3 + k];
     if (ub) ub[q] = rayleigh_displacement(u[q], du[q], beta_dt);
   }
   contact[i] = std::uint8_t(max(state, int(contact[i])));

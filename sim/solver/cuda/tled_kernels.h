@@ -222,6 +222,7 @@ cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale,
 constexpr int kContactBucketCap = 128;  // triangles per grid bucket (52 measured on torus_stack)
 constexpr int kContactCandCap = 48;     // candidate triangles per surface node
 constexpr int kContactInCap = 64;       // accepted pairs per node
+constexpr int kPairCorrValues = 9;  // a pair slot's stored correction (w, step, shift)
 constexpr int kContactMaxCells = 64;    // grid cells one triangle's swept box may cover
 enum : unsigned {
   kContactOverflowBucket = 1,
@@ -249,7 +250,7 @@ struct BodyContactView {
   int* cand = nullptr;              // nsurf x kContactCandCap, sorted
   std::uint8_t* pair_state = nullptr;  // nsurf x kContactCandCap
   std::uint8_t* pair_facing = nullptr;  // nsurf x kContactCandCap: the candidate faces its node (first sweep)
-  T* pair_corr = nullptr;           // 12 per pair slot: the node's, then a, b, c's corrections
+  T* pair_corr = nullptr;           // kPairCorrValues per pair slot: NodeTriangleCorrection's w, step, shift
   int* count0 = nullptr;            // nnode: accepted pairs per node (even sweeps)
   int* count1 = nullptr;            // nnode: (odd sweeps)
   int* in_count = nullptr;          // nnode
