@@ -134,19 +134,28 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     remove_written();  // the directory keeps whole frames only
     throw;
   }
-  frames_.push_back(std::move(frame));
-  auto index = [&] {  // of the frames kept
+  // The index's entries are kept as text, one frame's appended at a time: formatting them
+  // all again for every frame made a run of 10,000 frames take 67 s.
+  {
     std::ostringstream o;
     o.precision(17);
-    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-    for (const Frame& f : frames_)
-      for (std::size_t p = 0; p < f.files.size(); ++p) {
-        o << "<DataSet timestep=\"" << f.t << "\" ";
-        if (f.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
-        o << "file=\"" << f.files[p] << "\"/>\n";
-      }
-    o << "</Collection>\n</VTKFile>\n";
-    return o.str();
+    for (std::size_t p = 0; p < frame.files.size(); ++p) {
+      o << "<DataSet timestep=\"" << frame.t << "\" ";
+      if (frame.files.size() > 1) o << "part=\"" << p << "\" ";  // ParaView: the bodies of one time step
+      o << "file=\"" << frame.files[p] << "\"/>\n";
+    }
+    entry_ends_.push_back(entries_.size());
+    entries_ += o.str();
+  }
+  frames_.push_back(std::move(frame));
+  auto index = [&] {  // of the frames kept
+    return "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n" + entries_ +
+           "</Collection>\n</VTKFile>\n";
+  };
+  auto drop_last = [&] {
+    frames_.pop_back();
+    entries_.resize(entry_ends_.back());
+    entry_ends_.pop_back();
   };
   try {
     write_file_atomic(dir_ + "/series.pvd", index());  // always a complete index of complete frames
@@ -154,7 +163,7 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     // The index kept is the last one: the frame it does not list goes, so that the
     // directory holds exactly the frames series.pvd names.
     remove_written();
-    frames_.pop_back();
+    drop_last();
     throw;
   }
   for (const std::string& f : frames_.back().files) {
@@ -163,7 +172,7 @@ void VtuSeries::add(double t, const TetMesh& m, const HostState& s, double dt,
     // and the index is written again without it; the earlier frames stay, unlisted.
     const std::string why = std::strerror(errno);
     remove_written();
-    frames_.pop_back();
+    drop_last();
     write_file_atomic(dir_ + "/series.pvd", index());
     throw ResourceError(dir_ + "/" + f + ": cannot rename the written frame into place: " + why);
   }

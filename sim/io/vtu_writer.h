@@ -44,6 +44,8 @@ class VtuSeries {
     std::vector<std::string> files;  // one, or one per body in body order
   };
   std::vector<Frame> frames_;
+  std::string entries_;                 // the index's DataSet lines of frames_
+  std::vector<std::size_t> entry_ends_;  // entries_'s length before each frame's lines
   std::vector<std::string> earlier_;  // the frames an earlier series.pvd in dir_ listed
 };
 
