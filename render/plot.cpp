@@ -49,13 +49,25 @@ struct Canvas {
   }
 };
 
-std::string tick_text(double v, double step) {
-  const int decimals = std::clamp(-int(std::floor(std::log10(step) + 1e-9)), 0, 9);
+}  // namespace
+
+std::string plot_tick_text(double v, double step) {
+  if (std::fabs(v) < 1e-9 * step) v = 0;
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, std::fabs(v) < 1e-9 * step ? 0.0 : v);
+  const double mag = std::max(std::fabs(v), step);
+  const int e_step = int(std::floor(std::log10(step) + 1e-9));
+  if (step >= 1e-4 && mag < 1e7) {
+    std::snprintf(buf, sizeof buf, "%.*f", std::clamp(-e_step, 0, 4), v);
+    return buf;
+  }
+  // Beyond that a fixed decimal read 0.000000000 for every tick of a sub-nanojoule energy
+  // axis, or 30 noisy digits at 1e27: the mantissa carries as many digits as tell the
+  // ticks apart.
+  if (v == 0) return "0";
+  const int digits = std::clamp(int(std::floor(std::log10(mag))) - e_step, 0, 6);
+  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
   return buf;
 }
-}  // namespace
 
 Image plot_panels(const std::vector<PlotPanel>& panels, int w, int h, std::vector<PlotAxes>* axes_out) {
   Canvas cv{Image(w, h)};
@@ -83,21 +95,29 @@ Image plot_panels(const std::vector<PlotPanel>& panels, int w, int h, std::vecto
     ax.x0 = xlo, ax.x1 = xhi, ax.y0 = ylo, ax.y1 = yhi;
     const int nx = int(std::lround((xhi - xlo) / xstep)), ny = int(std::lround((yhi - ylo) / ystep));
     double label_w = 0;
-    for (int k = 0; k <= ny; ++k) label_w = std::max(label_w, double(text_width(tick_text(ylo + k * ystep, ystep), s)));
-    const double top = std::round(p * slot + 10 * s + th + 8 * s), bottom = std::round((p + 1) * slot - 2 * th - 14 * s);
-    ax.frame = {float(std::round(12 * s + label_w + 6 * s)), float(top), float(w - std::round(16 * s)), float(bottom)};
+    for (int k = 0; k <= ny; ++k) label_w = std::max(label_w, double(text_width(plot_tick_text(ylo + k * ystep, ystep), s)));
+    // The key (one entry per series) goes right-aligned on the title's line, or on a line of
+    // its own under the title where the two would overlap (they did on the energy panel).
+    double key_w = 0;
+    if (pn.series.size() > 1)
+      for (const PlotSeries& sr : pn.series) key_w += text_width(sr.name, s) + 33 * s;
+    const double x0 = std::round(12 * s + label_w + 6 * s), x1 = w - std::round(16 * s);
+    const double key_line = text_width(pn.title, s) + 12 * s + key_w > x1 - x0 ? th + 6 * s : 0;
+    const double top = std::round(p * slot + 10 * s + th + 8 * s + key_line), bottom = std::round((p + 1) * slot - 2 * th - 14 * s);
+    ax.frame = {float(x0), float(top), float(x1), float(bottom)};
     const TextRect& f = ax.frame;
     // Grid and tick values.
     for (int k = 0; k <= nx; ++k) {
       const double v = xlo + k * xstep, x = std::round(ax.px(v));
       cv.fill(x, f.y0, x + 1, f.y1, grid);
-      const std::string t = tick_text(v, xstep);
-      cv.text(t, x - text_width(t, s) / 2, f.y1 + 5 * s, s, ink);
+      const std::string t = plot_tick_text(v, xstep);
+      const double tw = text_width(t, s);  // centred on its tick, within the image
+      cv.text(t, std::clamp(x - tw / 2, 0.0, std::max(0.0, w - 2 * s - tw)), f.y1 + 5 * s, s, ink);
     }
     for (int k = 0; k <= ny; ++k) {
       const double v = ylo + k * ystep, y = std::round(ax.py(v));
       cv.fill(f.x0, y, f.x1, y + 1, grid);
-      const std::string t = tick_text(v, ystep);
+      const std::string t = plot_tick_text(v, ystep);
       cv.text(t, f.x0 - 6 * s - text_width(t, s), y - th / 2, s, ink);
     }
     // The curves, clipped to the frame (the data lies inside by construction).
@@ -118,9 +138,9 @@ Image plot_panels(const std::vector<PlotPanel>& panels, int w, int h, std::vecto
     // Frame, title, x label, key (top right, inside the frame).
     cv.fill(f.x0, f.y0, f.x1, f.y0 + 1, ink), cv.fill(f.x0, f.y1, f.x1, f.y1 + 1, ink);
     cv.fill(f.x0, f.y0, f.x0 + 1, f.y1 + 1, ink), cv.fill(f.x1, f.y0, f.x1 + 1, f.y1 + 1, ink);
-    cv.text(pn.title, f.x0, f.y0 - th - 6 * s, s, ink);
+    cv.text(pn.title, f.x0, f.y0 - th - 6 * s - key_line, s, ink);
     cv.text(pn.xlabel, (f.x0 + f.x1) / 2 - text_width(pn.xlabel, s) / 2, f.y1 + th + 10 * s, s, dim);
-    // The key: one entry per series, right-aligned on the title's line (never over the data).
+    // The key, right-aligned above the frame (never over the data).
     if (pn.series.size() > 1) {
       double kx = f.x1;
       const double ky = f.y0 - th - 6 * s;

@@ -41,6 +41,10 @@ void nice_range(double& lo, double& hi, double& step, int n = 5);
 
 // Draws the panels into a w x h image (white background); `axes` (when given) receives
 // each panel's PlotAxes in order.
+// An axis tick's label: v with as many decimals as ticks `step` apart need, or in
+// scientific notation where that would take more than 4 decimals or 7 digits.
+std::string plot_tick_text(double v, double step);
+
 Image plot_panels(const std::vector<PlotPanel>& panels, int w, int h, std::vector<PlotAxes>* axes = nullptr);
 
 }  // namespace softtled

@@ -3,6 +3,7 @@
 // give for rows and for points between rows, and not a few pixels off them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 
 #include "app/plot_csv.h"
 #include "render/image.h"
+#include "render/plot.h"
 #include "sim/core/input_error.h"
 
 using namespace softtled;
@@ -163,6 +165,26 @@ TEST(Plot, InputMustBeARegularFile) {
       ADD_FAILURE() << p << " read";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Tick labels tell their ticks apart at any magnitude: a sub-nanojoule axis read
+// 0.000000000 at every tick, and one at 1e27 showed 30 noisy digits.
+TEST(Plot, TickLabelsTellTicksApartAtAnyMagnitude) {
+  EXPECT_EQ(plot_tick_text(0.5, 0.1), "0.5");
+  EXPECT_EQ(plot_tick_text(1.2, 0.2), "1.2");
+  EXPECT_EQ(plot_tick_text(-3e-17, 0.5), "0.0");
+  EXPECT_EQ(plot_tick_text(2e-10, 1e-10), "2e-10");
+  EXPECT_EQ(plot_tick_text(1e27, 2e26), "1.0e+27");
+  EXPECT_EQ(plot_tick_text(0, 2e26), "0");
+  for (const double step : {2e-10, 5e-7, 5e-5, 1e-3, 0.2, 50.0, 2e6, 5e26}) {
+    std::vector<std::string> seen;
+    for (int k = 0; k <= 6; ++k) {
+      const std::string t = plot_tick_text(3 * step + k * step, step);
+      EXPECT_LE(t.size(), 9u) << t;
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), t), 0) << "step " << step << ": '" << t << "' twice";
+      seen.push_back(t);
     }
   }
 }
