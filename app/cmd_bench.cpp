@@ -256,6 +256,16 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   r.us = stats_of(per_step);
   std::fprintf(stderr, "  %-5s %8d tets: %.3f us/step median (%s, %s)\n", label.c_str(), r.ntet, r.us.median, r.device.c_str(),
                r.mode.c_str());
+  // The bench steps without the watchdog: a step it was allowed to take above dt_cr
+  // (time.allow_unstable) timed a blown-up state with exit 0 and nothing said.
+  {
+    const HostState& st = sim.state();
+    if (!std::all_of(st.u.begin(), st.u.end(), [](double v) { return std::isfinite(v); }))
+      std::fprintf(stderr,
+                   "warning: %s: the state is not finite after the timed steps (dt = %.4g s, dt_cr = %.4g s): the figures "
+                   "time a diverged run\n",
+                   label.c_str(), sim.time_step().dt, sim.time_step().dt_cr);
+  }
 
   if (full) {
     // The adaptive step's estimate as Simulation::adapt_step runs it (AdaptiveStep::kIterations
