@@ -140,13 +140,17 @@ Command add_mesh_command(CLI::App& app) {
       E_scale.push_back(s.body_E(b) / s.E);
     }
     const TetMesh m = parts.size() == 1 ? parts[0] : concat_bodies(parts, rho_scale, E_scale);
+    // TetGen's switches where TetGen meshed some body ("" where every body was a tet file).
+    bool meshed = false;
+    for (int b = 0; b < s.body_count(); ++b) meshed = meshed || s.body(b).shape != "tet_file";
+    const std::string switches = meshed ? tetgen_switches(topt) : "";
     const std::vector<MeshReport> rows =
         parts.size() == 1 ? std::vector<MeshReport>{mesh_report(surfaces[0], m, s.E, s.nu, s.rho, s.material_model)}
                           : body_mesh_reports(s, surfaces, m);
     if (o->json) {
       std::printf("{");
       print_json_fields(rows.back());
-      std::printf(", \"tetgen_switches\": \"%s\"", tetgen_switches(topt).c_str());
+      std::printf(", \"tetgen_switches\": \"%s\"", switches.c_str());
       if (rows.size() > 1) {
         std::printf(", \"bodies\": [");
         for (std::size_t b = 0; b + 1 < rows.size(); ++b) {
@@ -161,7 +165,7 @@ Command add_mesh_command(CLI::App& app) {
     } else {
       for (int b = 0; b < s.body_count(); ++b)  // where each body's tets came from
         if (s.body(b).shape == "tet_file") std::printf("%s: tets read from %s\n", s.body(b).key.c_str(), s.body(b).file.c_str());
-      std::printf("TetGen -%s\n", tetgen_switches(topt).c_str());
+      if (meshed) std::printf("TetGen -%s\n", switches.c_str());
       if (rows.size() == 1) print_list(rows[0], s);
       else print_rows(rows, s);
     }
