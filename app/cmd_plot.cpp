@@ -42,8 +42,9 @@ Command add_plot_command(CLI::App& app) {
     std::vector<PlotPanel> panels;
     try {
       panels = run_plot_panels(table, o->title.empty() ? std::filesystem::path(o->csv).filename().string() : o->title);
-    } catch (const InputError& e) {
-      throw InputError(o->csv + ": " + e.what());
+    } catch (const InputError& e) {  // named with the file, where the message does not already say it
+      const std::string what = e.what();
+      throw InputError(what.rfind(o->csv + ":", 0) == 0 ? what : o->csv + ": " + what);
     }
     const Image im = plot_panels(panels, w, h);
     // OUT.tmp renamed onto OUT when complete; a device or FIFO written in place; every
