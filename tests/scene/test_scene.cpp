@@ -108,6 +108,10 @@ TEST(Scene, BadInputNamesTheKey) {
   const std::string huge = error_of("units = \"" + std::string(3 << 20, 'm') + "\"\n");
   EXPECT_LT(huge.size(), 400u);
   EXPECT_NE(huge.find("...' (3145728 characters) is not one of: m, mm"), std::string::npos) << huge.substr(0, 400);
+  // UTF-8 text is shown as it is (it read '????'); control characters and broken UTF-8 are '?'.
+  EXPECT_NE(error_of("units = \"\u043c\u043c\"\n").find("'\u043c\u043c' is not one of"), std::string::npos)
+      << error_of("units = \"\u043c\u043c\"\n");
+  EXPECT_EQ(quoted(std::string("a\x01\xff\xd0") + "b"), "'a???b'");
   EXPECT_NE(error_of("", {"material.E=nan"}).find("material.E: must be finite"), std::string::npos);
   EXPECT_NE(error_of("[material]\nE = -5.0\n").find("material.E: value -5 out of range"), std::string::npos);
   EXPECT_NE(error_of("[material]\nnu = 0.5\n").find("material.nu"), std::string::npos);
