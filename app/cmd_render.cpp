@@ -193,20 +193,20 @@ Command add_render_command(CLI::App& app) {
     Simulation& sim = *sim_owner;
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
     if (is_video) h.times = video_frame_times(o->from, o->to, o->fps, o->speed, sim.time_step().dt);
-    // Before the GL context: every frame's steps from the one before, as the frame loop
-    // counts them with a fixed step (two times within half a step of each other failed at
-    // the second frame, after the first was written); the adaptive step only starts at dt.
-    double at = 0;
+    // Before the GL context: with a fixed step each frame is drawn at step round(t / dt)
+    // (step_to_frame), and two frames on one step are refused (the second one failed after
+    // the first was written, and by another rule a second PNG silently showed the first's
+    // step); the adaptive step only starts at dt.
+    long step_before = -1;
+    double t_before = 0;
     for (double t : h.times) {
-      const double dt = sim.time_step().dt;
-      if (sim.params().dt_adaptive || at == 0) {
-        at = dt * double(checked_step_count(t, dt, "--at"));
-      } else if (t > at) {
-        char what[96];
-        std::snprintf(what, sizeof what, "--at %g (the frame before it is at %g s)", t, at);
-        at += dt * double(checked_step_count(t - at, dt, what));
-      }
+      const long n = checked_step_count(t, sim.time_step().dt, "--at");
+      if (!sim.params().dt_adaptive && n == step_before)
+        throw InputError("--at " + std::to_string(t_before) + " and " + std::to_string(t) + " fall on one step (dt = " +
+                         std::to_string(sim.time_step().dt) + " s): give times at least a step apart");
+      step_before = n, t_before = t;
     }
+    if (sim.params().dt_adaptive) h.check_every = std::max(s.output_every, sim.time_step().dt);
     // Frames after time.duration step past it: the collision-course check covers them too.
     if (!h.times.empty() && h.times.back() > s.duration) sim.check_collision_courses_until(h.times.back());
     const TimeStepInfo& ts = sim.time_step();

@@ -55,25 +55,30 @@ std::vector<double> video_frame_times(double from, double to, double fps, double
 
 namespace {
 // Steps sim to the frame at time t, in chunks so that a stop request is answered within
-// one (false: stopped). A fixed step takes the step count nearest t (cmd_render checked the
-// frames' counts before meshing); the adaptive step, whose steps change as it goes, steps
-// until time() is within half a step of t (Simulation::advance_to), so the frame drawn is
-// the one at t (counting steps at the first frame's step drew the torus's 0.1 s frame at
-// 0.097 s). The watchdog throws SimulationDiverged with the cause; with the adaptive step
-// should_stop stays sim's stop check.
-bool step_to_frame(Simulation& sim, double t, const std::function<bool()>& should_stop, long& steps) {
+// one (false: stopped). A fixed step goes to step round(t / dt) from the start (cmd_render
+// checked up front that the frames' steps increase); the adaptive step, whose steps change
+// as it goes, steps as `run` does, Simulation::advance_to each output time k check_every
+// up to t and then to t itself, so the watchdog checks at run's cadence and the frame is
+// within half a step of t (counting steps at the first frame's step drew the coarse torus's
+// 0.1 s frame at 0.097 s). The watchdog throws SimulationDiverged with the cause; with the
+// adaptive step should_stop stays sim's stop check.
+bool step_to_frame(Simulation& sim, double t, double check_every, const std::function<bool()>& should_stop,
+                   long& steps) {
   constexpr long kChunk = 2000;
   const long s0 = sim.total_steps();
   if (sim.params().dt_adaptive) {
-    // One advance_to per frame, as `run` makes one per output row; the stop check is
-    // answered between its steps and changes none of them.
     if (should_stop) sim.set_stop_check(should_stop);
+    if (check_every > 0)
+      for (double k = std::floor(sim.time() / check_every + 1e-9) + 1; k * check_every < t - 1e-12 * t; ++k) {
+        sim.advance_to(k * check_every);
+        if (sim.stopped_early()) return false;
+      }
     sim.advance_to(t);
     if (sim.stopped_early()) return false;
   } else {
     char what[64];
     std::snprintf(what, sizeof what, "--at %g", t);
-    const long n = t > sim.time() ? checked_step_count(t - sim.time(), sim.params().dt, what) : 0;
+    const long n = std::max(0L, checked_step_count(t, sim.params().dt, what) - sim.total_steps());
     for (long k = 0; k < n;) {
       if (should_stop && should_stop()) return false;
       const long m = std::min(kChunk, n - k);
@@ -131,12 +136,13 @@ std::vector<HeadlessFrame> render_headless(Simulation& sim, const HeadlessOption
       // Timed to the end of diagnostics(), which reads the state back: a GPU backend's
       // step() only queues work.
       auto t0 = Clock::now();
-      if (!step_to_frame(sim, t, o.should_stop, f.steps)) {
+      if (!step_to_frame(sim, t, o.check_every, o.should_stop, f.steps)) {
         if (info) info->stopped = true;
         return frames;
       }
       const Diagnostics d = sim.diagnostics();
       f.sim_s = seconds_since(t0);
+      f.sim_t = sim.time();
       if (!std::isfinite(d.ke)) throw std::runtime_error("simulation diverged before t = " + std::to_string(t) + " s (NaN)");
       umax = std::max(umax, float(d.max_u));
       if (o.auto_umax) style.umax = std::max(umax, 1e-4f);

@@ -31,10 +31,14 @@ struct HeadlessOptions {
   bool follow = true;             // the camera target follows the body's centroid
   ContextOptions context;         // backend "egl" (default) or "glfw" (hidden window)
   std::function<bool()> should_stop;  // polled between frames and every 2000 steps
+  // With time.dt = "adaptive": the watchdog's cadence [s] (run's: max(time.output_every,
+  // the first step)); the frames step through its times as run does. 0: one check per frame.
+  double check_every = 0;
 };
 
 struct HeadlessFrame {
-  double t = 0;
+  double t = 0;                   // the time asked for
+  double sim_t = 0;               // the simulation's time drawn: the step nearest t
   long steps = 0;                 // steps taken to reach t
   std::string path;               // PNG written ("" when out_dir is empty)
   Image image;
