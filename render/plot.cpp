@@ -64,7 +64,8 @@ std::string plot_tick_text(double v, double step) {
   // axis, or 30 noisy digits at 1e27: the mantissa carries as many digits as tell the
   // ticks apart.
   if (v == 0) return "0";
-  const int digits = std::clamp(int(std::floor(std::log10(mag))) - e_step, 0, 6);
+  // (12: an axis offset by 1e12 steps from zero, a resting centroid's column, still reads.)
+  const int digits = std::clamp(int(std::floor(std::log10(mag))) - e_step, 0, 12);
   std::snprintf(buf, sizeof buf, "%.*e", digits, v);
   return buf;
 }

@@ -81,8 +81,9 @@ SIM_HD inline void triangle_cross(const T xa[3], const T xb[3], const T xc[3], T
 // are set to 0 and the others rescaled to sum 1. A node resting exactly on another body's
 // node or edge (two meshes face to face) has its foot on a shared corner or edge, where
 // rounding gave weights of -1e-17 in every triangle around it: it was in none, and such
-// nodes let a cube sink through the one under it (a probe's find); and a corner the foot is
-// on takes no part in the pair (takes_part).
+// nodes let a cube sink through the one under it (a probe's find); and a corner the foot
+// has no weight on (the foot on the opposite edge or corner) takes no part in the pair
+// (takes_part).
 constexpr double kFootSnap = 1e-4;
 template <class T>
 struct TriangleProjection {
@@ -196,9 +197,9 @@ SIM_HD inline NodeTriangleCorrection<T> node_triangle_contact(const T xp[3], con
 
 // Whether node a of an accepted pair (0: the node, 1-3: the triangle's a, b, c) takes part
 // in it: the node always, a triangle's corner where the foot's weight on it is not zero.
-// Only those count as the pair's sub-bodies (pair_terms): a corner the foot is on the far
-// side of moves nothing, and counted it slowed its own pairs' correction (two cubes resting
-// node on node: each node sits in the corner of six triangles).
+// Only those count as the pair's sub-bodies (pair_terms): a corner the foot has no weight
+// on moves nothing, and counted it slowed its own pairs' correction (two cubes resting node
+// on node: each node sits in the corner of six triangles).
 template <class T>
 SIM_HD inline bool takes_part(const NodeTriangleCorrection<T>& r, int a) {
   return a == 0 || r.w[a - 1] != T(0);

@@ -18,7 +18,7 @@
 //     whose boxes are tested, sorted and deduplicated.
 // Narrow phase: whether each candidate faces its node at t, then kBodyContactSweeps Jacobi
 // sweeps: node_triangle_contact on every candidate
-// from the same state, then each node's share-scaled sum of its accepted pairs
+// from the same state, then each node's sum of its accepted pairs' mass-split terms
 // (pair_terms), in key order (node, triangle): the order the candidates are visited in.
 #include <array>
 #include <cstdint>

@@ -3,6 +3,7 @@
 // but not understood is an InputError naming the variable, never a silent default (a
 // probe's SOFTTLED_CPU_SIMD=off kept the SIMD path; atoi read SOFTTLED_CUDA_GRAPH_STEPS=1e9
 // as one step). Unset or empty: the default.
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <optional>
@@ -18,7 +19,7 @@ inline std::optional<std::string> env_setting(const char* name) {
   return std::string(v);
 }
 
-// A whole number in [lo, hi] (decimal digits, an optional '-').
+// A whole number in [lo, hi] (decimal digits after an optional sign).
 inline int env_int(const char* name, int fallback, int lo, int hi) {
   const std::optional<std::string> v = env_setting(name);
   if (!v) return fallback;

@@ -90,27 +90,35 @@ void OutputFile::open_temporary(int mode) {
   // Tracked before it exists, so that a second Ctrl-C arriving during open(2) still removes
   // it (tracked after, a 0-byte NAME.tmp was left in 4 of 15 double Ctrl-Cs); created
   // exclusively, after an earlier run's leftover temporary (a regular file) is removed, so
-  // the name tracked is ours once open succeeds. Never through whatever else holds the
-  // name: O_EXCL fails on a symlink, a FIFO or a directory there, at once.
+  // the name tracked is ours once open succeeds. Whatever else holds the name (a directory,
+  // a FIFO, a symlink) is refused before it is tracked, so the handler never removes it;
+  // O_EXCL | O_NOFOLLOW also fails on one that appears in between.
+  auto held = [&](const std::string& what) {
+    const std::string t = tmp_;
+    tmp_.clear();  // not ours: never removed
+    return ResourceError(path_ + ": cannot write its temporary " + t + ": " + what + "; move it away");
+  };
   struct stat st;
-  if (::lstat(tmp_.c_str(), &st) == 0 && S_ISREG(st.st_mode)) ::unlink(tmp_.c_str());
+  if (::lstat(tmp_.c_str(), &st) == 0) {
+    if (!S_ISREG(st.st_mode))
+      throw held(S_ISDIR(st.st_mode) ? "a directory holds its name" : S_ISFIFO(st.st_mode) ? "a FIFO holds its name"
+                 : S_ISLNK(st.st_mode) ? "a symlink holds its name" : "a special file holds its name");
+    if (::unlink(tmp_.c_str()) != 0) throw held(std::string("an earlier file there cannot be removed: ") + std::strerror(errno));
+  }
   abrupt_slot_ = track_abrupt_exit_file(tmp_);
   const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
   if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    const int e = fd < 0 ? errno : 0;
-    if (fd >= 0) ::close(fd);
+    const int e = errno;
+    if (fd >= 0) {  // ours, created: removed
+      ::close(fd);
+      ::unlink(tmp_.c_str());
+    }
     untrack_abrupt_exit_file(abrupt_slot_);
     abrupt_slot_ = -1;
-    const std::string t = tmp_;
-    tmp_.clear();  // not ours: never removed
-    // Something else holds the temporary's name (a directory, a FIFO, a symlink): say so.
-    // Any other reason (a missing directory, no permission) is the output's own.
-    if (e == 0 || e == EEXIST || e == EISDIR || e == ENXIO || e == ELOOP) {
-      std::string what = "not a regular file";
-      if (::lstat(t.c_str(), &st) == 0)
-        what = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISLNK(st.st_mode) ? "a symlink" : what;
-      throw ResourceError(path_ + ": cannot write its temporary " + t + ": " + what + " holds its name; move it away");
-    }
+    // Something appeared at the name in between; any other reason (a missing directory, no
+    // permission) is the output's own.
+    if (fd < 0 && (e == EEXIST || e == EISDIR || e == ENXIO || e == ELOOP)) throw held(std::strerror(e));
+    tmp_.clear();
     throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
   }
   // The replaced file's permissions carry over (a private file stays private); a new file

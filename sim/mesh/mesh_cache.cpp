@@ -59,7 +59,9 @@ bool holds_the_surface(const TetMesh& m, const SurfaceMesh& s) {
   P lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY};
   for (std::size_t i = 0; i + 2 < s.xyz.size(); i += 3)
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.xyz[i + k]), hi[k] = std::max(hi[k], s.xyz[i + k]);
-  const double tol = 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  // (TetGen merges input points closer than 1e-8 of the box, its -T: such a point may
+  // come back as its neighbour.)
+  const double tol = 2e-8 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
   std::vector<P> nodes(std::size_t(m.nnode()));
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     nodes[i] = {m.X[3 * i], m.X[3 * i + 1], m.X[3 * i + 2]};

@@ -630,9 +630,19 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
 namespace softtled {
 
 namespace {
+// How an overlap is told: at the start (the scene's positions are to move) or live (body
+// contact switched on over bodies that passed into each other while it was off).
+struct OverlapWording {
+  std::string prefix, when;
+  bool live;
+  std::string advice(const std::string& a, const std::string& b) const {
+    return live ? "move them apart first" : "move " + a + ".position or " + b + ".position";
+  }
+};
+
 // Two bodies can overlap with every node outside the other (a thin plate through a
 // torus): then a surface edge of one crosses a surface triangle of the other.
-void check_surfaces_apart(const Scene& s, const TetMesh& m) {
+void check_surfaces_apart(const Scene& s, const TetMesh& m, const OverlapWording& w) {
   std::vector<std::array<int, 2>> nodes;
   std::vector<std::array<double, 6>> seg;
   std::vector<int> seg_body;
@@ -648,9 +658,9 @@ void check_surfaces_apart(const Scene& s, const TetMesh& m) {
   if (h.segment < 0) return;
   const std::string& a = s.body(seg_body[h.segment]).key;
   const std::string& b = s.body(tri_body[h.triangle]).key;
-  throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (the surface edge between nodes " +
+  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (the surface edge between nodes " +
                    std::to_string(nodes[h.segment][0]) + " and " + std::to_string(nodes[h.segment][1]) + " of " + a +
-                   " crosses a surface triangle of " + b + "); move " + a + ".position or " + b + ".position");
+                   " crosses a surface triangle of " + b + "); " + w.advice(a, b));
 }
 
 // A point of one body strictly inside an element of another. A surface node is not
@@ -660,7 +670,7 @@ void check_surfaces_apart(const Scene& s, const TetMesh& m) {
 // runs through the other's interior between two of its edges. So each body also offers
 // the midpoint of every surface edge, the centroid of every surface triangle and of every
 // element: points inside its own volume or surface, away from its nodes.
-void check_points_outside_bodies(const Scene& s, const TetMesh& m) {
+void check_points_outside_bodies(const Scene& s, const TetMesh& m, const OverlapWording& w) {
   const int nb = m.nbody();
   // Only the points inside another body's bounding box can be inside it.
   std::vector<double> lo(3 * nb, std::numeric_limits<double>::infinity()), hi(3 * nb, -std::numeric_limits<double>::infinity());
@@ -693,17 +703,18 @@ void check_points_outside_bodies(const Scene& s, const TetMesh& m) {
   const BodyPoint& p = near[hit[1]];
   const std::string& a = s.body(p.body).key;
   const std::string& b = s.body(m.tet_body[hit[0]]).key;
-  throw InputError(s.source + ": " + a + " and " + b + " overlap at the start (" + describe(p) + " of " + a +
-                   " lies in element " + std::to_string(hit[0]) + " of " + b + "); move " + a + ".position or " + b +
-                   ".position");
+  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (" + describe(p) + " of " + a +
+                   " lies in element " + std::to_string(hit[0]) + " of " + b + "); " + w.advice(a, b));
 }
 
 }  // namespace
 
-void check_bodies_apart(const Scene& s, const TetMesh& m) {
+void check_bodies_apart(const Scene& s, const TetMesh& m, bool live) {
   if (m.nbody() < 2) return;
-  check_points_outside_bodies(s, m);
-  check_surfaces_apart(s, m);
+  const OverlapWording w = live ? OverlapWording{"body contact cannot be switched on: ", "now", true}
+                                : OverlapWording{s.source + ": ", "at the start", false};
+  check_points_outside_bodies(s, m, w);
+  check_surfaces_apart(s, m, w);
 }
 
 }  // namespace softtled

@@ -63,7 +63,9 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
 void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::vector<ObstacleSpec>& obstacles);
 // Bodies must not overlap at the start (body-body contact would shoot them apart):
 // InputError naming both bodies when a point of one (as above) lies in an element of
-// another, or a surface edge of one crosses a surface triangle of another.
-void check_bodies_apart(const Scene& s, const TetMesh& m);
+// another, or a surface edge of one crosses a surface triangle of another. live: m holds
+// the positions now, where body contact is being switched on ("... overlap now ...; move
+// them apart first").
+void check_bodies_apart(const Scene& s, const TetMesh& m, bool live = false);
 
 }  // namespace softtled

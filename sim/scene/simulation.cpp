@@ -161,10 +161,8 @@ double Simulation::damping_speed() const {
 }
 
 std::string Simulation::stiffness_damping_warning(double beta) const {
-  std::string w = stiffness_damping_cause(beta, damping_speed(), ts_.min_Le);
-  if (w.empty()) return w;
-  w.resize(w.size() - 5);  // the cause's trailing "; or "
-  return w + " (README, \"Friction on a slope\"); the run may blow up at an impact";
+  const std::string w = stiffness_damping_cause(beta, damping_speed(), ts_.min_Le);
+  return w.empty() ? w : w + " (README, \"Friction on a slope\"); the run may blow up at an impact";
 }
 
 void Simulation::warn_float_far_from_origin() const {
@@ -417,13 +415,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     const std::size_t n = std::size_t(mesh_.nnode());
     for (std::size_t i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k) now.X[3 * i + k] += st.u[k * n + i];
-    try {
-      check_bodies_apart(scene_, now);
-    } catch (const InputError& e) {
-      std::string why = e.what();
-      if (const auto at = why.find(" at the start"); at != std::string::npos) why.replace(at, 13, " now");
-      throw InputError("body contact cannot be switched on: " + why + "; move them apart first");
-    }
+    check_bodies_apart(scene_, now, true);
   }
   // A plane switched on or moved live (not one kept where it is, as a turning slope's
   // pose) must not cut into the body: its projection would throw the nodes across the
@@ -887,8 +879,9 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
   watchdog_.set_body_contact(params_.body_contact || params_.self_contact);
   std::optional<WatchdogFinding> f = watchdog_.check(mesh_, s, d, work_, models, unstable_dt, speed, h);
   if (f && !unstable_dt)
-    f->cause = fast_obstacle_cause(params_.obstacles, c_min_) +
-               stiffness_damping_cause(params_.beta, damping_speed(), ts_.min_Le) + f->cause;
+    if (const std::string beta = stiffness_damping_cause(params_.beta, damping_speed(), ts_.min_Le); !beta.empty())
+      f->cause = beta + "; or " + f->cause;
+  if (f && !unstable_dt) f->cause = fast_obstacle_cause(params_.obstacles, c_min_) + f->cause;
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane,
     // at the step in use now: du spans that step (change_step's rescaling).

@@ -25,7 +25,7 @@ struct TimeStepInfo {
   double c = 0;         // dilatational wave speed (eq. 10) [m/s]
   double min_Le = 0;    // smallest element characteristic length [m]
   double dt_le = 0;     // min_Le / c (eq. 9) [s]
-  double dt_eigen = 0;  // 2 / omega_max of M^-1 K at rest, by power iteration [s]
+  double dt_eigen = 0;  // 2 / omega_max of M^-1 K at rest, by Lanczos (stable_step.h) [s]
   // 2 / alpha: above it the mass damping's factor (2 - alpha dt) / (2 + alpha dt) is
   // negative and the velocity flips sign every step [s] (infinite without damping)
   double dt_alpha = 0;

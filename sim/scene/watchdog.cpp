@@ -112,14 +112,13 @@ std::optional<WatchdogFinding> Watchdog::check(const TetMesh& m, const HostState
     char buf[200];
     std::snprintf(buf, sizeof buf, "the total energy rose %.3g J above its lowest value (%.3g J, scale %.3g J)", h - h_min_,
                   h_min_, scale_);
-    // With body contact its own source comes first: the shifts that put a node found inside
-    // another body back onto its surface move nodes without work (README limits, "Energy
-    // from body contact"; until the split impulse a pushed-out node left with speed
-    // depth / dt).
+    // With body contact its own known source comes first: the two directions' node-triangle
+    // pairs conflicting where two surfaces do not conform (README limits, "Energy from body
+    // contact": a thin plate on a coarser block).
     const char* why = unstable_dt    ? kDtCause
-                      : body_contact_ ? "energy from body contact: the shifts that put nodes found inside another body "
-                                        "back onto its surface move them without work (README limits); or a numerical "
-                                        "blow-up; try a smaller lambda"
+                      : body_contact_ ? "energy from body contact: each body's nodes pushed by the other's triangles where "
+                                        "the two surfaces do not conform (a thin or finer body resting on a coarser one; "
+                                        "README limits); or a numerical blow-up; try a smaller lambda"
                                       : "energy from nowhere: a numerical blow-up; try a smaller lambda";
     return WatchdogFinding{buf, -1, why};
   }
@@ -146,12 +145,14 @@ std::string fast_obstacle_cause(const std::vector<ObstacleSpec>& obstacles, doub
 
 std::string stiffness_damping_cause(double beta, double v, double le_min) {
   if (!(beta > 0 && le_min > 0) || !(beta * v >= kDampingStrainMax * le_min)) return "";
+  // The safe bound rounded down to two digits, so that it passes its own test.
+  const double bound = kDampingStrainMax * le_min / v, scale = std::pow(10.0, std::floor(std::log10(bound)) - 1);
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "damping.beta = %.3g s times the speed %.3g m/s is %.3g mm, %.2g x the smallest element (%.3g mm): the "
                 "stiffness damping's forces, taken at u + beta v, fold elements over where they should be beta K v; use "
-                "damping.beta below %.2g s; or ",
-                beta, v, beta * v * 1e3, beta * v / le_min, le_min * 1e3, kDampingStrainMax * le_min / v);
+                "damping.beta below %.2g s",
+                beta, v, beta * v * 1e3, beta * v / le_min, le_min * 1e3, std::floor(bound / scale) * scale);
   return buf;
 }
 

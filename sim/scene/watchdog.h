@@ -90,8 +90,8 @@ std::string fast_obstacle_cause(const std::vector<ObstacleSpec>& obstacles, doub
 // small against the elements. Where beta times the scene's speed v reaches half the
 // smallest element altitude le_min, elements at u + beta v fold over at an impact (a 6 mm
 // box at 5 m/s blew up at beta = 6e-4 s, beta v / le = 1.7, and ran at 3e-4 s, 0.87):
-// "damping.beta = ...; or " then, else empty. The start and a live change warn at the same
-// ratio (Simulation::stiffness_damping_warning).
+// "damping.beta = ... below B s" then, else empty. The start and a live change warn at the
+// same ratio (Simulation::stiffness_damping_warning).
 constexpr double kDampingStrainMax = 0.5;
 std::string stiffness_damping_cause(double beta, double v, double le_min);
 

@@ -52,24 +52,30 @@ namespace {
 // to start: libgomp keeps its idle team, so a later solver with as many threads costs
 // nothing (a second Python Simulation of 80 threads was refused while the first's team held
 // its stacks).
-// OMP_STACKSIZE as libgomp reads it: a whole number, K by default, or with B, K, M or G;
-// 0: unset, or a value libgomp itself ignores (it says so, "Invalid value"), among them
-// one beyond size_t (a probe's "1e30G" was an out-of-range conversion: undefined
-// behaviour).
+// OMP_STACKSIZE as libgomp reads it (libgomp's env.c, parse_stacksize): spaces, a number
+// strtoul reads, spaces, an optional unit B, K, M or G (K by default), spaces, the end; 0
+// where libgomp ignores the value ("Invalid value"), as for one beyond size_t (a probe's
+// "1e30G" had been an out-of-range conversion: undefined behaviour).
 std::size_t omp_stack_bytes() {
   const char* v = std::getenv("OMP_STACKSIZE");
   if (!v) return 0;
-  while (*v == ' ' || *v == '\t') ++v;
-  if (!std::isdigit(static_cast<unsigned char>(*v))) return 0;
+  while (std::isspace(static_cast<unsigned char>(*v))) ++v;
+  if (!*v) return 0;
   errno = 0;
   char* end = nullptr;
-  const unsigned long long n = std::strtoull(v, &end, 10);
-  while (*end == ' ' || *end == '\t') ++end;
-  const char u = *end ? char(std::toupper(static_cast<unsigned char>(*end))) : 'K';
-  const unsigned long long scale = u == 'B' ? 1 : u == 'K' ? 1ull << 10 : u == 'M' ? 1ull << 20 : u == 'G' ? 1ull << 30 : 0;
-  if (scale == 0 || (*end && end[1] != '\0' && end[1] != ' ' && end[1] != '\t') || n == 0) return 0;
-  if (errno == ERANGE || n > std::numeric_limits<std::size_t>::max() / scale) return 0;
-  return std::size_t(n * scale);
+  const unsigned long n = std::strtoul(v, &end, 10);
+  if (errno || end == v) return 0;
+  while (std::isspace(static_cast<unsigned char>(*end))) ++end;
+  int shift = 10;
+  if (*end) {
+    const char u = char(std::tolower(static_cast<unsigned char>(*end)));
+    shift = u == 'b' ? 0 : u == 'k' ? 10 : u == 'm' ? 20 : u == 'g' ? 30 : -1;
+    if (shift < 0) return 0;
+    for (++end; std::isspace(static_cast<unsigned char>(*end));) ++end;
+    if (*end) return 0;
+  }
+  if (n > (std::numeric_limits<std::size_t>::max() >> shift)) return 0;
+  return std::size_t(n) << shift;
 }
 
 extern "C" void* idle_thread(void*) { return nullptr; }
@@ -79,11 +85,9 @@ void check_threads_can_start(int threads) {
   if (threads <= shown) return;
   pthread_attr_t attr;
   pthread_attr_init(&attr);
-  if (const std::size_t stack = omp_stack_bytes(); stack && pthread_attr_setstacksize(&attr, stack) != 0) {
-    pthread_attr_destroy(&attr);
-    throw ResourceError(std::to_string(threads) + " CPU threads (solver.threads, --threads): OMP_STACKSIZE=" +
-                        quoted(std::getenv("OMP_STACKSIZE")) + " is not a thread stack size this system accepts");
-  }
+  // (A size the system refuses, e.g. below PTHREAD_STACK_MIN, leaves the default: libgomp
+  // warns and goes on with it too.)
+  if (const std::size_t stack = omp_stack_bytes()) pthread_attr_setstacksize(&attr, stack);
   std::vector<pthread_t> team;
   int err = 0;
   for (int i = 1; i < threads && !err; ++i) {

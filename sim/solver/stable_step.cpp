@@ -68,7 +68,7 @@ double rest_eigen_scale(const TetMesh& m, double nu, int model, const std::vecto
   }
   for (double& vi : v) vi /= std::sqrt(norm);
   std::vector<double> alpha, beta;
-  double beta_prev = 0;
+  double beta_prev = 0, alpha_max = 0;
   for (int it = 0; it < iterations; ++it) {
     // Two force evaluations of the whole mesh per product: seconds on a 1M-tet mesh,
     // where a Ctrl-C waited for all of them (4.8 s). The CLI reports the stop.
@@ -94,8 +94,9 @@ double rest_eigen_scale(const TetMesh& m, double nu, int model, const std::vecto
       bnorm += w[q] * w[q];
     }
     alpha.push_back(a);
+    alpha_max = std::max(alpha_max, std::fabs(a));
     const double b = std::sqrt(bnorm);
-    if (!(b > 1e-12 * std::fabs(a))) break;  // an invariant subspace: its Ritz values are exact
+    if (!(b > 1e-12 * alpha_max)) break;  // an invariant subspace: its Ritz values are exact
     beta.push_back(b);
     for (int q = 0; q < 3 * n; ++q) v_prev[q] = v[q], v[q] = w[q] / b;
     beta_prev = b;

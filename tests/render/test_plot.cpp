@@ -187,4 +187,13 @@ TEST(Plot, TickLabelsTellTicksApartAtAnyMagnitude) {
       seen.push_back(t);
     }
   }
+  // An axis far from zero in steps (a body resting at 3 mm, ticks 2e-11 m apart).
+  for (const double step : {2e-11, 5e-9}) {
+    std::vector<std::string> seen;
+    for (int k = 0; k <= 6; ++k) {
+      const std::string t = plot_tick_text(0.003 + k * step, step);
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), t), 0) << "step " << step << ": '" << t << "' twice";
+      seen.push_back(t);
+    }
+  }
 }

@@ -1,5 +1,5 @@
 // Body-body and self-contact on the GPU (body_contact.h): the same broad-phase grid, boxes
-// and margins, pair test, shares and key-ordered sums as body_contact_cpu.cpp, so both
+// and margins, pair test, mass-split terms and key-ordered sums as body_contact_cpu.cpp, so both
 // backends accept the same pairs and sum the same terms in the same order. Per step, after
 // the node stage:
 //   contact_check_kernel   per surface node: has its swept box left its box at the last
