@@ -38,8 +38,9 @@
 //
 // Broad phase: a uniform hash grid of the triangles' swept boxes (Teschner et al. 2003,
 // "Optimized spatial hashing for collision detection of deformable objects"); both
-// backends use grid_cell / grid_bucket below, the CPU with temporal coherence
-// (body_contact_cpu.h), the GPU rebuilt every step (tled_contact.cu). Either gives a
+// backends use grid_cell / grid_bucket below, both with temporal coherence (the lists kept
+// until a node leaves its box by half the margin: body_contact_cpu.h, and tled_contact.cu's
+// check kernel and device-side flag). Either gives a
 // superset of the pairs node_triangle_contact accepts, so both accept the same pairs.
 #include <cmath>
 #include <cstdint>
