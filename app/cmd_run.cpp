@@ -21,19 +21,6 @@
 namespace softtled {
 
 namespace {
-// The mean edge of the mesh's elements [m] (each tet's six edges; shared edges counted per
-// element).
-double mean_element_edge(const TetMesh& m) {
-  double sum = 0;
-  for (int e = 0; e < m.ntet(); ++e)
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        const double* p = &m.X[3 * m.tet[4 * e + a]];
-        const double* q = &m.X[3 * m.tet[4 * e + b]];
-        sum += std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
-      }
-  return m.ntet() > 0 ? sum / (6.0 * m.ntet()) : 0.0;
-}
 
 // One row per output time (README, "Command line"). ke is computed from the integrator's
 // half-step velocity du/dt, the mean velocity over the last step (t - dt, t), not the
@@ -224,7 +211,7 @@ Command add_run_command(CLI::App& app) {
     // A node deeper than half the mean element edge inside a plane, an obstacle or another
     // body is one contact did not hold: a body squeezed between obstacles that close in ran
     // 4 mm into one of them with exit 0 and nothing said (a probe's find). Said once.
-    const double deep = 0.5 * mean_element_edge(sim.mesh());
+    const double deep = 0.5 * element_edge_lengths(sim.mesh()).mean;
     bool said_deep = false;
     auto output = [&](long done, const Diagnostics& dd, const HostState& st, double dt_of_state) {
       if (!(dd.t > last_out_t)) return;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "sim/core/env_setting.h"
 #include "sim/mesh/surface_io.h"
 
 namespace softtled {
@@ -119,15 +120,11 @@ bool read_entry(const std::string& path, const SurfaceMesh& s, long max_tets, Te
 }  // namespace
 
 std::string default_mesh_cache_dir() {
-  // An empty variable is unset (an empty SOFTTLED_CACHE_DIR put entries at "/tet-...");
-  // the XDG Base Directory spec ignores a relative XDG_CACHE_HOME.
-  auto set = [](const char* name) {
-    const char* v = std::getenv(name);
-    return v && *v ? std::string(v) : std::string();
-  };
-  if (const std::string d = set("SOFTTLED_CACHE_DIR"); !d.empty()) return d;
-  if (const std::string x = set("XDG_CACHE_HOME"); !x.empty() && x[0] == '/') return x + "/softtled";
-  if (const std::string h = set("HOME"); !h.empty()) return h + "/.cache/softtled";
+  // An empty variable is unset (env_setting: an empty SOFTTLED_CACHE_DIR put entries at
+  // "/tet-..."); the XDG Base Directory spec ignores a relative XDG_CACHE_HOME.
+  if (const auto d = env_setting("SOFTTLED_CACHE_DIR")) return *d;
+  if (const auto x = env_setting("XDG_CACHE_HOME"); x && (*x)[0] == '/') return *x + "/softtled";
+  if (const auto h = env_setting("HOME")) return *h + "/.cache/softtled";
   return ".softtled-cache";
 }
 

@@ -170,6 +170,22 @@ MeshCounts count_faces_and_edges(const TetMesh& m) {
   return c;
 }
 
+EdgeLengths element_edge_lengths(const TetMesh& m) {
+  EdgeLengths r;
+  double sum = 0;
+  for (int e = 0; e < m.ntet(); ++e)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const double* p = &m.X[3 * m.tet[4 * e + a]];
+        const double* q = &m.X[3 * m.tet[4 * e + b]];
+        const double l = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+        sum += l;
+        r.longest = std::max(r.longest, l);
+      }
+  if (m.ntet() > 0) r.mean = sum / (6.0 * m.ntet());
+  return r;
+}
+
 MeshQuality measure_quality(const TetMesh& m) {
   MeshQuality q;
   std::vector<double> Le(m.ntet());

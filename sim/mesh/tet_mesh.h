@@ -86,6 +86,12 @@ struct MeshQuality {
 };
 MeshQuality measure_quality(const TetMesh& m);
 
+// The elements' edges (each tet's six; an edge shared by k elements counted k times) [m].
+struct EdgeLengths {
+  double mean = 0, longest = 0;
+};
+EdgeLengths element_edge_lengths(const TetMesh& m);
+
 void write_tetgen_files(const TetMesh& m, const std::string& base);  // base.node, base.ele
 
 }  // namespace softtled

@@ -191,12 +191,7 @@ void Simulation::warn_far_track_points() const {
   // the longest element edge is farther from every node than any point of the body (a
   // point 1 km away tracked some node, silently).
   if (tracked_.empty()) return;  // (the edge scan below is start-up time a scene without them need not pay)
-  double longest = 0;
-  for (int e = 0; e < mesh_.ntet(); ++e)
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) {
-        longest = std::max(longest, distance(&mesh_.X[3 * mesh_.tet[4 * e + a]], &mesh_.X[3 * mesh_.tet[4 * e + b]]));
-      }
+  const double longest = element_edge_lengths(mesh_).longest;
   for (std::size_t j = 0; j < tracked_.size(); ++j) {
     const auto& q = scene_.track_points[j];
     const double point[3] = {q[0] * scene_.length_unit, q[1] * scene_.length_unit, q[2] * scene_.length_unit};
@@ -411,10 +406,7 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // bodies, at their positions now.
   if (q.body_contact && !params_.body_contact && mesh_.nbody() >= 2) {
     TetMesh now = mesh_;
-    const HostState& st = state();
-    const std::size_t n = std::size_t(mesh_.nnode());
-    for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) now.X[3 * i + k] += st.u[k * n + i];
+    positions_of(state(), now.X);
     check_bodies_apart(scene_, now, true);
   }
   // A plane switched on or moved live (not one kept where it is, as a turning slope's
@@ -1023,16 +1015,20 @@ Diagnostics Simulation::diagnostics() {
   return diag_;
 }
 
+void Simulation::positions_of(const HostState& s, std::vector<double>& x) const {
+  const std::size_t n = std::size_t(mesh_.nnode());
+  x.resize(3 * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) x[3 * i + k] = mesh_.X[3 * i + k] + s.u[k * n + i];
+}
+
 Diagnostics Simulation::diagnostics_of(const HostState& s) { return diagnostics_of(s, solver_->strain_energy()); }
 
 Diagnostics Simulation::diagnostics_of(const HostState& s, double strain_energy) {
   Diagnostics d = measure_diagnostics(mesh_, s, solver_->lumped_mass(), params_, tracked_, time(), strain_energy);
   if ((params_.body_contact && mesh_.nbody() >= 2) || params_.self_contact) {  // body-body and self gaps too
     if (contact_tables_.nnode == 0) contact_tables_ = build_body_contact_tables(mesh_);
-    const int n = mesh_.nnode();
-    work_x_.resize(3 * std::size_t(n));
-    for (int i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) work_x_[3 * i + k] = mesh_.X[3 * i + k] + s.u[std::size_t(k) * n + i];
+    positions_of(s, work_x_);
     const double g = min_body_gap(contact_tables_, work_x_, s.contact, params_.body_contact, params_.self_contact);
     d.min_gap = std::min(d.min_gap, g);
   }

@@ -196,6 +196,8 @@ class Simulation {
   // The speed damping.beta's strain is judged at (stiffness_damping_cause): the larger of
   // the fastest node's now and the speed the scene's energy allows its whole mass.
   double damping_speed() const;
+  // The nodes' positions X + u of state s, 3 per node, into x.
+  void positions_of(const HostState& s, std::vector<double>& x) const;
   // stiffness_damping_cause as a warning for beta (empty when it is safe).
   std::string stiffness_damping_warning(double beta) const;
   // The watchdog at the live state (advance, advance_to); true: it tripped, rolled back
