@@ -164,6 +164,11 @@ Command add_accuracy_command(CLI::App& app) {
       if (e != "T4" && e != "T4ANP") throw InputError("--elements: '" + e + "' is not T4 or T4ANP");
     // The scene with each level's overrides (parse only: unknown keys, ranges, the mesh.* grammar).
     const Scene base = load_scene(o->scene);
+    // Every run's step is the sweep's own (time.dt = "auto" at each --lambdas, "adaptive" at
+    // each --adaptive-lambdas): a scene's fixed or adaptive step was replaced without a word.
+    if (!base.dt_auto)
+      std::fprintf(stderr, "note: %s: time.dt = %s is not used: accuracy sets the step itself (--lambdas, --adaptive-lambdas)\n",
+                   o->scene.c_str(), base.dt_adaptive ? "\"adaptive\"" : (std::to_string(base.dt) + " s").c_str());
     auto check_scene = [&](const std::string& flag, const std::string& level) {
       // The levels are torus grids (body.segments): on any other body, or on a scene of
       // several, every level would be the same mesh and the sweep would measure nothing.

@@ -95,6 +95,13 @@ void check_video_output(const std::string& path, const std::string& what) {
   if (container_for(path).empty())
     throw InputError(what + " " + path + ": the file name must end in .mp4, .mov or .mkv (H.264 video)");
   check_output_file(path, what);
+  // The video is written to NAME.tmp and renamed onto NAME (an MP4's index is written last,
+  // so it cannot stream into a pipe): a FIFO or device at NAME, or a symlink to one, was
+  // replaced by a regular file, its reader left waiting.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(what + " " + path + ": is " + (S_ISFIFO(st.st_mode) ? "a FIFO" : "a special file") +
+                     "; a video is written to a regular file (its index comes last), so give a file name");
   if (find_ffmpeg().empty())
     throw ResourceError(what + " " + path + ": ffmpeg not found on PATH; install Debian's ffmpeg package (scripts/setup.sh does)");
 }

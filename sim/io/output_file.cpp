@@ -228,6 +228,20 @@ const char* standard_stream_of(const struct stat& st) {
   }
   return nullptr;
 }
+// Before refusing because standard error goes to a file the command reads or writes: where
+// that file holds something (2>> onto it), the refusal itself would be appended to what it
+// protects (2>> scene.toml left the scene unparsable, 2>> out.csv a ragged last row), so
+// standard error is pointed at the controlling terminal, or at /dev/null where there is
+// none. An empty file (2> f made it) takes the message, as asked.
+void move_stderr_off(const struct stat& so) {
+  if (so.st_size == 0) return;
+  std::fflush(stderr);
+  int fd = ::open("/dev/tty", O_WRONLY | O_NOCTTY | O_CLOEXEC);
+  struct stat st;
+  if (fd >= 0 && (::fstat(fd, &st) != 0 || (st.st_dev == so.st_dev && st.st_ino == so.st_ino))) ::close(fd), fd = -1;
+  if (fd < 0) fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (fd >= 0) ::dup2(fd, STDERR_FILENO), ::close(fd);
+}
 std::string parent_of(const std::string& path) {
   const std::filesystem::path p(path);
   const std::string parent = p.parent_path().string();
@@ -278,6 +292,7 @@ void check_output_file(const std::string& path, const std::string& what, bool al
     // this output would overwrite or interleave. A device (/dev/null, a terminal) takes both.
     if (!S_ISCHR(st.st_mode)) {
       const char* stream = standard_stream_of(st);
+      if (stream == kStderrName) move_stderr_off(st);
       if (stream)
         throw InputError(where + "is where " + stream + " goes, and the messages would mix with it" +
                          (allow_stdout && stream == kStdoutName ? " (give - to write it to standard output)" : ""));
@@ -400,9 +415,10 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
       if (u.output_dir)
         for (const auto& e : std::filesystem::directory_iterator(u.path, ec))
           if (written_in_dir(e.path().string(), u.path) && is_stream(e.path().string())) hit = e.path().string();
-      if (!hit.empty())
-        throw InputError(u.what + " " + u.path + ": " + stream + " goes to " + hit + ", which " +
-                         (u.output ? "this output writes" : "is an input") + "; send " + stream + " elsewhere");
+      if (hit.empty()) continue;
+      if (fd == STDERR_FILENO) move_stderr_off(so);
+      throw InputError(u.what + " " + u.path + ": " + stream + " goes to " + hit + ", which " +
+                       (u.output ? "this output writes" : "is an input") + "; send " + stream + " elsewhere");
     }
   }
   for (std::size_t i = 0; i < paths.size(); ++i)

@@ -438,6 +438,12 @@ void read_mesh_keys(Reader& r, Scene& s) {
                                   std::to_string(n->as_string()->get().size()));
   }
   s.tetgen.switches = r.str("mesh.switches", "");
+  // The switches replace these keys: given too (or by --set, or by an accuracy level's
+  // @q), they were dropped without a word and accuracy rows were labelled with them.
+  if (!s.tetgen.switches.empty())
+    for (const char* k : {"radius_edge", "min_dihedral_deg", "max_volume", "keep_boundary"})
+      if (r.get(std::string("mesh.") + k))
+        r.fail("mesh.switches", std::string("replaces mesh.") + k + ", which is given too; give one or the other");
   s.tetgen.max_tets = r.integer("mesh.max_tets", int(kDefaultMaxTets), 1, int(kMaxTetsLimit));
   s.tetgen.time_limit_s = r.num("mesh.time_limit_s", kDefaultTetgenTimeLimitS, 0, 1e6);
   s.mesh_cache = r.boolean("mesh.cache", true);

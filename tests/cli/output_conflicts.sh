@@ -26,6 +26,12 @@ t 2 "--vtu tetrahedron.obj and --surface tetrahedron.obj are the same file" "$ex
 t 2 "--write surface.toml.node" "$exe" mesh --scene surface.toml --write surface.toml --vtu surface.toml.node
 t 2 "--csv same.csv and --vtu same.csv are the same file" "$exe" run --scene surface.toml --csv same.csv --vtu same.csv
 [ -e same.csv ] && { echo "FAIL: same.csv created"; status=1; }
+# A video is renamed onto its name from NAME.tmp: a FIFO or a symlink to a device there was
+# replaced by a regular file (exit 0), its reader left waiting.
+mkfifo fifo.mp4 && ln -s /dev/null null.mp4
+t 2 "--video fifo.mp4: is a FIFO" "$exe" render --scene surface.toml --video fifo.mp4 --to 0.01 --backend cpu
+t 2 "--video null.mp4: is a special file" "$exe" render --scene surface.toml --video null.mp4 --to 0.01 --backend cpu
+{ [ -p fifo.mp4 ] && [ -L null.mp4 ] && [ -c /dev/null ]; } || { echo "FAIL: a special file at the video's name was replaced"; status=1; }
 mkdir v1
 t 2 "--csv v1/series.pvd and --vtu v1: --vtu writes series.pvd in that directory" "$exe" run --scene surface.toml --csv v1/series.pvd --vtu v1
 t 2 "--vtu writes frame_00002.vtu in that directory" "$exe" run --scene surface.toml --csv ./v1/frame_00002.vtu --vtu v1/
@@ -77,10 +83,19 @@ mkdir v2
 "$exe" run --scene surface.toml --vtu v2 2> v2/series.pvd
 rc=$?; { [ $rc -eq 2 ] && grep -q "standard error goes to v2/series.pvd, which this output writes; send standard error elsewhere" v2/series.pvd; } ||
   { echo "FAIL: stderr into --vtu's index (exit $rc)"; status=1; }
+# Appended (2>>) onto a file that holds something, the refusal must not land in it: the
+# scene, an earlier CSV given as --csv, an earlier series' index (each had the error line
+# appended, which left the scene unparsable, the CSV ragged and the index broken XML).
 cp surface.toml app2.toml
-"$exe" run --scene app2.toml --csv se3.csv 2>> app2.toml
-rc=$?; { [ $rc -eq 2 ] && grep -q "standard error goes to app2.toml, which is an input" app2.toml && [ ! -e se3.csv ]; } ||
-  { echo "FAIL: stderr appended onto the scene (exit $rc)"; status=1; }
+setsid "$exe" run --scene app2.toml --csv se3.csv 2>> app2.toml < /dev/null
+rc=$?; { [ $rc -eq 2 ] && cmp -s surface.toml app2.toml && [ ! -e se3.csv ]; } ||
+  { echo "FAIL: stderr appended onto the scene (exit $rc): $(tail -c 200 app2.toml)"; status=1; }
+printf 't,cx\n0,1\n' > keep.csv && cp keep.csv keep0.csv
+setsid "$exe" run --scene surface.toml --csv keep.csv 2>> keep.csv < /dev/null
+rc=$?; { [ $rc -eq 2 ] && cmp -s keep0.csv keep.csv; } || { echo "FAIL: stderr appended onto --csv's file (exit $rc)"; status=1; }
+"$exe" run --scene surface.toml --vtu v3 2> /dev/null && cp v3/series.pvd pvd0
+setsid "$exe" run --scene surface.toml --vtu v3 2>> v3/series.pvd < /dev/null
+rc=$?; { [ $rc -eq 2 ] && cmp -s pvd0 v3/series.pvd; } || { echo "FAIL: stderr appended onto --vtu's index (exit $rc)"; status=1; }
 # Control: standard error to another file.
 "$exe" run --scene surface.toml --csv ctl.csv 2> ctl.err
 rc=$?; { [ $rc -eq 0 ] && [ "$(wc -l <ctl.csv)" -ge 3 ] && ! grep -q error ctl.err; } || { echo "FAIL: control, stderr elsewhere (exit $rc)"; status=1; }

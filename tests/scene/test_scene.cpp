@@ -181,6 +181,12 @@ TEST(Scene, MeshKeys) {
             std::string::npos);
   EXPECT_NE(error_of("[mesh]\nswitches = \"pa1e-320\"\n").find("mesh.switches: 'a1e-320': the volume bound must be"),
             std::string::npos);
+  // The switches replace the quality keys: both given, the keys were dropped silently.
+  for (const char* k : {"radius_edge = 1.2", "min_dihedral_deg = 5.0", "max_volume = 0.01", "keep_boundary = true"})
+    EXPECT_NE(error_of(std::string("[mesh]\nswitches = \"pq2\"\n") + k + "\n").find("mesh.switches: replaces mesh."),
+              std::string::npos)
+        << k;
+  EXPECT_EQ(error_of("[mesh]\nswitches = \"pq2\"\n"), "no error");
 }
 
 // scene_surface names the keys that put a surface out of TetGen's range.
