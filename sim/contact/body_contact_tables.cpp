@@ -41,4 +41,28 @@ BodyContactTables build_body_contact_tables(const TetMesh& m) {
   return t;
 }
 
+int fullest_bucket_at_rest(const BodyContactTables& t, const std::vector<double>& X, unsigned buckets, double inflate) {
+  std::vector<int> count(buckets, 0);
+  std::vector<unsigned> seen;
+  const double inv_h = 1.0 / t.cell;
+  for (int f = 0; f < t.ntri(); ++f) {
+    double b[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) {
+        const double x = X[3 * std::size_t(t.tri[3 * f + c]) + k];
+        b[k] = std::min(b[k], x - inflate);
+        b[3 + k] = std::max(b[3 + k], x + inflate);
+      }
+    if (!grid_box(b, inv_h)) continue;
+    seen.clear();
+    for (long long ix = grid_cell(b[0], inv_h); ix <= grid_cell(b[3], inv_h); ++ix)
+      for (long long iy = grid_cell(b[1], inv_h); iy <= grid_cell(b[4], inv_h); ++iy)
+        for (long long iz = grid_cell(b[2], inv_h); iz <= grid_cell(b[5], inv_h); ++iz) {
+          const unsigned h = grid_bucket(ix, iy, iz, t.tri_body[f], buckets - 1);
+          if (std::find(seen.begin(), seen.end(), h) == seen.end()) seen.push_back(h), ++count[h];
+        }
+  }
+  return count.empty() ? 0 : *std::max_element(count.begin(), count.end());
+}
+
 }  // namespace softtled

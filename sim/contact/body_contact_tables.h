@@ -31,6 +31,12 @@ struct BodyContactTables {
 
 BodyContactTables build_body_contact_tables(const TetMesh& m);
 
+// The most triangles one bucket of a hash grid of `buckets` (a power of two) buckets holds
+// with the mesh at rest (X: 3 per node, interleaved), each triangle's box inflated by
+// `inflate` and entered once per bucket, every triangle in (the GPU grid's rule,
+// tled_contact.cu contact_grid_kernel). What the GPU's bucket lists are sized from.
+int fullest_bucket_at_rest(const BodyContactTables& t, const std::vector<double>& X, unsigned buckets, double inflate);
+
 // The cross products of the boundary triangles around surface node surf[s] (x: positions,
 // 3 per node, interleaved), in the tables' order, into out (body_contact.h, faces_some).
 template <class T>

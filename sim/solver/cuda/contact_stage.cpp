@@ -5,8 +5,8 @@
 namespace softtled::cuda {
 
 template <class T>
-void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector<int>& node_new,
-                                   const std::vector<int>& node_old) {
+void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector<double>& X,
+                                   const std::vector<int>& node_new, const std::vector<int>& node_old) {
   const int n = t.nnode;
   std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n);
   for (std::size_t s = 0; s < surf.size(); ++s) surf[s] = node_new[t.surf[s]];
@@ -16,6 +16,12 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   // Buckets: 8 per triangle, a power of two (a triangle's swept box covers ~8 cells).
   unsigned buckets = 1;
   while (buckets < 8u * unsigned(std::max(1, nt))) buckets <<= 1;
+  // Triangles per bucket: twice the fullest bucket at rest (boxes inflated as the kernels'
+  // are, by the tolerance and half the margin), at least kContactBucketCap, in warps. A
+  // one-element plate (2.5 mm triangles, 0.5 mm sides) within a 3.3 mm cell overflowed a
+  // fixed 128 at its first step and stopped the run as an internal error.
+  const int fullest = fullest_bucket_at_rest(t, X, buckets, 1.5 * t.tol);
+  const int cap = std::max(kContactBucketCap, (2 * fullest + 31) / 32 * 32);
   const std::size_t slots = std::size_t(std::max(1, nsurf)) * kContactCandCap;
   surf_.upload(surf);
   tri_.upload(tri);
@@ -24,7 +30,7 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   surf_tri_start_.upload(t.surf_tri_start);
   surf_tri_.upload(t.surf_tri.empty() ? std::vector<int>{0} : t.surf_tri);
   bucket_count_.resize(buckets);
-  bucket_tri_.resize(std::size_t(buckets) * kContactBucketCap);
+  bucket_tri_.resize(std::size_t(buckets) * cap);
   tri_box_.resize(6 * std::size_t(std::max(1, nt)));
   ncand_.resize(std::max(1, nsurf));
   cand_.resize(slots);
@@ -57,6 +63,7 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.inv_h = 1.0 / double(T(t.cell));
   v.mask = buckets - 1;
   v.bucket_count = bucket_count_.data();
+  v.bucket_cap = cap;
   v.bucket_tri = bucket_tri_.data();
   v.tri_box = tri_box_.data();
   v.ncand = ncand_.data();
@@ -90,12 +97,12 @@ void DeviceContactStage<T>::download_overflow(unsigned* host, cudaStream_t s) co
 }
 
 template <class T>
-std::string DeviceContactStage<T>::overflow_message(unsigned f) {
+std::string DeviceContactStage<T>::overflow_message(unsigned f) const {
   std::string m = "body contact (GPU): ";
   if (f & kContactOverflowCells)
     m += "a triangle swept over more than " + std::to_string(kContactMaxCells) + " grid cells in one step; ";
   if (f & kContactOverflowBucket)
-    m += "a grid bucket held more than " + std::to_string(kContactBucketCap) + " triangles; ";
+    m += "a grid bucket held more than " + std::to_string(view_.bucket_cap) + " triangles; ";
   if (f & kContactOverflowCand)
     m += "a node had more than " + std::to_string(kContactCandCap) + " candidate triangles; ";
   if (f & kContactOverflowIncoming)

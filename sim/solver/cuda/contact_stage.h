@@ -21,14 +21,16 @@ class DeviceContactStage {
   // The tables on the device (once; the caller has synchronised and dropped its graphs):
   // node_new / node_old the solver's renumbering. The triangles and the surface-node order
   // stay the mesh's: the CPU's key order (body_contact.h).
-  void upload(const BodyContactTables& t, const std::vector<int>& node_new, const std::vector<int>& node_old);
+  // X: the rest positions (3 per node, the mesh's order), which size the grid's buckets.
+  void upload(const BodyContactTables& t, const std::vector<double>& X, const std::vector<int>& node_new,
+              const std::vector<int>& node_old);
   // Which pairs the kernels test; lists kept for other kinds of pairs are rebuilt
   // (a stream-ordered write of the rebuild flag).
   void set_pairs(bool bodies, bool self, cudaStream_t s);
   const BodyContactView<T>& view() const { return view_; }
   // The overflow word into *host, stream-ordered (0 when nothing overflowed or not ready).
   void download_overflow(unsigned* host, cudaStream_t s) const;
-  static std::string overflow_message(unsigned flags);
+  std::string overflow_message(unsigned flags) const;
 
  private:
   DeviceBuffer<int> surf_, tri_, tri_body_, node_body_, surf_tri_start_, surf_tri_;

@@ -245,6 +245,7 @@ class CudaSolver final : public CudaSolverApi {
     health_.fill_zero();
 
     contact_tables_ = build_body_contact_tables(mesh);
+    rest_x_ = mesh.X;
 
     set_exec_mode(opt.mode);
     set_node_lanes(opt.node_lanes);
@@ -281,7 +282,7 @@ class CudaSolver final : public CudaSolverApi {
       if (!contact_.ready()) {
         SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
         clear_graphs();  // the first tables: new pointers in the kernel arguments
-        contact_.upload(contact_tables_, perm_.node_new, perm_.node_old);
+        contact_.upload(contact_tables_, rest_x_, perm_.node_new, perm_.node_old);
       }
       contact_.set_pairs(params_.body_contact && contact_tables_.nbody >= 2, params_.self_contact, stream_);
     }
@@ -470,7 +471,7 @@ class CudaSolver final : public CudaSolverApi {
   // Device arrays (solver order, T) to a HostState (mesh order, double); a contact-stage
   // overflow seen with them is an error.
   void to_host_state(const T* u, const T* du, const std::uint8_t* c, unsigned overflow, HostState& s) const {
-    if (overflow) throw std::runtime_error(DeviceContactStage<T>::overflow_message(overflow));
+    if (overflow) throw std::runtime_error(contact_.overflow_message(overflow));
     const std::size_t n3 = 3 * std::size_t(n_);
     s.u.resize(n3);
     s.du.resize(n3);
@@ -1045,6 +1046,7 @@ class CudaSolver final : public CudaSolverApi {
   BodyContactTables contact_tables_;  // original numbering
   ObstacleGrids<T, DeviceBuffer<T>> grids_;  // mesh obstacles' distance values (hold_grids)
   DeviceContactStage<T> contact_;  // allocated when a contact stage is first switched on
+  std::vector<double> rest_x_;      // the mesh's rest positions (3 per node): they size the contact grid
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
   // Snapshot slots (begin_snapshot): pinned copies of u, du, contact; the strain energy

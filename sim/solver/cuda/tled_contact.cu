@@ -108,8 +108,8 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
         if (seen) continue;
         done[nd++] = h;
         const unsigned slot = atomicAdd(c.bucket_count + h, 1u);
-        if (slot < unsigned(kContactBucketCap))
-          c.bucket_tri[std::size_t(h) * kContactBucketCap + slot] = t;
+        if (slot < unsigned(c.bucket_cap))
+          c.bucket_tri[std::size_t(h) * c.bucket_cap + slot] = t;
         else
           atomicOr(c.overflow, kContactOverflowBucket);
       }
@@ -145,11 +145,11 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
         for (long long iy = y0; iy <= y1; ++iy)
           for (long long iz = z0; iz <= z1; ++iz) {
             const unsigned h = grid_bucket(ix, iy, iz, o, c.mask);
-            const int nh = int(min(c.bucket_count[h], unsigned(kContactBucketCap)));
+            const int nh = int(min(c.bucket_count[h], unsigned(c.bucket_cap)));
             for (int q0 = 0; q0 < nh; q0 += 32) {
               int t = -1;
               if (q0 + lane < nh) {
-                t = c.bucket_tri[std::size_t(h) * kContactBucketCap + q0 + lane];
+                t = c.bucket_tri[std::size_t(h) * c.bucket_cap + q0 + lane];
                 if (c.tri_body[t] != o || !boxes_overlap(nb, c.tri_box + 6 * t) ||
                     (o == bi && on_triangle(i, c.tri[3 * t], c.tri[3 * t + 1], c.tri[3 * t + 2])))
                   t = -1;

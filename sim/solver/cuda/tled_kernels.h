@@ -219,7 +219,7 @@ cudaError_t launch_scale(cudaStream_t s, const LaunchShape& ls, int n3, T scale,
 // The device tables of body_contact_tables.h (nodes renumbered), the grid and the per-step
 // scratch. Fixed capacities keep every list in place (no allocation, no host round trip);
 // exceeding one sets a bit of *overflow, which the solver reports as an error.
-constexpr int kContactBucketCap = 128;  // triangles per grid bucket (52 measured on torus_stack)
+constexpr int kContactBucketCap = 128;  // triangles per grid bucket at least (52 measured on torus_stack)
 constexpr int kContactCandCap = 48;     // candidate triangles per surface node
 constexpr int kContactInCap = 64;       // accepted pairs per node
 constexpr int kPairCorrValues = 9;  // a pair slot's stored correction (w, step, shift)
@@ -244,7 +244,8 @@ struct BodyContactView {
   double inv_h = 1;                 // 1 / grid cell
   unsigned mask = 0;                // buckets - 1 (a power of two)
   unsigned* bucket_count = nullptr; // buckets
-  int* bucket_tri = nullptr;        // buckets x kContactBucketCap
+  int bucket_cap = kContactBucketCap;  // triangles per bucket (contact_stage.cpp: from the mesh at rest)
+  int* bucket_tri = nullptr;        // buckets x bucket_cap
   T* tri_box = nullptr;             // 6 x ntri
   int* ncand = nullptr;             // nsurf
   int* cand = nullptr;              // nsurf x kContactCandCap, sorted
