@@ -30,6 +30,63 @@
 namespace py = pybind11;
 using namespace softtled;
 
+namespace softtled_py {
+
+// After a failed conversion of v to a number: raises the error v's own __float__,
+// __index__ or __int__ raised (a RuntimeError of the caller's), which pybind11's casters
+// clear and report as a generic TypeError. A plain mismatch (TypeError) or an overflow
+// returns, for the caller's TypeError. Only objects of the number protocol are asked:
+// float("0.5") would parse a str.
+inline void raise_own_number_error(py::handle v, bool integral) {
+  PyObject* o = v.ptr();
+  if (!PyNumber_Check(o)) return;
+  PyObject* r = nullptr;
+  if (!integral) r = PyNumber_Float(o);
+  else if (PyIndex_Check(o)) r = PyNumber_Index(o);
+  else if (!PyFloat_Check(o) && !Py_TYPE(o)->tp_as_number->nb_float) r = PyNumber_Long(o);  // as pybind11's int caster
+  else return;
+  if (r) {
+    Py_DECREF(r);
+    return;
+  }
+  if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_OverflowError)) {
+    PyErr_Clear();
+    return;
+  }
+  throw py::error_already_set();
+}
+
+// A number argument converted as T's caster converts it, but raising the object's own
+// error (raise_own_number_error) where that fails.
+template <class T>
+struct Num {
+  T v;
+  operator T() const { return v; }
+};
+
+}  // namespace softtled_py
+
+namespace pybind11::detail {
+template <class T>
+struct type_caster<softtled_py::Num<T>> {
+  PYBIND11_TYPE_CASTER(softtled_py::Num<T>, make_caster<T>::name);
+  bool load(handle src, bool convert) {
+    make_caster<T> c;
+    if (c.load(src, convert)) {
+      value.v = cast_op<T>(c);
+      return true;
+    }
+    if (convert) softtled_py::raise_own_number_error(src, std::is_integral_v<T>);
+    return false;
+  }
+  static handle cast(const softtled_py::Num<T>& n, return_value_policy policy, handle parent) {
+    return make_caster<T>::cast(n.v, policy, parent);
+  }
+};
+}  // namespace pybind11::detail
+
+using softtled_py::Num;
+
 namespace {
 
 // A read-only NumPy view of n rows x cols values at p (row stride row_bytes, column stride
@@ -57,15 +114,37 @@ py::array_t<double> rows_of(int n, F f) {
   return a;
 }
 
+// Whether self is a Simulation whose C++ state exists. The type is checked first: the
+// instance layout read below is a pybind11 instance's only for a Simulation (None or 3
+// reinterpreted as one crashed).
+bool is_initialised(py::handle self) {
+  return py::isinstance<PySimulation>(self) &&
+         reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed();
+}
+
 // The Simulation behind self, refused with a TypeError where there is none: an instance
 // made by __new__ alone (its methods reached through the class, past __getattribute__'s
-// guard, had read uninitialised memory: a crash) or an object of another type.
+// guard, had read uninitialised memory: a crash) or an object of another type. Every
+// method takes self as py::handle and goes through here: one bound to PySimulation&
+// directly skips the check.
 PySimulation& self_of(py::handle self) {
   if (!py::isinstance<PySimulation>(self))
     throw py::type_error("Simulation method called on a " + std::string(py::str(self.get_type())));
-  if (!reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed())
+  if (!is_initialised(self))
     throw py::type_error("this Simulation was never initialised (create it with softtled.Simulation(scene), not __new__ alone)");
   return self.cast<PySimulation&>();
+}
+
+// A path argument as the constructor takes it: a str or an os.PathLike (pathlib.Path).
+std::string path_of(py::handle v, const char* what) {
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::hasattr(v, "__fspath__")) {
+    const py::object p = py::module_::import("os").attr("fspath")(v);
+    if (py::isinstance<py::bytes>(p)) return std::string(py::bytes(p));
+    return p.cast<std::string>();
+  }
+  throw py::type_error(std::string(what) + ": path must be a str or os.PathLike, not " +
+                       std::string(py::str(v.get_type().attr("__name__"))));
 }
 
 // One live state array in GPU memory for CuPy, PyTorch or Numba: __cuda_array_interface__
@@ -98,7 +177,17 @@ DeviceArray device_array(const py::object& self, bool increments, const char* na
   return a;
 }
 
-py::dict cuda_array_interface(const DeviceArray& a) {
+// The DeviceArray behind self, refused as self_of refuses: DeviceArray.__new__ alone has
+// no C++ object, and a property bound to DeviceArray& read garbage (a crash).
+const DeviceArray& device_of(py::handle self) {
+  if (!py::isinstance<DeviceArray>(self) ||
+      !reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed())
+    throw py::type_error("DeviceArray: not one made by Simulation.device_displacements() or device_increments()");
+  return self.cast<const DeviceArray&>();
+}
+
+py::dict cuda_array_interface(py::handle self) {
+  const DeviceArray& a = device_of(self);
   py::dict d;
   d["shape"] = py::make_tuple(a.nnode, 3);
   d["typestr"] = a.value_bytes == 4 ? "<f4" : "<f8";
@@ -145,6 +234,14 @@ bool numpy_bool(const py::handle& v) {
   return py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b";
 }
 
+// v as pybind11 converts a float argument, or the error v's own __float__ raised.
+double to_double(const py::handle& v) {
+  py::detail::make_caster<double> c;
+  if (c.load(v, true)) return py::detail::cast_op<double>(c);
+  softtled_py::raise_own_number_error(v, false);
+  throw py::cast_error("not a number");
+}
+
 // Each item of a vector value a number, not itself a sequence (np.zeros((3, 1)) passed as
 // three one-element arrays).
 std::vector<double> flat_numbers(const std::string& key, const py::handle& v) {
@@ -153,7 +250,7 @@ std::vector<double> flat_numbers(const std::string& key, const py::handle& v) {
     if (py::isinstance<py::str>(item) || py::hasattr(item, "__len__") || py::isinstance<py::bool_>(item) || numpy_bool(item))
       throw py::type_error("set_params: " + key + ": expected a flat sequence of numbers, got an item " +
                            std::string(py::repr(item)));
-    out.push_back(item.cast<double>());
+    out.push_back(to_double(item));
   }
   return out;
 }
@@ -174,7 +271,7 @@ ParamValue param_value_cast(const std::string& key, const py::handle& v) {
       p.vec = flat_numbers(key, v);
     } else {
       p.kind = ParamValue::kNumber;
-      p.number = v.cast<double>();
+      p.number = to_double(v);
     }
   } else if (py::isinstance<py::sequence>(v) || py::hasattr(v, "__array__")) {  // ordered: not a set or generator
     p.kind = ParamValue::kVector;
@@ -217,7 +314,8 @@ py::dict diagnostics_dict(Simulation& sim) {
   return r;
 }
 
-py::dict params_dict(PySimulation& s) {
+py::dict params_dict(py::handle self) {
+  PySimulation& s = self_of(self);
   const PhysicsParams& p = s.sim().params();
   py::dict r;
   r["E"] = p.E;
@@ -286,18 +384,18 @@ PYBIND11_MODULE(_softtled, m) {
 
   py::class_<DeviceArray>(m, "DeviceArray", "A live state array in GPU memory (Simulation.device_displacements).")
       .def_property_readonly("__cuda_array_interface__", &cuda_array_interface)
-      .def_property_readonly("rows", [](const DeviceArray& a) { return a.rows; }, "mesh node of each row")
-      .def_property_readonly("shape", [](const DeviceArray& a) { return py::make_tuple(a.nnode, 3); });
+      .def_property_readonly("rows", [](py::handle self) { return device_of(self).rows; }, "mesh node of each row")
+      .def_property_readonly("shape", [](py::handle self) { return py::make_tuple(device_of(self).nnode, 3); });
   m.def(
       "time_decimals",
-      [](double dt) {
+      [](Num<double> dt) {
         if (!(dt > 0) || !std::isfinite(dt)) throw InputError("time_decimals: dt = " + number_text(dt) + ": must be finite and > 0");
         return time_decimals(dt);
       },
       py::arg("dt"),
         "Decimals of `softtled run`'s CSV column t: 3 significant digits of dt, at least 6.");
   m.def(
-      "step_count", [](double duration, double dt) { return checked_step_count(duration, dt, "step_count"); },
+      "step_count", [](Num<double> duration, Num<double> dt) { return checked_step_count(duration, dt, "step_count"); },
       py::arg("duration"), py::arg("dt"), "Steps to cover duration at dt, rounded, as `softtled run` counts them.");
   m.attr("CHUNK_STEPS") = PySimulation::kChunkSteps;
   m.attr("HAVE_RENDER") = png_render_available();
@@ -311,15 +409,13 @@ PYBIND11_MODULE(_softtled, m) {
       // An instance made by __new__ alone has no PySimulation: pybind11 would hand its
       // methods uninitialised memory (a crash). Every attribute but the dunders (__init__
       // among them) is refused until __init__ has run.
-      .def_static("_is_initialised",
-                  [](py::handle self) {
-                    return reinterpret_cast<py::detail::instance*>(self.ptr())->get_value_and_holder().holder_constructed();
-                  })
+      .def_static("_is_initialised", [](py::handle self) { return is_initialised(self); })
       .def("__getattribute__",
            [](py::handle self, const py::str& name) {
              const std::string n = name;
-             auto* inst = reinterpret_cast<py::detail::instance*>(self.ptr());
-             if (n.rfind("__", 0) != 0 && n != "_is_initialised" && !inst->get_value_and_holder().holder_constructed())
+             if (!py::isinstance<PySimulation>(self))  // reached through the class with another object
+               throw py::type_error("Simulation.__getattribute__ called on a " + std::string(py::str(self.get_type())));
+             if (n.rfind("__", 0) != 0 && n != "_is_initialised" && !is_initialised(self))
                throw py::type_error("Simulation." + n + ": this Simulation was never initialised (create it with "
                                     "softtled.Simulation(scene), not __new__ alone)");
              PyObject* r = PyObject_GenericGetAttr(self.ptr(), name.ptr());
@@ -328,7 +424,7 @@ PYBIND11_MODULE(_softtled, m) {
            })
       // ---- stepping ----
       .def(
-          "step", [](py::handle self_, long n) {
+          "step", [](py::handle self_, Num<long> n) {
             PySimulation& s = self_of(self_);
             if (n < 0) throw py::value_error("step: n must be >= 0");
             if (double(n) > kMaxRunSteps)  // as advance and softtled run: the step count past it overflows
@@ -339,7 +435,7 @@ PYBIND11_MODULE(_softtled, m) {
           "n steps, as `softtled run` takes them: chunks of at most CHUNK_STEPS, the watchdog checking after each "
           "(SimulationDiverged: the state is rolled back to the last healthy check); Ctrl-C between chunks.")
       .def(
-          "advance", [](py::handle self_, double seconds) {
+          "advance", [](py::handle self_, Num<double> seconds) {
             PySimulation& s = self_of(self_);
             if (!(seconds >= 0) || !std::isfinite(seconds)) throw InputError("advance: seconds must be finite and >= 0");
             const std::string what = "advance(" + number_text(seconds) + ")";
@@ -355,7 +451,7 @@ PYBIND11_MODULE(_softtled, m) {
           py::arg("seconds"),
           "Simulated seconds: round(seconds / dt) steps as step(); with time.dt = \"adaptive\" to time + seconds.")
       .def(
-          "advance_to", [](py::handle self_, double t) {
+          "advance_to", [](py::handle self_, Num<double> t) {
             PySimulation& s = self_of(self_);
             if (!std::isfinite(t)) throw InputError("advance_to: t must be finite");
             const std::string what = "advance_to(" + number_text(t) + ")";
@@ -501,8 +597,9 @@ PYBIND11_MODULE(_softtled, m) {
            "The CSV's measures of the state now (energies [J], centroid [m], min_gap [m], contacts, watchdog).")
       // ---- output ----
       .def(
-          "write_vtu", [](py::handle self_, const std::string& path) {
+          "write_vtu", [](py::handle self_, py::handle path_) {
             PySimulation& s = self_of(self_);
+            const std::string path = path_of(path_, "write_vtu");
             check_output_file(path, "write_vtu");
             check_not_scene_input(s.scene(), "the scene", {path, "write_vtu", true});
             Simulation& sim = s.sim();
@@ -510,9 +607,10 @@ PYBIND11_MODULE(_softtled, m) {
           },
           py::arg("path"), "One ParaView .vtu of the state now (the point and cell data of `run --vtu`).")
       .def(
-          "render_png", [](py::handle self_, const std::string& path, int width, int height, const std::string& color,
-                           int samples, float azimuth, float elevation, float zoom) {
+          "render_png", [](py::handle self_, py::handle path, Num<int> width, Num<int> height, const std::string& color,
+                           Num<int> samples, Num<float> azimuth, Num<float> elevation, Num<float> zoom) {
             PySimulation& s = self_of(self_);
+            const std::string file = path_of(path, "render_png");
             PngOptions o;
             o.width = width;
             o.height = height;
@@ -521,7 +619,7 @@ PYBIND11_MODULE(_softtled, m) {
             o.azimuth_deg = azimuth;
             o.elevation_deg = elevation;
             o.zoom = zoom;
-            return render_png(s.sim(), path, o);
+            return render_png(s.sim(), file, o);
           },
           py::arg("path"), py::arg("width") = 960, py::arg("height") = 720, py::arg("color") = "shaded",
           py::arg("samples") = 4, py::arg("azimuth") = 30.0f, py::arg("elevation") = 18.0f, py::arg("zoom") = 1.0f,

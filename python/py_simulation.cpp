@@ -145,6 +145,11 @@ std::string PySimulation::set_params(const std::map<std::string, ParamValue>& ch
     }
   }
   if (p.dt_auto && changes.count("dt")) throw InputError("set_params: dt and dt_auto = True together");
+  // As dt_max below: refused, not stored and ignored (Simulation::set_params drops
+  // body_contact on one body, and the call returned '' with params() still False).
+  if (changes.count("body_contact") && p.body_contact && sim_->mesh().nbody() < 2)
+    throw InputError("set_params: body_contact applies only to a scene of two or more bodies (this one has " +
+                     std::to_string(sim_->mesh().nbody()) + ")");
   // As the scene's time.dt_max: a cap of the adaptive step only (a fixed step ignores it).
   if (changes.count("dt_max") && !p.dt_adaptive)
     throw InputError("set_params: dt_max applies only with time.dt = \"adaptive\" (this run's step is " +

@@ -20,6 +20,11 @@ __all__ = ["Simulation", "InputError", "ResourceError", "SimulationDiverged", "s
            "time_decimals", "CHUNK_STEPS", "HAVE_RENDER", "LIVE_PARAMETERS"]
 
 
+def _source(source):
+    # The name relative paths resolve against: a path, so os.PathLike as the scene itself.
+    return os.fspath(source) if isinstance(source, os.PathLike) else source
+
+
 def _overrides(set):
     if set is None:
         return []
@@ -52,7 +57,7 @@ class Simulation(_softtled.Simulation):
         if _softtled.Simulation._is_initialised(self):  # pybind11 would keep the old state silently
             raise RuntimeError("Simulation.__init__: this Simulation is already initialised; create a new one")
         if isinstance(scene, dict):
-            _softtled.Simulation.__init__(self, "", scene_to_toml(scene), source, backend, _overrides(set))
+            _softtled.Simulation.__init__(self, "", scene_to_toml(scene), _source(source), backend, _overrides(set))
         elif isinstance(scene, (str, os.PathLike)):
             path = os.fspath(scene)
             if not path:
@@ -67,7 +72,7 @@ class Simulation(_softtled.Simulation):
         if not isinstance(text, str):  # str(b"...") would parse the repr "b'...'"
             raise TypeError(f"from_toml: text must be a str, got {type(text).__name__}")
         self = cls.__new__(cls)
-        _softtled.Simulation.__init__(self, "", text, source, backend, _overrides(set))
+        _softtled.Simulation.__init__(self, "", text, _source(source), backend, _overrides(set))
         return self
 
     def __repr__(self):
