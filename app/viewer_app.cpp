@@ -23,6 +23,7 @@
 #include "app/render_handoff.h"
 #include "app/video_encoder.h"
 #include "app/viewer_camera.h"
+#include "app/viewer_live.h"
 #include "app/viewer_panel.h"
 #include "app/viewer_picking.h"
 #include "render/body_buffer.h"
@@ -215,7 +216,9 @@ class Viewer {
     }
     if (rec_) stop_recording("window closed");
     if (run.frames > 0) log_rates("rates (whole run)", run);
-    log("closed at t = %.4f s after %ld steps", sim_->time(), sim_->steps());
+    const PhysicsParams& p = sim_->params();
+    log("live material at close: E = %.5g Pa, nu = %.5g, alpha = %.5g 1/s", p.E, p.nu, p.alpha);
+    log("closed at t = %.4f s after %ld steps", sim_->time(), sim_->total_steps());  // steps() restarts at a dt change
     return 0;
   }
 
@@ -245,10 +248,7 @@ class Viewer {
     set_.E = float(s.E);
     set_.nu = float(s.nu);
     set_.alpha = float(s.alpha);
-    set_.rho = float(s.rho);
-    set_.segments[0] = s.segments[0];
-    set_.segments[1] = s.segments[1];
-    for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
+    mesh_settings_from(s);
     set_.contact_mode = s.contact_mode;
     set_.mu = float(s.mu);
     set_.body_contact = s.body_contact();
@@ -262,9 +262,17 @@ class Viewer {
     set_.lambda = float(s.dt_auto ? s.lambda : sim_->time_step().dt / sim_->time_step().dt_cr);
     set_.lock_lambda = s.dt_auto;
     set_.dt_us = float(sim_->time_step().dt * 1e6);
+    st_.shape = s.shape;
+  }
+
+  // The panel's rebuild fields (rho, mesh) as the scene has them.
+  void mesh_settings_from(const Scene& s) {
+    set_.rho = float(s.rho);
+    set_.segments[0] = s.segments[0];
+    set_.segments[1] = s.segments[1];
+    for (int k = 0; k < 3; ++k) set_.divisions[k] = s.divisions[k];
     const double u3 = s.length_unit * 1e3;
     set_.max_volume_mm3 = float(s.tetgen.max_volume * u3 * u3 * u3);
-    st_.shape = s.shape;
   }
 
   // After the Simulation is created or replaced: GL buffers, counts, plot, energies.
@@ -358,27 +366,15 @@ class Viewer {
   // eigenvalue bound), sets dt = lambda x dt_cr when locked, clamps a manual dt above
   // dt_cr (returning a warning) and rescales the increment state so velocities carry over.
   // planes: new planes, else the simulation keeps its own (a turning slope keeps turning).
-  // Returns false (and shows why) when the simulation refused them.
+  // Returns false (shows and logs why, the panel back at the live values) when refused.
   bool apply_params(const std::vector<PlaneSpec>* planes = nullptr) {
-    PhysicsParams p = sim_->params();
-    p.E = set_.E;
-    p.nu = std::min(set_.nu, 0.4999f);
-    p.alpha = set_.alpha;
-    p.contact_mode = ContactMode(set_.contact_mode);
-    p.mu = set_.mu;
-    p.body_contact = set_.body_contact;
-    p.self_contact = set_.self_contact;
-    if (planes) p.planes = *planes;
-    p.dt_auto = set_.lock_lambda;
-    p.lambda = std::clamp(set_.lambda, 0.01f, 1.0f);
-    p.dt = std::max(1e-3f, set_.dt_us) * 1e-6;
-    try {
-      st_.warning = sim_->set_params(p);
-    } catch (const InputError& e) {
-      st_.warning = e.what();
+    const PanelApplied r = apply_panel(*sim_, set_, planes);
+    const bool shown = r.message == st_.warning;  // ImGui applies a typed value again at Enter
+    st_.warning = r.message;
+    if (!r.ok) {
+      if (!shown) log("%s", r.message.c_str());
       return false;
     }
-    set_.dt_us = float(sim_->params().dt * 1e6);
     st_.ts = sim_->time_step();
     dirty_ = true;
     return true;
@@ -395,11 +391,16 @@ class Viewer {
       if (a.planes) log("planes: floor %s, slope %s at %.1f deg", set_.floor ? "on" : "off", set_.slope ? "on" : "off", set_.slope_deg);
     }
     if (a.reset) {
-      sim_->reset();
-      drag_.release();
-      sim_->set_external_forces({});
-      on_reset();
-      log("drop again");
+      try {
+        sim_->reset();  // refused where a plane turned since the start cuts into the body there
+        drag_.release();
+        sim_->set_external_forces({});
+        on_reset();
+        log("drop again");
+      } catch (const InputError& e) {
+        st_.warning = e.what();
+        log("%s", e.what());
+      }
     }
     if (a.rebuild) start_rebuild();
   }
@@ -605,6 +606,8 @@ class Viewer {
     } catch (const std::exception& e) {
       st_.rebuild_error = e.what();
       log("re-mesh failed: %s", e.what());
+      // Back to the body running, as a refused live edit: a bad rho kept would fail every re-mesh.
+      mesh_settings_from(sim_->scene());
     }
   }
 
@@ -614,15 +617,16 @@ class Viewer {
     const Image im = read_framebuffer(w, h);
     std::error_code ec;
     std::filesystem::create_directories(opt_.screenshot_dir, ec);
-    char name[64];
-    std::snprintf(name, sizeof name, "softtled_view_%03d.png", screenshot_count_++);
-    const std::string path = (std::filesystem::path(opt_.screenshot_dir) / name).string();
+    std::string path;
     try {
+      path = reserve_numbered_file(opt_.screenshot_dir, ".png", screenshot_count_);  // never an earlier session's
       write_file_atomic(path, encode_png(im));
       st_.screenshot = path;
       log("screenshot %s", path.c_str());
     } catch (const std::exception& e) {
+      if (!path.empty()) drop_reserved_file(path);
       st_.screenshot = e.what();
+      log("screenshot failed: %s", e.what());
     }
   }
 
@@ -634,15 +638,17 @@ class Viewer {
       return;
     }
     std::string path = opt_.record;
-    if (path.empty() || record_count_ > 0) {
-      char name[64];
-      std::snprintf(name, sizeof name, "softtled_view_%03d.mp4", record_count_);
-      path = (std::filesystem::path(opt_.screenshot_dir) / name).string();
-    }
-    ++record_count_;
+    rec_reserved_.clear();
     try {
+      if (path.empty() || recorded_any_) {  // a numbered file, never an earlier session's
+        std::error_code ec;
+        std::filesystem::create_directories(opt_.screenshot_dir, ec);
+        path = rec_reserved_ = reserve_numbered_file(opt_.screenshot_dir, ".mp4", record_count_);
+      }
+      recorded_any_ = true;
       rec_ = std::make_unique<VideoEncoder>(path, w, h, opt_.record_fps);
     } catch (const std::exception& e) {
+      if (!rec_reserved_.empty()) drop_reserved_file(rec_reserved_);
       st_.record_status = e.what();
       log("cannot record: %s", e.what());
       return;
@@ -673,6 +679,7 @@ class Viewer {
       for (; rec_next_ <= rec_clock_ + 1e-12; rec_next_ += 1.0 / opt_.record_fps) rec_->write(im);
     } catch (const std::exception& e) {
       rec_.reset();
+      if (!rec_reserved_.empty()) drop_reserved_file(rec_reserved_);
       st_.recording.clear();
       st_.record_status = e.what();
       log("recording failed: %s", e.what());
@@ -694,6 +701,7 @@ class Viewer {
       log("recording failed: %s", e.what());
     }
     rec_.reset();
+    if (!rec_reserved_.empty()) drop_reserved_file(rec_reserved_);  // left empty when encoding failed
     st_.recording.clear();
   }
 
@@ -729,10 +737,12 @@ class Viewer {
   bool have_centroid_ = false;
   bool slope_was_on_ = false, floor_was_on_ = false;
   int logged_mode_ = -1;
-  int screenshot_count_ = 0;
+  int screenshot_count_ = 0;  // the next softtled_view_NNN.png tried
   std::unique_ptr<VideoEncoder> rec_;  // the video being recorded
   double rec_clock_ = 0, rec_next_ = 0;  // simulated time recorded so far, time of the next video frame [s]
-  int record_count_ = 0;
+  int record_count_ = 0;                 // the next softtled_view_NNN.mp4 tried
+  bool recorded_any_ = false;            // --record's FILE used: later videos are numbered
+  std::string rec_reserved_;             // the numbered file reserved for this video, "" for --record's
   bool want_record_ = false;             // --record: start with the first frame
   std::vector<KeyPress> keys_;  // filled by the GLFW key callback between frames
 };

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "app/viewer_live.h"
 #include "render/colormap.h"
 #include "sim/contact/plane_contact.h"
 
@@ -23,6 +24,18 @@ void plot_component(const char* name, const std::vector<float>& v, ImU32 color) 
   ImGui::PlotLines(id, v.data(), int(v.size()), 0, overlay, a, b, ImVec2(ImGui::GetContentRegionAvail().x, 50));
   ImGui::PopStyleColor();
 }
+
+// A slider whose Ctrl+click typed value is held to `valid`, the range the simulation
+// accepts (viewer_live.h): ImGui leaves typed values unclamped, and the slider's own range
+// is only the handy part of the valid one.
+bool slider_valid(const char* label, float* v, float lo, float hi, const char* fmt, ImGuiSliderFlags flags, PanelRange valid) {
+  const float before = *v;
+  if (!ImGui::SliderFloat(label, v, lo, hi, fmt, flags)) return false;
+  *v = clamp_typed(*v, before, valid);
+  return true;
+}
+// Where the slider's range is the only valid one (the panel alone sets these).
+constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
 }  // namespace
 
 std::vector<ViewerStats::Body> body_list(const Scene& scene) {
@@ -69,9 +82,13 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     }
     if (ImGui::Checkbox("dt = lambda x dt_cr", &s.lock_lambda)) a.params = true;
     if (s.lock_lambda) {
-      if (ImGui::SliderFloat("lambda", &s.lambda, 0.05f, 1.0f, "%.2f")) a.params = true;
+      if (slider_valid("lambda", &s.lambda, 0.05f, 1.0f, "%.2f", 0, kPanelLambda)) a.params = true;
     } else {
-      if (ImGui::InputFloat("dt [us]", &s.dt_us, 0.1f, 1.0f, "%.3f", ImGuiInputTextFlags_EnterReturnsTrue)) a.params = true;
+      const float before = s.dt_us;
+      if (ImGui::InputFloat("dt [us]", &s.dt_us, 0.1f, 1.0f, "%.3f", ImGuiInputTextFlags_EnterReturnsTrue)) {
+        s.dt_us = clamp_typed(s.dt_us, before, kPanelDtUs);
+        a.params = true;
+      }
     }
     if (!st.warning.empty()) ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "%s", st.warning.c_str());
     int mode = s.fixed_substeps ? 1 : 0;
@@ -79,19 +96,20 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     ImGui::SameLine();
     if (ImGui::RadioButton("fixed substeps", &mode, 1)) s.fixed_substeps = true;
     if (s.fixed_substeps) {
-      ImGui::SliderInt("steps / frame", &s.substeps, 1, 5000, "%d", ImGuiSliderFlags_Logarithmic);
+      if (ImGui::SliderInt("steps / frame", &s.substeps, 1, 5000, "%d", ImGuiSliderFlags_Logarithmic))
+        s.substeps = std::clamp(s.substeps, 1, 100000);  // --substeps' range (README)
     } else {
-      ImGui::SliderFloat("time scale", &s.time_scale, 0.001f, 2.0f, "%.3f", ImGuiSliderFlags_Logarithmic);
-      ImGui::SliderFloat("budget [ms]", &s.max_step_ms, 2.0f, 100.0f, "%.0f");
+      slider_valid("time scale", &s.time_scale, 0.001f, 2.0f, "%.3f", ImGuiSliderFlags_Logarithmic, {1e-6f, 1e3f});  // --time-scale's
+      ImGui::SliderFloat("budget [ms]", &s.max_step_ms, 2.0f, 100.0f, "%.0f", kClamp);
     }
     ImGui::TextDisabled("%ld steps this frame", st.steps_last_frame);
   }
 
   if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
-    if (ImGui::SliderFloat("E [Pa]", &s.E, 300.f, 300000.f, "%.0f", ImGuiSliderFlags_Logarithmic)) a.params = true;
-    if (ImGui::SliderFloat("nu", &s.nu, 0.0f, 0.499f, "%.3f")) a.params = true;
-    if (ImGui::SliderFloat("alpha [1/s]", &s.alpha, 0.0f, 200.f, "%.1f")) a.params = true;
-    ImGui::SliderFloat("rho [kg/m3]", &s.rho, 100.f, 5000.f, "%.0f", ImGuiSliderFlags_Logarithmic);
+    if (slider_valid("E [Pa]", &s.E, 300.f, 300000.f, "%.0f", ImGuiSliderFlags_Logarithmic, kPanelE)) a.params = true;
+    if (slider_valid("nu", &s.nu, 0.0f, 0.499f, "%.3f", 0, kPanelNu)) a.params = true;
+    if (slider_valid("alpha [1/s]", &s.alpha, 0.0f, 200.f, "%.1f", 0, kPanelAlpha)) a.params = true;
+    slider_valid("rho [kg/m3]", &s.rho, 100.f, 5000.f, "%.0f", ImGuiSliderFlags_Logarithmic, kPanelRho);
     ImGui::SameLine();
     ImGui::TextDisabled("(rebuild)");
   }
@@ -109,7 +127,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
       if (ImGui::RadioButton(contact_mode_name(ContactMode(m)), &s.contact_mode, m)) a.params = true;
     }
     ImGui::TextDisabled("F cycles the mode");
-    if (s.contact_mode == kCoulomb && ImGui::SliderFloat("mu", &s.mu, 0.0f, 2.0f, "%.2f")) a.params = true;
+    if (s.contact_mode == kCoulomb && slider_valid("mu", &s.mu, 0.0f, 2.0f, "%.2f", 0, kPanelMu)) a.params = true;
     if (st.nbody >= 2) {
       if (ImGui::Checkbox("body-body contact", &s.body_contact)) a.params = true;
       ImGui::SameLine();
@@ -119,7 +137,7 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     if (ImGui::Checkbox("floor", &s.floor)) a.planes = true;
     ImGui::SameLine();
     if (ImGui::Checkbox("slope", &s.slope)) a.planes = true;
-    if (ImGui::SliderFloat("slope [deg]", &s.slope_deg, -60.f, 60.f, "%.1f")) a.planes = true;
+    if (ImGui::SliderFloat("slope [deg]", &s.slope_deg, -60.f, 60.f, "%.1f", kClamp)) a.planes = true;  // [ ]'s range
     if (s.slope && st.slope_turning)
       ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "slope turning: %.1f deg", st.slope_now);
     else
@@ -140,12 +158,12 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
     if (s.style.color != ColorMode::kShaded) ImGui::Checkbox("legend", &s.legend);
     if (s.style.color == ColorMode::kDisplacement) {
       ImGui::Checkbox("auto range", &s.auto_umax);
-      if (!s.auto_umax) ImGui::SliderFloat("|u| max [mm]", &s.umax_mm, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
+      if (!s.auto_umax) ImGui::SliderFloat("|u| max [mm]", &s.umax_mm, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp);
       ImGui::TextDisabled("0 .. %.2f mm (turbo)", s.style.umax * 1e3);
     } else if (s.style.color == ColorMode::kVonMises) {
       ImGui::Checkbox("auto range", &s.auto_vmmax);
       if (!s.auto_vmmax)
-        ImGui::SliderFloat("von Mises max [kPa]", &s.vmmax_kpa, 0.01f, 1000.f, "%.3g", ImGuiSliderFlags_Logarithmic);
+        ImGui::SliderFloat("von Mises max [kPa]", &s.vmmax_kpa, 0.01f, 1000.f, "%.3g", ImGuiSliderFlags_Logarithmic | kClamp);
       ImGui::TextDisabled("0 .. %.4g kPa (turbo); Cauchy, nodal mean", s.style.vmmax * 1e-3);
     } else if (s.style.color == ColorMode::kContact) {
       const char* names[3] = {"free", "sticking", "sliding"};
@@ -186,7 +204,8 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
 
   if (ImGui::CollapsingHeader("Mesh")) {
     if (st.shape == "torus") {
-      ImGui::SliderInt2("segments", s.segments, 8, 181);
+      if (ImGui::SliderInt2("segments", s.segments, 8, 181))
+        for (int& n : s.segments) n = std::clamp(n, 3, 4096);  // body.segments' range (scene.cpp)
       if (ImGui::SmallButton("coarse")) s.segments[0] = 45, s.segments[1] = 9;
       ImGui::SameLine();
       if (ImGui::SmallButton("medium")) s.segments[0] = 61, s.segments[1] = 13;
@@ -195,9 +214,11 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
       ImGui::SameLine();
       if (ImGui::SmallButton("fine")) s.segments[0] = 121, s.segments[1] = 25;
     } else if (st.shape == "box") {
-      ImGui::SliderInt3("divisions", s.divisions, 1, 32);
+      if (ImGui::SliderInt3("divisions", s.divisions, 1, 32))
+        for (int& n : s.divisions) n = std::clamp(n, 1, 1024);  // body.divisions' range
     }
-    ImGui::SliderFloat("max tet vol [mm3]", &s.max_volume_mm3, 0.0f, 10.f, s.max_volume_mm3 > 0 ? "%.3f" : "none");
+    slider_valid("max tet vol [mm3]", &s.max_volume_mm3, 0.0f, 10.f, s.max_volume_mm3 > 0 ? "%.3f" : "none", 0,
+                 {0.f, std::numeric_limits<float>::max()});
     if (st.rebuilding) {
       static const char spin[] = "|/-\\";
       ImGui::Text("re-meshing with TetGen %c  %.1f s", spin[int(st.rebuild_elapsed * 8) % 4], st.rebuild_elapsed);
@@ -208,8 +229,8 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
   }
 
   if (ImGui::CollapsingHeader("Drag")) {
-    ImGui::SliderFloat("stiffness [N/m]", &s.drag_stiffness, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat("radius [mm]", &s.drag_radius_mm, 0.2f, 8.f, "%.1f");
+    ImGui::SliderFloat("stiffness [N/m]", &s.drag_stiffness, 0.1f, 50.f, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp);
+    ImGui::SliderFloat("radius [mm]", &s.drag_radius_mm, 0.2f, 8.f, "%.1f", kClamp);
   }
 
   if (ImGui::CollapsingHeader("Help")) {
