@@ -35,6 +35,20 @@ struct NeoHookean {
   T snh_mu = T(0), snh_lambda = T(0), snh_alpha = T(1);
 };
 
+// The stable form's energy below is not bounded below by its rest value for nu below about
+// -0.881: with the re-parameterised constants alpha = 1 + 3/4 mu'/lambda' grows as lambda'
+// -> 0, and a uniform compression to J ~ 0.17 (stretch 0.55) has W < 0 (found by a scan of
+// W(diag(s, t, t)) / mu over s, t in [0.05, 5]; -0.8809764 by bisection). A run there
+// made energy out of nothing (a probe's cube at nu = -0.95: KE 1.2e-4 J, se -1.75e-4 J,
+// exit 0), so such a law is refused where a scene or a live change asks for it.
+constexpr double kMinStableNeoHookeanNu = -0.88;
+inline bool law_has_negative_energy(double nu, int model) {
+  return model == kStableNeoHookean && nu < kMinStableNeoHookeanNu;
+}
+inline constexpr char kNegativeEnergyWhy[] =
+    "the stable_neo_hookean energy goes below zero under compression for nu < -0.88 (its alpha grows as "
+    "lambda -> 0); use nu >= -0.88 or the neo_hookean model";
+
 template <class T>
 inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTaylorNeoHookean) {
   const double mu = E / (2.0 * (1.0 + nu)), lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));

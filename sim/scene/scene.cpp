@@ -820,6 +820,8 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     if (s.body_element(i) == kT4ANP && s.body_model(i) != kTaylorNeoHookean)
       r.fail(b.own_law() ? b.key + ".material" : "material.element",
              "T4ANP is implemented for the neo_hookean model only");
+    if (law_has_negative_energy(s.body_nu(i), s.body_model(i)))
+      r.fail(b.own_law() ? b.key + ".material" : "material.nu", kNegativeEnergyWhy);
   }
   // One body: its [body.material] overrides [material], and no other body keeps [material],
   // so the body's values become the scene's. The stable step, the solver and the panel's

@@ -188,6 +188,7 @@ class Simulation {
   friend class SolverAccess;  // the bench's and backend tests' hatch (solver_access.h)
 
   void apply_initial_state();
+  std::vector<PlaneSpec> planes_at_start() const;  // the planes a reset drops the body between
   // A warning where float precision rounds node positions to 1 % of the smallest element.
   void warn_float_far_from_origin() const;
   void warn_friction_creep() const;

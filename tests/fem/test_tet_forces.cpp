@@ -202,6 +202,27 @@ TEST(TetForces, StressIsTheEnergyGradientAlsoBelowTheInversionGuard) {
   }
 }
 
+// The stable form's energy is bounded below by its rest value (0) down to the Poisson ratio
+// scenes may use it at (kMinStableNeoHookeanNu), and no further: just below, a uniform
+// compression has W < 0, where a probe's cube made energy out of nothing. Scanned over
+// F = diag(s, t, t), s, t in [0.05, 3].
+TEST(TetForces, StableNeoHookeanEnergyIsNonNegativeDownToItsPoissonBound) {
+  auto lowest = [](double nu) {
+    const auto mat = neo_hookean_from_E_nu<double>(3000, nu, kStableNeoHookean);
+    double w = 0;
+    for (double s = 0.05; s <= 3.0; s += 0.01)
+      for (double t = 0.05; t <= 3.0; t += 0.01)
+        w = std::min(w, neo_hookean_energy_density(mat, Mat3<double>{{{s, 0, 0}, {0, t, 0}, {0, 0, t}}}));
+    return w;
+  };
+  EXPECT_GE(lowest(kMinStableNeoHookeanNu), -1e-9);
+  EXPECT_GE(lowest(0.45), -1e-9);
+  EXPECT_LT(lowest(-0.9), -1.0) << "at nu = -0.9 some compression has W < 0 (about -0.0015 mu)";
+  EXPECT_FALSE(law_has_negative_energy(kMinStableNeoHookeanNu, kStableNeoHookean));
+  EXPECT_TRUE(law_has_negative_energy(-0.9, kStableNeoHookean));
+  EXPECT_FALSE(law_has_negative_energy(-0.95, kTaylorNeoHookean));
+}
+
 // The GPU's element stage on large meshes derives dh/dX from the rest positions instead of
 // reading the stored table (derive_dhdX); every execution mode must stay bitwise identical,
 // so the derived numbers must be the table's bit for bit, in both precisions, also for a

@@ -181,6 +181,12 @@ TEST(Scene, MeshKeys) {
             std::string::npos);
   EXPECT_NE(error_of("[mesh]\nswitches = \"pa1e-320\"\n").find("mesh.switches: 'a1e-320': the volume bound must be"),
             std::string::npos);
+  // The stable model below its Poisson bound (neo_hookean.h kMinStableNeoHookeanNu): its
+  // energy has negative states there, scene-wide or in a body's own material.
+  EXPECT_NE(error_of("[material]\nmodel = \"stable_neo_hookean\"\nnu = -0.95\n").find("material.nu: the stable_neo_hookean energy"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[material]\nmodel = \"stable_neo_hookean\"\nnu = -0.88\n"), "no error");
+  EXPECT_EQ(error_of("[material]\nnu = -0.95\n"), "no error");
   // The switches replace the quality keys: both given, the keys were dropped silently.
   for (const char* k : {"radius_edge = 1.2", "min_dihedral_deg = 5.0", "max_volume = 0.01", "keep_boundary = true"})
     EXPECT_NE(error_of(std::string("[mesh]\nswitches = \"pq2\"\n") + k + "\n").find("mesh.switches: replaces mesh."),
