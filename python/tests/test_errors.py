@@ -2,6 +2,7 @@
 same text as the CLI prints after "softtled: error: "."""
 import math
 
+import numpy as np
 import pytest
 
 import softtled
@@ -379,3 +380,35 @@ def test_adaptive_set_params_before_the_first_step_is_the_scene_with_those_value
             sim.advance(0.03)
         assert live_run.steps == scene_run.steps
         assert (live_run.positions() == scene_run.positions()).all()
+
+
+def test_adaptive_advance_checks_each_output_interval_as_run_does(capfd):
+    """A long adaptive advance is checked by the watchdog at every output time, as `run` is,
+    so a trip early in the call rolls back there and the halved lambda compounds: one
+    advance(0.02) trips, halves and ends as twenty advance_to(k ms) do. (Checked only at
+    t_end, the one call rolled back to t = 0 and retried three times at lambda x 0.5, where
+    the twenty went to x 0.25 and x 0.125: a probe's crush at g = 1e6.)"""
+    import re
+
+    sets = ["time.dt=adaptive", "gravity.g=[0,-1e6,0]"]
+
+    def outcome(advance):
+        sim = softtled.Simulation(scene("torus_coarse.toml"), backend="cpu", set=sets)
+        capfd.readouterr()
+        try:
+            advance(sim)
+            end = "ran"
+        except softtled.SimulationDiverged:
+            end = "diverged"
+        lambdas = re.findall(r"continuing with lambda x (\S+)", capfd.readouterr().err)
+        return end, sim.time, lambdas, sim.positions().copy()
+
+    def in_steps(sim):
+        for k in range(1, 21):
+            sim.advance_to(k * 1e-3)
+
+    one = outcome(lambda sim: sim.advance(0.02))
+    twenty = outcome(in_steps)
+    assert one[2] == ["0.5", "0.25", "0.125"], one[2]
+    assert one[:3] == twenty[:3]
+    assert np.array_equal(one[3], twenty[3])
