@@ -115,14 +115,14 @@ std::unique_ptr<Simulation> make_simulation(const Scene& s, const std::string& b
   }
 }
 
-long checked_step_count(double duration, double dt, const std::string& what) {
+long checked_step_count(double duration, double dt, const std::string& what, bool frame_time) {
   if (!(dt > 0 && std::isfinite(dt))) throw InputError(what + ": the time step " + fmt(dt) + " s is not positive");
   if (!(duration >= 0 && std::isfinite(duration))) throw InputError(what + ": " + fmt(duration) + " s is not a finite time >= 0");
   const double steps = std::nearbyint(duration / dt);
   if (!(steps <= kMaxRunSteps))
     throw InputError(what + ": " + fmt(duration) + " s at dt = " + fmt(dt) + " s is " + fmt(duration / dt) +
                      " steps, above the limit of " + fmt(kMaxRunSteps));
-  if (duration > 0 && steps < 1)
+  if (duration > 0 && steps < 1 && !frame_time)
     throw InputError(what + ": " + fmt(duration) + " s is shorter than half the time step dt = " + fmt(dt) +
                      " s, so no step would run");
   return long(steps);

@@ -58,9 +58,11 @@ std::string resolve_backend(const std::string& requested);
 std::unique_ptr<Simulation> make_simulation(const Scene& s, const std::string& backend);
 
 // Steps to cover `duration` at `dt` (rounded), refused with a message naming the keys when
-// it overflows, exceeds kMaxRunSteps, or is 0 for a positive duration.
+// it overflows, exceeds kMaxRunSteps, or is 0 for a positive duration. A frame time
+// (frame_time: render's --at) may round to step 0: that frame is the start, as --at 0 is
+// (1e-6 s at a 11 us step was refused as a run too short to take a step).
 constexpr double kMaxRunSteps = 1e11;  // 1e11 steps: more than a day at 1 us/step
-long checked_step_count(double duration, double dt, const std::string& what);
+long checked_step_count(double duration, double dt, const std::string& what, bool frame_time = false);
 
 // The decimals the CSV and messages print times with: enough that consecutive output
 // times dt apart differ (3 significant digits of dt), at least 6.

@@ -200,7 +200,7 @@ Command add_render_command(CLI::App& app) {
     long step_before = -1;
     double t_before = 0;
     for (double t : h.times) {
-      const long n = checked_step_count(t, sim.time_step().dt, "--at");
+      const long n = checked_step_count(t, sim.time_step().dt, "--at", true);
       if (!sim.params().dt_adaptive && n == step_before)
         throw InputError("--at " + std::to_string(t_before) + " and " + std::to_string(t) + " fall on one step (dt = " +
                          std::to_string(sim.time_step().dt) + " s): give times at least a step apart");

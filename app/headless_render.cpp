@@ -78,7 +78,7 @@ bool step_to_frame(Simulation& sim, double t, double check_every, const std::fun
   } else {
     char what[64];
     std::snprintf(what, sizeof what, "--at %g", t);
-    const long n = std::max(0L, checked_step_count(t, sim.params().dt, what) - sim.total_steps());
+    const long n = std::max(0L, checked_step_count(t, sim.params().dt, what, true) - sim.total_steps());
     for (long k = 0; k < n;) {
       if (should_stop && should_stop()) return false;
       const long m = std::min(kChunk, n - k);
