@@ -163,12 +163,8 @@ Command add_accuracy_command(CLI::App& app) {
     for (const auto& e : elements)
       if (e != "T4" && e != "T4ANP") throw InputError("--elements: '" + e + "' is not T4 or T4ANP");
     // The scene with each level's overrides (parse only: unknown keys, ranges, the mesh.* grammar).
+    check_streams_not_into(o->scene, "--scene");  // before the reader's warnings
     const Scene base = load_scene(o->scene);
-    // Every run's step is the sweep's own (time.dt = "auto" at each --lambdas, "adaptive" at
-    // each --adaptive-lambdas): a scene's fixed or adaptive step was replaced without a word.
-    if (!base.dt_auto)
-      std::fprintf(stderr, "note: %s: time.dt = %s is not used: accuracy sets the step itself (--lambdas, --adaptive-lambdas)\n",
-                   o->scene.c_str(), base.dt_adaptive ? "\"adaptive\"" : (std::to_string(base.dt) + " s").c_str());
     auto check_scene = [&](const std::string& flag, const std::string& level) {
       // The levels are torus grids (body.segments): on any other body, or on a scene of
       // several, every level would be the same mesh and the sweep would measure nothing.
@@ -211,6 +207,14 @@ Command add_accuracy_command(CLI::App& app) {
     paths.push_back({csv_path, "--out", true});
     paths.push_back({md_path, "--out", true});
     check_distinct_paths(paths);
+    // Every run's step is the sweep's own (time.dt = "auto" at each --lambdas, "adaptive" at
+    // each --adaptive-lambdas): a scene's fixed or adaptive step was replaced without a word.
+    if (!base.dt_auto) {
+      char dt[32];
+      std::snprintf(dt, sizeof dt, "%.6g s", base.dt);
+      std::fprintf(stderr, "note: %s: time.dt = %s is not used: accuracy sets the step itself (--lambdas, --adaptive-lambdas)\n",
+                   o->scene.c_str(), base.dt_adaptive ? "\"adaptive\"" : dt);
+    }
     // SIGINT/SIGTERM/SIGHUP: stop after the run in progress, keeping the rows written.
     install_stop_signals();
 

@@ -457,6 +457,7 @@ Command add_bench_command(CLI::App& app) {
       if (in_set("solver.threads=")) throw InputError("--threads and --set solver.threads both given: give one");
       set.push_back("solver.threads=" + std::to_string(o->threads));
     }
+    check_streams_not_into(o->scene, "--scene");  // before the reader's warnings
     const Scene sc = load_scene(o->scene, set);
     if (!o->json.empty()) check_not_scene_input(sc, "--scene", {o->json, "--json", true});
     install_stop_signals();  // SIGINT/SIGTERM/SIGHUP: stop within a piece of a sample (timed_in_pieces), write nothing

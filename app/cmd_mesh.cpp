@@ -103,6 +103,8 @@ Command add_mesh_command(CLI::App& app) {
     if (!o->vtu.empty()) check_output_file(o->vtu, "--vtu");
     // The surface replaces the scene's bodies: one file body, read as such (body.scale
     // applies to it; body.shape or a torus key given with it is refused, not ignored).
+    check_streams_not_into(o->scene, "--scene");  // before the reader's warnings
+    check_streams_not_into(o->surface, "--surface");
     Scene s = o->scene.empty() ? parse_scene("", o->surface.empty() ? "(defaults)" : "--surface " + o->surface, o->set, o->surface)
                                : load_scene(o->scene, o->set, o->surface);
     if (!o->surface.empty()) s.source = "--surface";  // no directory: the path is used as given

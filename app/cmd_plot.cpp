@@ -30,6 +30,7 @@ Command add_plot_command(CLI::App& app) {
     if (!parse_wxh_size(o->size, 200, 8192, w, h))
       throw InputError("--size '" + o->size + "': expected WxH between 200 and 8192, e.g. 900x700");
     check_output_file(o->out, "--out");
+    check_streams_not_into(o->csv, "csv");
     check_distinct_paths({{o->csv, "csv"}, {o->out, "--out", true}});
     // A file it creates or replaces is named for what it holds (a device or FIFO is
     // written in place, whatever its name).

@@ -168,6 +168,7 @@ Command add_render_command(CLI::App& app) {
       check_output_dir(h.out_dir, "--out");  // before meshing
     }
     with_render_input_errors(check_shader_dir);  // before meshing, as the outputs
+    check_streams_not_into(o->scene, "--scene");  // before the reader's warnings
     const Scene s = load_scene(o->scene, o->set);
     if (is_video) {  // the video, or a frame, onto the scene or a file it reads
       check_not_scene_input(s, "--scene", {o->video, "--video", true});

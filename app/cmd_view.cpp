@@ -45,6 +45,7 @@ Command add_view_command(CLI::App& app) {
     if (c->count("--record") && o->record.empty()) throw InputError("--record: empty path");
     if (!o->record.empty()) check_video_output(o->record, "--record");  // ffmpeg missing: exit 5
     if (o->scene.empty()) o->scene = default_scene();
+    check_streams_not_into(o->scene, "--scene");  // before the reader's warnings
     if (!(o->time_scale > 0)) throw InputError("--time-scale must be positive");
     return run_viewer(*o);
   };

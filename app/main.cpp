@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   // report (exit 5, the CSV cut back to its last row) instead of SIGXFSZ killing the program
   // with half-written files.
   std::signal(SIGXFSZ, SIG_IGN);
+  guard_stderr_of_files(true);
   // A standard stream started closed (`>&-`, `2>&-`) would let the first file opened take
   // its descriptor, and the summary or the log would be written into that CSV. Each closed
   // one is held by /dev/null opened read-only: its writes fail (EBADF) and are reported

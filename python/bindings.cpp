@@ -138,12 +138,13 @@ PySimulation& self_of(py::handle self) {
 // A path argument as the constructor takes it: a str or an os.PathLike (pathlib.Path).
 std::string path_of(py::handle v, const char* what) {
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::bytes>(v)) return std::string(py::bytes(py::reinterpret_borrow<py::object>(v)));  // as before
   if (py::hasattr(v, "__fspath__")) {
     const py::object p = py::module_::import("os").attr("fspath")(v);
     if (py::isinstance<py::bytes>(p)) return std::string(py::bytes(p));
     return p.cast<std::string>();
   }
-  throw py::type_error(std::string(what) + ": path must be a str or os.PathLike, not " +
+  throw py::type_error(std::string(what) + ": path must be a str, bytes or os.PathLike, not " +
                        std::string(py::str(v.get_type().attr("__name__"))));
 }
 

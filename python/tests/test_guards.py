@@ -93,10 +93,12 @@ def test_every_path_argument_takes_os_pathlike(tmp_path):
     assert f'NumberOfPoints="{sim.nnode}"' in (tmp_path / "state.vtu").read_text()
     sim.write_vtu(str(tmp_path / "same.vtu"))
     assert (tmp_path / "state.vtu").read_bytes() == (tmp_path / "same.vtu").read_bytes()
+    sim.write_vtu(bytes(tmp_path / "bytes.vtu"))  # bytes, as the str-only binding took
+    assert (tmp_path / "state.vtu").read_bytes() == (tmp_path / "bytes.vtu").read_bytes()
     with pytest.raises(softtled.InputError, match="write_vtu"):  # the path's own checks still apply
         sim.write_vtu(tmp_path / "no_such_dir" / "x.vtu")
     for call in (lambda: sim.write_vtu(3), lambda: sim.render_png(3.5)):
-        with pytest.raises(TypeError, match="path must be a str or os.PathLike"):
+        with pytest.raises(TypeError, match="path must be a str, bytes or os.PathLike"):
             call()
     # render_png: the path is taken (its checks run) whether or not EGL is there
     with pytest.raises(softtled.InputError, match="render_png"):

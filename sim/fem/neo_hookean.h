@@ -45,9 +45,6 @@ constexpr double kMinStableNeoHookeanNu = -0.88;
 inline bool law_has_negative_energy(double nu, int model) {
   return model == kStableNeoHookean && nu < kMinStableNeoHookeanNu;
 }
-inline constexpr char kNegativeEnergyWhy[] =
-    "the stable_neo_hookean energy goes below zero under compression for nu < -0.88 (its alpha grows as "
-    "lambda -> 0); use nu >= -0.88 or the neo_hookean model";
 
 template <class T>
 inline NeoHookean<T> neo_hookean_from_E_nu(double E, double nu, int model = kTaylorNeoHookean) {

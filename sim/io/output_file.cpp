@@ -228,17 +228,22 @@ const char* standard_stream_of(const struct stat& st) {
   }
   return nullptr;
 }
-// Before refusing because standard error goes to a file the command reads or writes: where
-// that file holds something (2>> onto it), the refusal itself would be appended to what it
-// protects (2>> scene.toml left the scene unparsable, 2>> out.csv a ragged last row), so
-// standard error is pointed at the controlling terminal, or at /dev/null where there is
-// none. An empty file (2> f made it) takes the message, as asked.
-void move_stderr_off(const struct stat& so) {
-  if (so.st_size == 0) return;
+bool g_guard_stderr = false;  // guard_stderr_of_files
+// Before refusing because a standard stream goes to a file the command reads or writes (st):
+// where standard error goes to that file too and it holds something (2>> or &>> onto it),
+// the refusal itself would be appended to what it protects (2>> scene.toml left the scene
+// unparsable, 2>> out.csv a ragged last row), so standard error is pointed at the
+// controlling terminal when this process is in its foreground (a background one would be
+// stopped by SIGTTOU under `stty tostop`), else at /dev/null. An empty file (2> f made it)
+// takes the message, as asked.
+void keep_stderr_out_of(const struct stat& st) {
+  struct stat se;
+  if (!g_guard_stderr || st.st_size == 0 || ::fstat(STDERR_FILENO, &se) != 0 || !S_ISREG(se.st_mode) ||
+      se.st_dev != st.st_dev || se.st_ino != st.st_ino)
+    return;
   std::fflush(stderr);
   int fd = ::open("/dev/tty", O_WRONLY | O_NOCTTY | O_CLOEXEC);
-  struct stat st;
-  if (fd >= 0 && (::fstat(fd, &st) != 0 || (st.st_dev == so.st_dev && st.st_ino == so.st_ino))) ::close(fd), fd = -1;
+  if (fd >= 0 && ::tcgetpgrp(fd) != ::getpgrp()) ::close(fd), fd = -1;
   if (fd < 0) fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (fd >= 0) ::dup2(fd, STDERR_FILENO), ::close(fd);
 }
@@ -270,6 +275,20 @@ void check_temporary_name(const std::string& output, const std::string& where) {
 }
 }  // namespace
 
+void guard_stderr_of_files(bool on) { g_guard_stderr = on; }
+
+void check_streams_not_into(const std::string& path, const std::string& what) {
+  struct stat st;
+  if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+  for (const auto& [fd, stream] : {std::pair<int, const char*>{STDOUT_FILENO, kStdoutName}, {STDERR_FILENO, kStderrName}}) {
+    struct stat so;
+    if (::fstat(fd, &so) != 0 || so.st_dev != st.st_dev || so.st_ino != st.st_ino) continue;
+    keep_stderr_out_of(st);
+    throw InputError(what + " " + path + ": " + stream + " goes to " + path + ", which is an input; send " + stream +
+                     " elsewhere");
+  }
+}
+
 void check_no_nul(const std::string& path, const std::string& what) {
   const auto nul = path.find('\0');
   if (nul != std::string::npos)
@@ -292,7 +311,7 @@ void check_output_file(const std::string& path, const std::string& what, bool al
     // this output would overwrite or interleave. A device (/dev/null, a terminal) takes both.
     if (!S_ISCHR(st.st_mode)) {
       const char* stream = standard_stream_of(st);
-      if (stream == kStderrName) move_stderr_off(st);
+      if (stream) keep_stderr_out_of(st);
       if (stream)
         throw InputError(where + "is where " + stream + " goes, and the messages would mix with it" +
                          (allow_stdout && stream == kStdoutName ? " (give - to write it to standard output)" : ""));
@@ -416,7 +435,7 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
         for (const auto& e : std::filesystem::directory_iterator(u.path, ec))
           if (written_in_dir(e.path().string(), u.path) && is_stream(e.path().string())) hit = e.path().string();
       if (hit.empty()) continue;
-      if (fd == STDERR_FILENO) move_stderr_off(so);
+      keep_stderr_out_of(so);
       throw InputError(u.what + " " + u.path + ": " + stream + " goes to " + hit + ", which " +
                        (u.output ? "this output writes" : "is an input") + "; send " + stream + " elsewhere");
     }

@@ -78,6 +78,16 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
 // before it, another file. what: the flag or call, or empty for an input path.
 void check_no_nul(const std::string& path, const std::string& what);
 
+// The CLI turns this on at start: before refusing because a standard stream goes to a file
+// the command reads or writes, standard error is moved off that file where it holds
+// something, so the refusal is not appended to it (output_file.cpp, keep_stderr_out_of).
+// Off, as in the Python module and the tests, standard error is left where it is.
+void guard_stderr_of_files(bool on);
+// Refuses (InputError) an input the command reads that standard output or standard error
+// already goes to (2>> scene.toml), before anything is read or printed: a warning of the
+// scene reader would be appended to the scene itself.
+void check_streams_not_into(const std::string& path, const std::string& what);
+
 // InputError (naming `what`, e.g. "--csv", the path and the OS reason) unless a file can be
 // created or overwritten at path: not a directory, its directory exists and is writable,
 // an existing file is writable. "-" (standard output) passes when allow_stdout. An

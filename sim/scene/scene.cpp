@@ -821,7 +821,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       r.fail(b.own_law() ? b.key + ".material" : "material.element",
              "T4ANP is implemented for the neo_hookean model only");
     if (law_has_negative_energy(s.body_nu(i), s.body_model(i)))
-      r.fail(b.own_law() ? b.key + ".material" : "material.nu", kNegativeEnergyWhy);
+      r.fail(b.own_law() ? b.key + ".material" : "material.nu", negative_energy_law_why());
   }
   // One body: its [body.material] overrides [material], and no other body keeps [material],
   // so the body's values become the scene's. The stable step, the solver and the panel's
@@ -920,6 +920,14 @@ bool Scene::per_body_law() const {
   for (int i = 0; i < body_count(); ++i)
     if (body(i).own_law()) return true;
   return false;
+}
+
+std::string negative_energy_law_why() {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "the stable_neo_hookean energy goes below zero under compression for nu < %g (its "
+                "alpha grows as lambda -> 0); use nu >= %g or the neo_hookean model", kMinStableNeoHookeanNu,
+                kMinStableNeoHookeanNu);
+  return buf;
 }
 
 const char* material_model_name(MaterialModel m) { return name_of(kMaterialModels, m); }

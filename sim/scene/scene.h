@@ -167,6 +167,9 @@ Scene parse_scene(const std::string& toml_text, const std::string& source,
 constexpr std::uint64_t kMaxSceneBytes = 4ull << 20;
 // Reads a regular file of at most kMaxSceneBytes (read_input_file); errors name the path
 // and the OS reason ("scene file PATH: cannot open file: No such file or directory").
+// Why a law with law_has_negative_energy (neo_hookean.h) is refused, for messages.
+std::string negative_energy_law_why();
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                  const std::string& surface = "");
 

@@ -230,9 +230,21 @@ std::vector<ObstacleSpec> scene_obstacles(const Scene& s) {
 }
 
 std::string slope_tilt_error(const std::array<double, 3>& floor_normal, double angle_deg) {
-  if (angle_deg == 0 || std::hypot(floor_normal[0], floor_normal[1]) >= 1e-9) return {};
-  return "the slope is the floor turned about z, and floor.normal is along z, so no angle tilts it; with z up, "
-         "make the slope an [[obstacle]] of shape \"box\" turned by rotation_deg";
+  if (angle_deg == 0) return {};
+  const double nxy = std::hypot(floor_normal[0], floor_normal[1]);
+  const std::string fix = "with z up, make the slope an [[obstacle]] of shape \"box\" turned by rotation_deg";
+  if (nxy < 1e-9) return "the slope is the floor turned about z, and floor.normal is along z, so no angle tilts it; " + fix;
+  // Turned by theta about z, a unit normal n makes an angle phi with itself where
+  // cos phi = nz^2 + (1 - nz^2) cos theta: a floor normal mostly along z tilts by a
+  // fraction of theta ([0, 1e-6, 1] at 89 degrees: 1e-4 degrees, silently flat).
+  const double nn = nxy * nxy + floor_normal[2] * floor_normal[2], z2 = floor_normal[2] * floor_normal[2] / nn;
+  const double c = z2 + (1 - z2) * std::cos(angle_deg * 3.14159265358979323846 / 180);
+  const double phi = std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979323846;
+  if (phi >= 0.9 * std::fabs(angle_deg)) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the slope is the floor turned about z, and floor.normal is mostly along z, so %g degrees "
+                "tilts it by only %.3g; ", angle_deg, phi);
+  return buf + fix;
 }
 
 double slope_angle_deg(const Scene& s, const PlaneSpec& slope) {
@@ -289,15 +301,23 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m) {
   return tracked;
 }
 
+double rest_gap(const TetMesh& m, const PlaneSpec& plane, int* node) {
+  double lowest = INFINITY;
+  for (int i = 0; i < m.nnode(); ++i) {
+    const double d = signed_distance(plane, &m.X[3 * i]);
+    if (d < lowest) {
+      lowest = d;
+      if (node) *node = i;
+    }
+  }
+  return lowest;
+}
+
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes) {
   for (std::size_t p = 0; p < planes.size(); ++p) {
-    double worst = 0;
     int deepest = 0;
-    for (int i = 0; i < m.nnode(); ++i) {
-      const double d = signed_distance(planes[p], &m.X[3 * i]);
-      if (d < worst) worst = d, deepest = i;
-    }
-    if (worst < -1e-9) {
+    const double worst = rest_gap(m, planes[p], &deepest);
+    if (worst < -kStartPlaneTolerance) {
       // With several bodies, the one that is in it (body.position is refused there).
       const int b = m.body_of_node(deepest);
       const std::string who = m.nbody() > 1 ? s.body(b).key : std::string("the body");

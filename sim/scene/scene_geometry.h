@@ -55,6 +55,11 @@ std::vector<int> scene_tracked_nodes(const Scene& s, const TetMesh& m);
 // A body that starts inside a plane would be shot out by the projection: InputError
 // naming the plane (planes as scene_planes returns them).
 void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vector<PlaneSpec>& planes);
+// A body at rest touching a plane (within this of it, by rounding) starts in contact; deeper
+// it starts inside, which the scene, a reset and a turning slope's end pose refuse [m].
+constexpr double kStartPlaneTolerance = 1e-9;
+// The lowest signed distance of the mesh's nodes at rest to a plane (node: the deepest) [m].
+double rest_gap(const TetMesh& m, const PlaneSpec& plane, int* node = nullptr);
 // The same for obstacles: InputError naming obstacle[i] when a point of the body (a node,
 // a surface-edge midpoint, a surface-triangle or element centre) lies inside it (signed
 // distance < 0; a mesh's from its grid, beyond the grid's error), a point of the obstacle

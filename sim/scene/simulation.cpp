@@ -324,9 +324,9 @@ std::string Simulation::set_params(const PhysicsParams& p) {
     if (laws[b].element == kT4ANP && laws[b].model != kTaylorNeoHookean)
       throw InputError(scene_.body(int(b)).key + ": T4ANP is implemented for the neo_hookean model only");
     if (law_has_negative_energy(laws[b].nu, laws[b].model))
-      throw InputError(scene_.body(int(b)).key + ": " + kNegativeEnergyWhy);
+      throw InputError(scene_.body(int(b)).key + ": " + negative_energy_law_why());
   }
-  if (laws.empty() && law_has_negative_energy(q.nu, q.material_model)) throw InputError(std::string("nu: ") + kNegativeEnergyWhy);
+  if (laws.empty() && law_has_negative_energy(q.nu, q.material_model)) throw InputError("nu: " + negative_energy_law_why());
   // With per-body materials the fastest body's wave speed with the smallest element
   // anywhere: conservative. 2/omega_max below sees every body's own material (the rest
   // state's scales and the laws).
@@ -662,8 +662,7 @@ void Simulation::apply_initial_state() {
   const std::vector<PlaneSpec> planes = planes_at_start();
   bool turned = false;
   for (std::size_t p = 0; p < plane_motion_.size(); ++p)
-    if (plane_motion_[p].moving() && std::isfinite(plane_motion_[p].duration) &&
-        std::memcmp(&planes[p], &params_.planes[p], sizeof(PlaneSpec)) != 0) {
+    if (plane_motion_[p].moving() && std::isfinite(plane_motion_[p].duration) && !same_pose(planes[p], params_.planes[p])) {
       params_.planes[p] = planes[p];
       plane_motion_[p] = PlaneMotion{};
       turned = true;
@@ -698,9 +697,7 @@ std::vector<PlaneSpec> Simulation::planes_at_start() const {
     const PlaneMotion& m = plane_motion_[p];
     if (!m.moving() || !std::isfinite(m.duration)) continue;
     const PlaneSpec end = moved(params_.planes[p], m, m.duration);
-    double gap = INFINITY;
-    for (int i : mesh_.surface_nodes) gap = std::min(gap, signed_distance(end, &mesh_.X[3 * i]));
-    if (gap >= -1e-7) planes[p] = end;
+    if (rest_gap(mesh_, end) >= -kStartPlaneTolerance) planes[p] = end;
   }
   return planes;
 }
@@ -710,10 +707,13 @@ void Simulation::reset() {
   // dropped there, its nodes were thrown across the depth in one step (a probe turned the
   // slope to 55 degrees, pressed R, and the run was NaN 6.6 ms later). Refused as the scene
   // file's start is, before anything changes.
-  try {
-    check_body_outside_planes(scene_, mesh_, planes_at_start());
-  } catch (const InputError& e) {
-    throw InputError(std::string("reset: ") + e.what() + " (the plane as it stands now); turn it back first");
+  double lowest = INFINITY;
+  for (const PlaneSpec& p : planes_at_start()) lowest = std::min(lowest, rest_gap(mesh_, p));
+  if (lowest < -kStartPlaneTolerance) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "reset: the body's start lies %.4g mm inside a plane as it stands now (turned or moved "
+                  "since the start); turn it back first", -lowest * 1e3);
+    throw InputError(buf);
   }
   apply_initial_state();
 }

@@ -90,6 +90,14 @@ cp surface.toml app2.toml
 setsid "$exe" run --scene app2.toml --csv se3.csv 2>> app2.toml < /dev/null
 rc=$?; { [ $rc -eq 2 ] && cmp -s surface.toml app2.toml && [ ! -e se3.csv ]; } ||
   { echo "FAIL: stderr appended onto the scene (exit $rc): $(tail -c 200 app2.toml)"; status=1; }
+# Both streams appended onto the scene (>> f 2>&1), and commands that had no check of the
+# scene against standard error (render's PNGs, bench): the scene stays as it was.
+setsid "$exe" run --scene app2.toml >> app2.toml 2>&1 < /dev/null
+rc=$?; { [ $rc -eq 2 ] && cmp -s surface.toml app2.toml; } || { echo "FAIL: >> scene 2>&1 (exit $rc)"; status=1; }
+for cmd in "render --out r2 --at 0" "bench --steps 30 --samples 3" "mesh"; do
+  setsid "$exe" $cmd --scene app2.toml 2>> app2.toml < /dev/null
+  rc=$?; { [ $rc -eq 2 ] && cmp -s surface.toml app2.toml; } || { echo "FAIL: $cmd 2>> scene (exit $rc)"; status=1; }
+done
 printf 't,cx\n0,1\n' > keep.csv && cp keep.csv keep0.csv
 setsid "$exe" run --scene surface.toml --csv keep.csv 2>> keep.csv < /dev/null
 rc=$?; { [ $rc -eq 2 ] && cmp -s keep0.csv keep.csv; } || { echo "FAIL: stderr appended onto --csv's file (exit $rc)"; status=1; }

@@ -108,7 +108,7 @@ TEST(LiveChanges, ResetIntoAPlaneTurnedSinceTheStartIsRefused) {
     ADD_FAILURE() << "the reset was taken";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("reset: "), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("mm inside the"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mm inside a plane as it stands now"), std::string::npos) << e.what();
   }
   EXPECT_EQ(sim.time(), t);
   EXPECT_EQ(sim.state().u, u);

@@ -49,7 +49,17 @@ TEST(Scene, ASlopeThatCannotTiltIsRefused) {
   EXPECT_NO_THROW(parse_scene("", "z.toml", flat));
   EXPECT_NO_THROW(parse_scene("", "z.toml", {"floor.normal=[0, 0, 1]", "slope.angle_deg=30"}));  // no slope
   EXPECT_NO_THROW(parse_scene("", "y.toml", {"slope.enabled=true", "slope.angle_deg=30"}));
-  EXPECT_NO_THROW(parse_scene("", "t.toml", {"floor.normal=[0.1, 0, 1]", "slope.enabled=true"}));  // tilted a little
+  // A floor normal mostly along z is tilted by a fraction of the angle: refused too, naming
+  // the tilt (a probe's [0, 1e-6, 1] at 89 degrees ran as a flat floor).
+  for (const char* n : {"floor.normal=[0.1, 0, 1]", "floor.normal=[0, 1e-6, 1]"})
+    try {
+      parse_scene("", "t.toml", {"gravity.g=[0, 0, -9.81]", n, "slope.enabled=true", "slope.angle_deg=30"});
+      ADD_FAILURE() << n << ": loaded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("30 degrees tilts it by only"), std::string::npos) << e.what();
+    }
+  // A floor tilted a little from y up keeps most of the angle (29.6 of 30 degrees).
+  EXPECT_NO_THROW(parse_scene("", "t.toml", {"floor.normal=[0, 1, 0.2]", "slope.enabled=true", "slope.angle_deg=30"}));
 }
 
 TEST(Scene, ObstacleLengthsHaveAFloorButAMeshScaleIsAFactor) {
@@ -187,6 +197,10 @@ TEST(Scene, MeshKeys) {
             std::string::npos);
   EXPECT_EQ(error_of("[material]\nmodel = \"stable_neo_hookean\"\nnu = -0.88\n"), "no error");
   EXPECT_EQ(error_of("[material]\nnu = -0.95\n"), "no error");
+  const std::string two = "[[body]]\nposition = [0, 10, 0]\n[[body]]\nposition = [0, 40, 0]\n[body.material]\n";
+  EXPECT_NE(error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.95\n").find("body[1].material: the stable_neo_hookean"),
+            std::string::npos) << error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.95\n");
+  EXPECT_EQ(error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.8\n"), "no error");
   // The switches replace the quality keys: both given, the keys were dropped silently.
   for (const char* k : {"radius_edge = 1.2", "min_dihedral_deg = 5.0", "max_volume = 0.01", "keep_boundary = true"})
     EXPECT_NE(error_of(std::string("[mesh]\nswitches = \"pq2\"\n") + k + "\n").find("mesh.switches: replaces mesh."),

@@ -17,7 +17,10 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   unsigned buckets = 1;
   while (buckets < 8u * unsigned(std::max(1, nt))) buckets <<= 1;
   // Triangles per bucket: twice the fullest bucket at rest (boxes inflated as the kernels'
-  // are, by the tolerance and half the margin), at least kContactBucketCap, in warps. A
+  // are, by the tolerance and half the margin; counted in double, where a float run's cells
+  // round a little differently: the factor 2 covers that and deformation), at least
+  // kContactBucketCap, in warps. Every bucket gets that size: one dense spot sizes them all
+  // (README "Limits"). A
   // one-element plate (2.5 mm triangles, 0.5 mm sides) within a 3.3 mm cell overflowed a
   // fixed 128 at its first step and stopped the run as an internal error.
   const int fullest = fullest_bucket_at_rest(t, X, buckets, 1.5 * t.tol);
