@@ -54,15 +54,8 @@ xdotool key m
 for i in \$(seq 200); do grep -q -e "re-meshed" -e "re-mesh failed" "\$log" && break; sleep 0.1; done
 sleep 3
 import -window root "$out/screen.png" || fail "import failed"
-xdotool key p
-for i in \$(seq 100); do grep -q "screenshot " "\$log" && break; sleep 0.1; done
-xdotool key Escape
-for i in \$(seq 200); do kill -0 \$pid 2>/dev/null || break; sleep 0.1; done
-kill -0 \$pid 2>/dev/null && fail "viewer still running 20 s after Esc"
-wait \$pid
-rc=\$?
-[ \$rc -eq 0 ] || fail "viewer exited with \$rc"
-cat "\$log"
+source "$(cd "$(dirname "$0")" && pwd)/viewer_drive.sh"
+screenshot_and_quit
 INNER
 
 xvfb-run -a -s "-screen 0 1280x800x24" bash "$out/drive.sh" || exit 1
