@@ -859,6 +859,17 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.contact_nodes = r.str("contact.nodes", s.contact_nodes, {"boundary", "all"});
   s.contact_bodies = r.boolean("contact.bodies", true);
   s.contact_self = r.boolean("contact.self", false);
+  // Keys given where the scene does not use them, said rather than taken silently (a probe's
+  // static mode with mu = 0 ran exactly as Coulomb with mu = 1000), as time.lambda is below:
+  // each applies only once the viewer or set_params switches its part on.
+  auto unused = [&](const char* key, const char* why) {
+    if (r.get(key)) std::fprintf(stderr, "warning: %s: %s is not used: %s\n", s.source.c_str(), key, why);
+  };
+  if (s.contact_mode != kCoulomb) unused("contact.mu", "only contact.mode = \"coulomb\" has a friction coefficient");
+  if (!s.slope)
+    for (const char* k : {"slope.angle_deg", "slope.point"}) unused(k, "slope.enabled is false");
+  if (!s.floor && !s.slope)
+    for (const char* k : {"floor.point", "floor.normal"}) unused(k, "floor.enabled and slope.enabled are false");
 
   {
     const toml::node* dt = r.get("time.dt");

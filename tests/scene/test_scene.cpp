@@ -498,3 +498,23 @@ TEST(Scene, SetAddressesFixedRegionsByIndex) {
   EXPECT_NE(e.find("fixed keys are 'fixed.N.key'"), std::string::npos) << e;
   EXPECT_NE(error_of(two, {"fixed.0.colour=red"}).find("fixed[0].colour"), std::string::npos) << error_of(two, {"fixed.0.colour=red"});
 }
+
+// A key the scene does not use is said, not taken silently: mu outside Coulomb mode, slope
+// keys with the slope off, floor keys with floor and slope off (a probe's static mode with
+// mu = 0 ran as Coulomb with mu = 1000 with no word).
+TEST(Scene, KeysTheSceneDoesNotUseAreNamed) {
+  auto warnings_of = [](const std::vector<std::string>& set) {
+    testing::internal::CaptureStderr();
+    parse_scene("", "w.toml", set);
+    return testing::internal::GetCapturedStderr();
+  };
+  EXPECT_NE(warnings_of({"contact.mode=\"sliding\"", "contact.mu=0.9"}).find("contact.mu is not used"), std::string::npos);
+  EXPECT_NE(warnings_of({"contact.mode=\"static\"", "contact.mu=0"}).find("contact.mu is not used"), std::string::npos);
+  EXPECT_EQ(warnings_of({"contact.mode=\"coulomb\"", "contact.mu=0.9"}), "");
+  EXPECT_NE(warnings_of({"slope.angle_deg=-1"}).find("slope.angle_deg is not used: slope.enabled is false"),
+            std::string::npos);
+  EXPECT_EQ(warnings_of({"slope.enabled=true", "slope.angle_deg=20"}), "");
+  EXPECT_NE(warnings_of({"floor.enabled=false", "floor.normal=[0, 1, 0]"}).find("floor.normal is not used"),
+            std::string::npos);
+  EXPECT_EQ(warnings_of({"floor.enabled=false", "slope.enabled=true", "floor.normal=[0, 1, 0]"}), "");
+}
