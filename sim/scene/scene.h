@@ -17,6 +17,7 @@ namespace softtled {
 // of bodies' bounding boxes each step (B^2 / 2 tests), the CSV has 3 columns per body and
 // every body is meshed by its own TetGen run at start-up; 32 keeps all three small.
 constexpr int kMaxBodies = 32;
+constexpr int kMaxTrackPoints = 1000;  // output.track_points: 3 CSV columns each
 
 // One body: today's body.* keys, and optionally its own [body.material].
 struct BodyDesc {

@@ -499,6 +499,16 @@ TEST(Scene, SetAddressesFixedRegionsByIndex) {
   EXPECT_NE(error_of(two, {"fixed.0.colour=red"}).find("fixed[0].colour"), std::string::npos) << error_of(two, {"fixed.0.colour=red"});
 }
 
+// Tracked points: at most kMaxTrackPoints, none twice (each costs three CSV columns).
+TEST(Scene, TrackPointsAreLimitedAndDistinct) {
+  std::string many = "[output]\ntrack_points = [";
+  for (int i = 0; i <= kMaxTrackPoints; ++i) many += (i ? ", [" : "[") + std::to_string(i * 1e-3) + ", 0, 0]";
+  EXPECT_NE(error_of(many + "]\n").find("output.track_points: 1001 points, at most 1000"), std::string::npos);
+  EXPECT_NE(error_of("[output]\ntrack_points = [[0, 1, 0], [0, 2, 0], [0, 1, 0]]\n").find("element 2 repeats an earlier point"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[output]\ntrack_points = [[0, 1, 0], [0, 2, 0]]\n"), "");
+}
+
 // A key the scene does not use is said, not taken silently: mu outside Coulomb mode, slope
 // keys with the slope off, floor keys with floor and slope off (a probe's static mode with
 // mu = 0 ran as Coulomb with mu = 1000 with no word).
