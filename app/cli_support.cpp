@@ -4,6 +4,7 @@
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <unistd.h>
 
 #include "sim/core/stop_request.h"
 #include "sim/core/input_error.h"
@@ -132,6 +133,22 @@ int time_decimals(double dt) {
   if (!(dt > 0)) return 6;
   const int d = int(std::ceil(-std::log10(dt))) + 2;
   return std::max(6, std::min(17, d));
+}
+
+LongRunWarning::LongRunWarning(const char* what, double t_end) : what_(what), t_end_(t_end), tty_(isatty(2)) {}
+
+void LongRunWarning::check(double t_now) {
+  constexpr double kAfterS = 2, kWarnFromS = 300;
+  if (warned_) return;
+  const double w = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (!(w > kAfterS) || !(t_now > 0) || !(t_now < t_end_)) return;
+  warned_ = true;
+  const double left = w / t_now * (t_end_ - t_now);
+  if (left > kWarnFromS)
+    std::fprintf(stderr,
+                 "%swarning: this %s will take about %.0f more minutes of wall time (%.1f %% done after %.0f s); "
+                 "Ctrl-C stops it and keeps the output written so far\n",
+                 tty_ ? "\n" : "", what_, left / 60, 100.0 * t_now / t_end_, w);
 }
 
 }  // namespace softtled

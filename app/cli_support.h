@@ -3,6 +3,7 @@
 // range shows in --help), SIGINT/SIGTERM/SIGHUP as a stop request, the backend choice and the
 // bounds on a run's step count.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <memory>
 #include <string>
 
@@ -67,5 +68,21 @@ long checked_step_count(double duration, double dt, const std::string& what, boo
 // The decimals the CSV and messages print times with: enough that consecutive output
 // times dt apart differ (3 significant digits of dt), at least 6.
 int time_decimals(double dt);
+
+// The long-run warning of run and render, once: after 2 s of stepping, where what is left up
+// to t_end would take more than 5 minutes of wall time at the rate so far (render's frames
+// far ahead ran for hours with no word, where run warned). check() is called with the
+// simulated time now, from the stop checks and between outputs.
+class LongRunWarning {
+ public:
+  LongRunWarning(const char* what, double t_end);
+  void check(double t_now);
+
+ private:
+  const char* what_;
+  double t_end_;  // from t = 0
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  bool warned_ = false, tty_;
+};
 
 }  // namespace softtled

@@ -189,7 +189,6 @@ Command add_render_command(CLI::App& app) {
       for (double t : h.times) check_output_file(h.out_dir + "/" + frame_file_name(h.stem, t), "--out");
     }
     install_stop_signals();
-    h.should_stop = [] { return stop_requested(); };
     const std::unique_ptr<Simulation> sim_owner = make_simulation(s, o->backend);
     Simulation& sim = *sim_owner;
     h.context.cuda_device = sim.backend() == "cpu" ? -1 : 0;
@@ -208,6 +207,13 @@ Command add_render_command(CLI::App& app) {
       step_before = n, t_before = t;
     }
     if (sim.params().dt_adaptive) h.check_every = std::max(s.output_every, sim.time_step().dt);
+    // Polled every 2000 steps and between frames: also the long-run warning up to the last
+    // frame.
+    LongRunWarning long_run("render", h.times.empty() ? 0.0 : h.times.back());
+    h.should_stop = [&] {
+      long_run.check(sim.time());
+      return stop_requested();
+    };
     // Frames after time.duration step past it: the collision-course check covers them too.
     if (!h.times.empty() && h.times.back() > s.duration) sim.check_collision_courses_until(h.times.back());
     const TimeStepInfo& ts = sim.time_step();

@@ -54,8 +54,6 @@ std::string csv_row(const Diagnostics& d, int t_decimals) {
 // time.output_every spans millions of steps (a signal is answered between steps, by the
 // stop check, within Simulation::kStopCheckSteps).
 constexpr long kMaxChunkSteps = 20000;
-// Warn when the run is estimated to take longer than this [s] of wall time.
-constexpr double kLongRunWarnS = 300;
 // At most this many CSV rows / VTU frames (time.duration / time.output_every).
 constexpr double kMaxOutputRows = 1e8;
 }  // namespace
@@ -197,22 +195,10 @@ Command add_run_command(CLI::App& app) {
     write_row(d);
     double min_gap = d.min_gap, max_ke = d.ke;
     int max_contact = 0;
-    bool warned = false;
-    // The long-run warning, once, after 2 s of stepping: from the simulated time covered
-    // so far (checked at every output time, after every chunk of steps and, with the
-    // adaptive step, at every stop check, so a long first interval is no exception).
-    auto check_progress = [&](double t_now) {
-      if (warned) return;
-      const double w = wall_s();
-      if (!(w > 2) || !(t_now > 0) || !(t_now < s.duration)) return;
-      warned = true;
-      const double left = w / t_now * (s.duration - t_now);
-      if (left > kLongRunWarnS)
-        std::fprintf(stderr,
-                     "%swarning: this run will take about %.0f more minutes of wall time (%.1f %% done after %.0f s); "
-                     "Ctrl-C stops it and keeps the output written so far\n",
-                     tty ? "\n" : "", left / 60, 100.0 * t_now / s.duration, w);
-    };
+    // The long-run warning (checked at every output time, after every chunk of steps and,
+    // with the adaptive step, at every stop check, so a long first interval is no exception).
+    LongRunWarning long_run("run", s.duration);
+    auto check_progress = [&](double t_now) { long_run.check(t_now); };
     // Simulation's stop check between steps (about every kStopCheckSteps).
     sim.set_stop_check([&] {
       check_progress(sim.time());
