@@ -418,6 +418,7 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
     while (std::getline(lines, line)) {
       ++lineno;
       std::istringstream in(line);
+      bool in_name = false;  // after 'solid': its name, up to the first facet on that line
       while (in >> tok) {
         // Keywords in any case: some CAD exporters write SOLID / FACET / VERTEX.
         std::transform(tok.begin(), tok.end(), tok.begin(), [](unsigned char ch) { return std::tolower(ch); });
@@ -426,9 +427,13 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
             throw InputError(name + ":" + std::to_string(lineno) +
                              ": neither binary STL (size does not match the triangle count) nor ASCII STL ('solid' missing)");
           }
-          started = true;
-          break;  // the rest of the line is the solid's name
+          started = in_name = true;
+          continue;
         }
+        // A whole STL on one line (valid: the format is whitespace-separated) was read as
+        // one long name and called empty.
+        if (in_name && tok != "facet" && tok != "endsolid") continue;
+        in_name = false;
         if (tok == "vertex") {
           std::string a, b, c;
           if (!(in >> a >> b >> c)) throw InputError(name + ":" + std::to_string(lineno) + ": vertex needs 3 coordinates");

@@ -302,6 +302,14 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   EXPECT_EQ(up.xyz, lo.xyz);
   EXPECT_EQ(up.tri, lo.tri);
   EXPECT_NEAR(enclosed_volume(up), 1.0 / 6.0, 1e-12);
+  // The same STL on one line (whitespace-separated, as the format allows; named "t x"): it
+  // was read as one long solid name and called empty.
+  std::string one_line = tet_stl;
+  std::replace(one_line.begin(), one_line.end(), '\n', ' ');
+  one_line.replace(0, 7, "solid t x");
+  const SurfaceMesh flat = parse_stl(one_line, "one_line.stl");
+  EXPECT_EQ(flat.xyz, lo.xyz);
+  EXPECT_EQ(flat.tri, lo.tri);
   // A text file without "solid" is still called what it is, whatever its size.
   const std::string text = "facet normal 0 0 0\n" + std::string(100, ' ') + "\n";
   EXPECT_NE(parse_error_of_stl(text).find("a.stl:1: neither binary STL"), std::string::npos) << parse_error_of_stl(text);
