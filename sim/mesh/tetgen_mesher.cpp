@@ -1,3 +1,4 @@
+#include "sim/core/exact_number.h"
 #include "sim/core/stop_request.h"
 #include "sim/mesh/tetgen_mesher.h"
 #include "sim/io/output_file.h"  // ResourceError
@@ -43,11 +44,7 @@ struct Switches {
   bool keep_boundary = false;
 };
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return exact_number(v); }  // a value past a limit is not shown rounded onto it
 
 void check_rho(double rho, const std::string& where) {
   if (!(rho >= kMinRadiusEdge && rho <= kMaxRadiusEdge))

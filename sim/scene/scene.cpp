@@ -17,20 +17,11 @@
 #include "sim/mesh/surface_mesh.h"
 #include "sim/mesh/tet_io.h"
 #include "sim/mesh/tetgen_mesher.h"
+#include "sim/core/exact_number.h"
 #include "sim/scene/scene_geometry.h"
 
 namespace softtled {
 namespace {
-// v in the fewest %g digits (6 at least) that read back as v: a range message never shows
-// a value just past its limit rounded onto it ("1e+06 is out of range [-1e+06, 1e+06]").
-std::string exact(double v) {
-  char buf[40];
-  for (int digits = 6; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-    if (std::strtod(buf, nullptr) == v) break;
-  }
-  return buf;
-}
 
 // One table per named mode: the names parse_scene accepts and *_name() returns.
 template <class E>
@@ -85,13 +76,13 @@ class Reader {
     else fail(key, "expected a number");
     if (!std::isfinite(v)) fail(key, "must be finite, got " + std::to_string(v));
     if (v < lo || (lo_open && v == lo) || v > hi) {
-      fail(key, "value " + exact(v) + " out of range " + (lo_open ? "(" : "[") + exact(lo) + ", " + exact(hi) + "]");
+      fail(key, "value " + exact_number(v) + " out of range " + (lo_open ? "(" : "[") + exact_number(lo) + ", " + exact_number(hi) + "]");
     }
     // A quantity that must be positive is never subnormal: it underflows to 0 in the first
     // product (material.rho = 5e-324 gave nodes of no mass, reported as "node 0 belongs to
     // no element").
     if (lo_open && lo == 0 && v < std::numeric_limits<double>::min())
-      fail(key, "value " + exact(v) + " is subnormal: at least " + exact(std::numeric_limits<double>::min()));
+      fail(key, "value " + exact_number(v) + " is subnormal: at least " + exact_number(std::numeric_limits<double>::min()));
     return v;
   }
 
@@ -148,8 +139,8 @@ class Reader {
       const auto v = (*a)[i].value<double>();
       if (!v || !std::isfinite(*v)) fail(key, "element " + std::to_string(i) + " is not a finite number");
       if (std::abs(*v) > limit) {
-        fail(key, "element " + std::to_string(i) + " = " + exact(*v) + " is out of range [" + exact(-limit) + ", " +
-                      exact(limit) + "]");
+        fail(key, "element " + std::to_string(i) + " = " + exact_number(*v) + " is out of range [" + exact_number(-limit) + ", " +
+                      exact_number(limit) + "]");
       }
       r[i] = *v;
     }
@@ -451,7 +442,7 @@ void read_mesh_keys(Reader& r, Scene& s) {
   TetgenOptions o = s.tetgen;  // as scene_tetgen_options: max_volume in m^3
   o.max_volume = s.tetgen.max_volume * s.length_unit * s.length_unit * s.length_unit;
   if (s.tetgen.max_volume > 0 && !(o.max_volume > 0))  // a subnormal bound: 0 would mean none
-    r.fail("mesh.max_volume", "must be 0 (no bound) or a volume that stays above 0 in m^3, got " + exact(s.tetgen.max_volume));
+    r.fail("mesh.max_volume", "must be 0 (no bound) or a volume that stays above 0 in m^3, got " + exact_number(s.tetgen.max_volume));
   try {
     (void)tetgen_switches(o);
   } catch (const InputError& e) {
@@ -511,8 +502,8 @@ void read_obstacles(Reader& r, Scene& s) {
         const auto v = (*a)[k].value<double>();
         if (!v || !std::isfinite(*v)) r.fail(full, "element " + std::to_string(k) + " is not a finite number");
         if (std::fabs(*v) > limit) {
-          r.fail(full, "element " + std::to_string(k) + " = " + exact(*v) + " is out of range [" + exact(-limit) + ", " +
-                           exact(limit) + "]");
+          r.fail(full, "element " + std::to_string(k) + " = " + exact_number(*v) + " is out of range [" + exact_number(-limit) + ", " +
+                           exact_number(limit) + "]");
         }
         out[k] = *v;
       }
@@ -529,7 +520,7 @@ void read_obstacles(Reader& r, Scene& s) {
     };
     auto length = [&](const char* name, double v) {  // a positive length of at least 1e-6 m
       positive(name, v);
-      if (v < tiny) r.fail(key + "." + name, "value " + exact(v) + " is below 1e-6 m (" + exact(tiny) + " in the scene's units)");
+      if (v < tiny) r.fail(key + "." + name, "value " + exact_number(v) + " is below 1e-6 m (" + exact_number(tiny) + " in the scene's units)");
     };
     vec3("velocity", false, kMaxSpeed, o.velocity);
     if (o.shape == kObstacleSphere || o.shape == kObstacleCapsule) {
@@ -550,7 +541,7 @@ void read_obstacles(Reader& r, Scene& s) {
       for (int k = 0; k < 3; ++k) {
         if (!(o.size[k] > 0)) r.fail(key + ".size", "element " + std::to_string(k) + " must be positive");
         if (o.size[k] < tiny)
-          r.fail(key + ".size", "element " + std::to_string(k) + " = " + exact(o.size[k]) + " is below 1e-6 m (" + exact(tiny) +
+          r.fail(key + ".size", "element " + std::to_string(k) + " = " + exact_number(o.size[k]) + " is below 1e-6 m (" + exact_number(tiny) +
                                     " in the scene's units)");
       }
       vec3("rotation_deg", false, kMaxRotationDeg, o.rotation_deg);

@@ -201,6 +201,9 @@ TEST(Scene, MeshKeys) {
   EXPECT_NE(error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.95\n").find("body[1].material: the stable_neo_hookean"),
             std::string::npos) << error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.95\n");
   EXPECT_EQ(error_of(two + "model = \"stable_neo_hookean\"\nnu = -0.8\n"), "no error");
+  // A bound just past its limit is shown as given, not rounded onto the limit ("got 20").
+  EXPECT_NE(error_of("[mesh]\nswitches = \"pq1.1/20.0000001\"\n").find("got 20.0000001"), std::string::npos)
+      << error_of("[mesh]\nswitches = \"pq1.1/20.0000001\"\n");
   // The switches replace the quality keys: both given, the keys were dropped silently.
   for (const char* k : {"radius_edge = 1.2", "min_dihedral_deg = 5.0", "max_volume = 0.01", "keep_boundary = true"})
     EXPECT_NE(error_of(std::string("[mesh]\nswitches = \"pq2\"\n") + k + "\n").find("mesh.switches: replaces mesh."),
