@@ -263,6 +263,7 @@ class Viewer {
     set_.lock_lambda = s.dt_auto;
     set_.dt_us = float(sim_->time_step().dt * 1e6);
     st_.shape = s.shape;
+    st_.mesh_switches = !s.tetgen.switches.empty();
   }
 
   // The panel's rebuild fields (rho, mesh) as the scene has them.

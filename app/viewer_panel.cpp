@@ -217,8 +217,11 @@ void draw_panel(ViewerSettings& s, const ViewerStats& st, PanelActions& a, int w
       if (ImGui::SliderInt3("divisions", s.divisions, 1, 32))
         for (int& n : s.divisions) n = std::clamp(n, 1, 1024);  // body.divisions' range
     }
-    slider_valid("max tet vol [mm3]", &s.max_volume_mm3, 0.0f, 10.f, s.max_volume_mm3 > 0 ? "%.3f" : "none", 0,
-                 {0.f, std::numeric_limits<float>::max()});
+    if (st.mesh_switches)  // mesh.switches replace the bound (scene.cpp refuses both in a file)
+      ImGui::TextDisabled("max tet vol: set by the scene's mesh.switches");
+    else
+      slider_valid("max tet vol [mm3]", &s.max_volume_mm3, 0.0f, 10.f, s.max_volume_mm3 > 0 ? "%.3f" : "none", 0,
+                   {0.f, std::numeric_limits<float>::max()});
     if (st.rebuilding) {
       static const char spin[] = "|/-\\";
       ImGui::Text("re-meshing with TetGen %c  %.1f s", spin[int(st.rebuild_elapsed * 8) % 4], st.rebuild_elapsed);

@@ -85,6 +85,7 @@ struct ViewerStats {
   double rebuild_elapsed = 0;
   std::string rebuild_error;
   std::string shape = "torus";
+  bool mesh_switches = false;  // the scene sets mesh.switches: they fix TetGen's volume bound
   PlotSeries plot;
   std::string screenshot;           // last screenshot written
   std::string recording;            // the video being recorded ("" when not recording)
