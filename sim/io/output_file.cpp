@@ -310,11 +310,11 @@ void check_output_file(const std::string& path, const std::string& what, bool al
     // /dev/stdout, --csv f > f, --csv f 2> f, --csv /dev/stderr): the command's messages and
     // this output would overwrite or interleave. A device (/dev/null, a terminal) takes both.
     if (!S_ISCHR(st.st_mode)) {
-      const char* stream = standard_stream_of(st);
-      if (stream) keep_stderr_out_of(st);
-      if (stream)
+      if (const char* stream = standard_stream_of(st)) {
+        keep_stderr_out_of(st);
         throw InputError(where + "is where " + stream + " goes, and the messages would mix with it" +
                          (allow_stdout && stream == kStdoutName ? " (give - to write it to standard output)" : ""));
+      }
     }
     if (::access(path.c_str(), W_OK) != 0) throw InputError(where + "cannot write: " + std::strerror(errno));
     if (S_ISREG(st.st_mode) && !in_place) {  // replaced through PATH.tmp in its (target's) directory

@@ -44,12 +44,16 @@ struct Switches {
   bool keep_boundary = false;
 };
 
-std::string num(double v) { return exact_number(v); }  // a value past a limit is not shown rounded onto it
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 void check_rho(double rho, const std::string& where) {
   if (!(rho >= kMinRadiusEdge && rho <= kMaxRadiusEdge))
     throw InputError(where + ": the radius-edge bound must be in " + num(kMinRadiusEdge) + ".." + num(kMaxRadiusEdge) +
-                     " (TetGen does not terminate below that), got " + num(rho));
+                     " (TetGen does not terminate below that), got " + exact_number(rho));
 }
 
 void check_theta(double theta, const std::string& where) {
@@ -57,7 +61,7 @@ void check_theta(double theta, const std::string& where) {
   // parser reads digits and '.' only).
   if (!(theta == 0 || (theta >= 1e-3 && theta <= kMaxMinDihedralDeg)))
     throw InputError(where + ": the minimum dihedral angle must be 0 (TetGen's default) or in 0.001.." +
-                     num(kMaxMinDihedralDeg) + " degrees (larger bounds do not terminate), got " + num(theta));
+                     num(kMaxMinDihedralDeg) + " degrees (larger bounds do not terminate), got " + exact_number(theta));
 }
 
 // Parses TetgenOptions::switches: only the documented subset, each letter once.
