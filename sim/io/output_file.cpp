@@ -278,15 +278,7 @@ void check_temporary_name(const std::string& output, const std::string& where) {
 void guard_stderr_of_files(bool on) { g_guard_stderr = on; }
 
 void check_streams_not_into(const std::string& path, const std::string& what) {
-  struct stat st;
-  if (path.empty() || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
-  for (const auto& [fd, stream] : {std::pair<int, const char*>{STDOUT_FILENO, kStdoutName}, {STDERR_FILENO, kStderrName}}) {
-    struct stat so;
-    if (::fstat(fd, &so) != 0 || so.st_dev != st.st_dev || so.st_ino != st.st_ino) continue;
-    keep_stderr_out_of(st);
-    throw InputError(what + " " + path + ": " + stream + " goes to " + path + ", which is an input; send " + stream +
-                     " elsewhere");
-  }
+  check_distinct_paths({{path, what}});  // one input alone: only its test against the streams applies
 }
 
 void check_no_nul(const std::string& path, const std::string& what) {

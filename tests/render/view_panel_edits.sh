@@ -21,16 +21,11 @@ cat >"$out/drive.sh" <<INNER
 set -u
 log="$out/view.log"
 fail() { echo "FAIL: \$*"; echo "--- viewer log"; cat "\$log"; kill \$pid 2>/dev/null; exit 1; }
+source "$(cd "$(dirname "$0")" && pwd)/viewer_drive.sh"
 "$exe" view --backend cpu --size 1280x800 --scene "$assets/scenes/torus_coarse.toml" --paused --substeps 50 \\
   --screenshot-dir "$out" --quit-after 120 >"\$log" 2>&1 &
 pid=\$!
-for i in \$(seq 300); do
-  grep -q "first frame drawn" "\$log" && break
-  kill -0 \$pid 2>/dev/null || fail "viewer exited before its first frame"
-  sleep 0.1
-done
-grep -q "first frame drawn" "\$log" || fail "no first frame within 30 s"
-sleep 1
+wait_first_frame
 xdotool mousemove 1000 100 click 1  # keyboard focus (the sky: an orbit by nothing)
 sleep 0.3
 # Ctrl+click a panel slider at (x, y), type a value, Enter (held over a frame: Dear ImGui
@@ -53,7 +48,6 @@ typed 110 381 0.45        # nu, a warning line lower
 typed 110 341 3.0001e34   # E [Pa]: held to 1e12
 step
 [ -n "\${SHOT:-}" ] && import -window root "$out/end.png"
-source "$(cd "$(dirname "$0")" && pwd)/viewer_drive.sh"
 screenshot_and_quit
 INNER
 

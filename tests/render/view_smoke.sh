@@ -23,17 +23,12 @@ cat >"$out/drive.sh" <<INNER
 set -u
 log="$out/view.log"
 fail() { echo "FAIL: \$*"; echo "--- viewer log"; cat "\$log"; kill \$pid 2>/dev/null; exit 1; }
+source "$(cd "$(dirname "$0")" && pwd)/viewer_drive.sh"
 "$exe" view --backend cpu --size 1280x800 --scene "$assets/scenes/torus_drop.toml" --set 'body.segments=[45,9]' \\
   --set material.model=stable_neo_hookean \\
   --screenshot-dir "$out" --quit-after 120 >"\$log" 2>&1 &
 pid=\$!
-for i in \$(seq 300); do
-  grep -q "first frame drawn" "\$log" && break
-  kill -0 \$pid 2>/dev/null || fail "viewer exited before its first frame"
-  sleep 0.1
-done
-grep -q "first frame drawn" "\$log" || fail "no first frame within 30 s"
-sleep 1
+wait_first_frame
 import -window root "$out/start.png" || fail "import failed"
 # Find the body on screen as a person would, and grab its left rim.
 read bx0 by0 bx1 by1 < <("$probe" "$out/start.png" 380 0 1280 550 | sed -n 's/^body_bbox=//p' | tr , ' ')
@@ -54,7 +49,6 @@ xdotool key m
 for i in \$(seq 200); do grep -q -e "re-meshed" -e "re-mesh failed" "\$log" && break; sleep 0.1; done
 sleep 3
 import -window root "$out/screen.png" || fail "import failed"
-source "$(cd "$(dirname "$0")" && pwd)/viewer_drive.sh"
 screenshot_and_quit
 INNER
 
