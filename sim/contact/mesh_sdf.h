@@ -1,10 +1,13 @@
 #pragma once
 // The signed distance grid of a closed triangle mesh (a mesh obstacle, obstacle_sdf.h),
 // built once at start-up on the host in double:
-//   distance  exact to the triangles at every node: the closest point of each candidate
-//             triangle (Ericson, Real-Time Collision Detection, sec. 5.1.5), candidates
-//             from a bounding volume hierarchy searched nearest box first, with the
-//             previous node's closest triangle as the first bound;
+//   distance  exact to the triangles at every node within kSdfExactBandCells of the
+//             surface: the closest point of each candidate triangle (Ericson, Real-Time
+//             Collision Detection, sec. 5.1.5), candidates from a bounding volume
+//             hierarchy searched nearest box first, bounded by the band and by the
+//             previous node's closest triangle; beyond the band, the distance to the
+//             nearest of the triangles the neighbouring nodes came to (fast sweeping),
+//             never below the true distance (so still more than the band);
 //   sign      inside where the parity of the mesh's crossings along a grid line says so
 //             (Jordan's theorem; the scan-line count of Batty's SDFGen, makelevelset3),
 //             along x, y and z lines, by majority. Each line is shifted off the grid by a
@@ -13,8 +16,8 @@
 //             counted twice or not at all; a node within that shift of the surface may get
 //             either sign, at a distance of ~1e-4 cell. The majority outvotes a line that
 //             still grazes an edge.
-// Cost: about (nodes) x log(triangles) closest-point searches; README "Obstacles" gives
-// the times measured.
+// Cost: bounded searches for the band's nodes, a few closest points per node beyond it;
+// README "Mesh obstacles: start-up" gives the times measured.
 #include <string>
 #include <vector>
 
@@ -26,6 +29,11 @@ namespace softtled {
 // Cells of padding around the mesh's bounding box on every side: the grid is exact
 // within it, and beyond it the distance is extrapolated (obstacle_shapes.h, mesh_surface).
 constexpr int kSdfPadCells = 3;
+// Cells from the surface within which every grid node holds its exact distance: every
+// point within kSdfExactBandCells - sqrt(3) (2.27) cells of the surface reads from exact
+// nodes only, more than the contact tolerance and the start checks' sqrt(3)/2 cell and
+// the thin-part check's 2 cells need.
+constexpr double kSdfExactBandCells = 4;
 // [[obstacle]] resolution: cells across the mesh's longest bounding-box side. The grid
 // then has at most resolution + 1 + 2 kSdfPadCells nodes per side: 127^3 = 2.0 M nodes
 // (16 MB in double, 8 MB more for a float run's copy) at the maximum, 71^3 at the default.
