@@ -52,6 +52,33 @@
 namespace softtled {
 
 constexpr int kBodyContactSweeps = 4;
+// Bodies a scene may hold for body contact (scene.h kMaxBodies is no larger): the GPU
+// kernels take the bodies' tolerances by value (BodyContactView::body_tol).
+constexpr int kBodyContactMaxBodies = 32;
+
+// A pair's contact tolerance (node_triangle_contact's tol): the smaller of its two bodies'
+// (body_contact_tables.h). Each body's is a tenth of its own mean boundary edge; one
+// tolerance for the whole scene, from the mean over every body, was set by the coarsest:
+// beside a 200 mm one-element slab, two touching 2 mm cubes took each other's nodes 2 mm
+// behind a face for residual penetration, and blew up in the first millisecond.
+template <class T>
+SIM_HD inline T pair_tolerance(const T* body_tol, int node_body, int tri_body) {
+  const T a = body_tol[node_body], b = body_tol[tri_body];
+  return a < b ? a : b;
+}
+// The broad phase's margins, per body, from its tolerance: a surface node's candidate
+// lists stay valid while the node stays within half_margin of its box at the last rebuild
+// (temporal coherence: a rebuild every few steps in fast flight, rarely at rest; the margin
+// adds to the boxes, so it costs narrow-phase tests), and a triangle's box is inflated by
+// its body's tolerance and half margin (no pair's tolerance is larger).
+template <class T>
+SIM_HD inline T half_margin_of(T body_tol) {
+  return T(0.5) * body_tol;
+}
+template <class T>
+SIM_HD inline T triangle_inflation_of(T body_tol) {
+  return body_tol + half_margin_of(body_tol);
+}
 
 // What one accepted node-triangle pair asks for, before it is shared among its four nodes
 // (pair_terms): the changes of the node's motion relative to its foot on the triangle.

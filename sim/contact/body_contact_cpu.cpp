@@ -13,15 +13,11 @@ CpuBodyContact<T>::CpuBodyContact(const TetMesh& m, const std::vector<T>& inv_ma
   tab_ = build_body_contact_tables(m);
   inv_mass_ = inv_mass;
   const int n = tab_.nnode, nt = tab_.ntri();
-  tol_ = T(tab_.tol);
+  body_tol_.assign(tab_.body_tol.begin(), tab_.body_tol.end());
   cell_ = T(tab_.cell);
   unsigned size = 1;
   while (size < 2u * unsigned(std::max(1, nt))) size <<= 1;
   cell_start_grid_.assign(size + 1, 0);
-  // Candidate lists are kept while no surface node moves more than half the margin from
-  // its box at the last rebuild (temporal coherence): a rebuild every few steps in fast
-  // flight, rarely at rest. The margin adds to the boxes, so it costs narrow-phase tests.
-  half_margin_ = T(0.5) * tol_;
   node_box_.assign(6 * tab_.surf.size(), T(0));
   surf_index_.assign(n, -1);
   for (std::size_t s = 0; s < tab_.surf.size(); ++s) surf_index_[tab_.surf[s]] = int(s);
@@ -49,12 +45,13 @@ void CpuBodyContact<T>::apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::u
   for (std::size_t s = 0; s < surf.size(); ++s) {
     const int i = surf[s];
     const T* nb = &node_box_[6 * s];
+    const T m2 = half_margin_of(body_tol_[tab_.node_body[i]]);
     for (int k = 0; k < 3; ++k) {
       const T x = X0[k * n + i] + (u[k * n + i] - du[k * n + i]);
       const T y = X0[k * n + i] + u[k * n + i];
       x_[3 * i + k] = x;
       // (NaN fails the test, so a non-finite state rebuilds, and is then left out.)
-      if (!(std::min(x, y) >= nb[k] - half_margin_ && std::max(x, y) <= nb[3 + k] + half_margin_)) valid = false;
+      if (!(std::min(x, y) >= nb[k] - m2 && std::max(x, y) <= nb[3 + k] + m2)) valid = false;
     }
   }
   if (!valid) rebuild(X0, u, bodies, self);
@@ -113,8 +110,9 @@ void CpuBodyContact<T>::sweep_once(const T* X0, T* u, T* du, T* ub, T beta_dt, s
           d[a][k] = du[k * n + j[a]];
           x[a][k] = X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
         }
+      const T tol = pair_tolerance(body_tol_.data(), tab_.node_body[i], tab_.tri_body[t]);
       const NodeTriangleCorrection<T> r =
-          node_triangle_contact(x[0], d[0], facing_[c] != 0, x[1], d[1], x[2], d[2], x[3], d[3], tol_, mode, mu);
+          node_triangle_contact(x[0], d[0], facing_[c] != 0, x[1], d[1], x[2], d[2], x[3], d[3], tol, mode, mu);
       if (r.state == kFree) continue;
       accepted_.push_back({i, t, r});
       for (int a = 0; a < 4; ++a)
@@ -160,15 +158,14 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
   const std::vector<int>& tri = tab_.tri;
   const std::vector<int>& node_body = tab_.node_body;
   const std::vector<int>& tri_body = tab_.tri_body;
-  const T m2 = half_margin_;
   lists_valid_ = true;
   lists_bodies_ = bodies;
   lists_self_ = self;
   cand_start_.clear();
   cand_list_.clear();
   // Each surface node's swept box now (x_ holds the positions at t), and each body's box
-  // over them, inflated by the tolerance and half the margin: a body pair whose boxes do
-  // not meet now cannot touch before the next rebuild.
+  // over them, inflated by its tolerance and half margin: a body pair whose boxes do not
+  // meet now cannot touch before the next rebuild.
   for (int b = 0; b < nbody; ++b)
     for (int k = 0; k < 3; ++k) box_[6 * b + k] = T(INFINITY), box_[6 * b + 3 + k] = T(-INFINITY);
   for (std::size_t s = 0; s < surf.size(); ++s) {
@@ -185,7 +182,8 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
   }
   bool any = false;
   for (int b = 0; b < nbody; ++b) {
-    for (int k = 0; k < 3; ++k) box_[6 * b + k] -= tol_ + m2, box_[6 * b + 3 + k] += tol_ + m2;
+    const T grow = triangle_inflation_of(body_tol_[b]);
+    for (int k = 0; k < 3; ++k) box_[6 * b + k] -= grow, box_[6 * b + 3 + k] += grow;
     active_[b] = 0;
   }
   partners_.clear();
@@ -206,7 +204,7 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
   };
 
   // Triangles into the hash grid (counting sort): the union of their nodes' boxes,
-  // inflated by the tolerance and half the margin.
+  // inflated by their body's tolerance and half margin.
   const int nt = tab_.ntri();
   const unsigned mask = unsigned(cell_start_grid_.size() - 2);
   const double inv_h = 1.0 / double(cell_);
@@ -233,7 +231,8 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
         b[3 + k] = std::max(b[3 + k], nb[3 + k]);
       }
     }
-    for (int k = 0; k < 3; ++k) b[k] -= tol_ + m2, b[3 + k] += tol_ + m2;
+    const T grow = triangle_inflation_of(body_tol_[tri_body[t]]);
+    for (int k = 0; k < 3; ++k) b[k] -= grow, b[3 + k] += grow;
     if (!grid_box(b, inv_h) || !near_partner(tri_body[t], b)) continue;
     for (int k = 0; k < 6; ++k) bx[k] = b[k];
     for_cells(bx, tri_body[t], [&](unsigned c) {
@@ -246,7 +245,7 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
   cell_fill_.assign(cell_start_grid_.begin(), cell_start_grid_.end() - 1);
   for (const auto& e : entries_) cell_tri_[cell_fill_[e[0]]++] = int(e[1]);  // triangle order kept
 
-  // Per surface node, in order: its box inflated by half the margin against the partner
+  // Per surface node, in order: its box inflated by its body's half margin against the partner
   // bodies' triangles (its own unless it is one of their corners); sorted, deduplicated.
   cand_start_.assign(surf.size() + 1, 0);
   for (std::size_t s = 0; s < surf.size(); ++s) {
@@ -255,6 +254,7 @@ void CpuBodyContact<T>::rebuild(const T* X0, const T* u, bool bodies, bool self)
     cand_start_[s] = int(cand_list_.size());
     if (!active_[bi]) continue;
     T nb[6];
+    const T m2 = half_margin_of(body_tol_[bi]);
     for (int k = 0; k < 3; ++k) nb[k] = node_box_[6 * s + k] - m2, nb[3 + k] = node_box_[6 * s + 3 + k] + m2;
     if (!grid_box(nb, inv_h)) continue;
     cand_.clear();

@@ -5,9 +5,11 @@
 //
 // Broad phase (deterministic: no atomics, no thread-dependent order), rebuilt when a
 // surface node's positions at t or t + dt leave its box at the last rebuild by more than
-// half_margin (temporal coherence; every box below carries that half margin, so the kept
-// candidate lists hold every pair the narrow test can accept until then):
-//  1. each body's box over its surface nodes at t and t + dt, inflated by tol; a body
+// its body's half margin (body_contact.h, half_margin_of; temporal coherence: every box
+// below carries that half margin, so the kept candidate lists hold every pair the narrow
+// test can accept until then):
+//  1. each body's box over its surface nodes at t and t + dt, inflated by its tolerance
+//     and half margin (triangle_inflation_of); a body
 //     takes part when its box meets another body's box (or always, with self-contact);
 //  2. the hash grid (body_contact.h: grid_cell, grid_bucket) over the swept, inflated
 //     boxes of the boundary triangles that reach into the box of a body their own body's
@@ -43,7 +45,6 @@ class CpuBodyContact {
   void apply(const T* X0, T* u, T* du, T* ub, T beta_dt, std::uint8_t* contact, int mode, T mu, bool bodies,
              bool self);
 
-  T tolerance() const { return T(tab_.tol); }
   long rebuilds() const { return rebuilds_; }  // broad-phase rebuilds so far
   // Work of the last apply (the bench's and tests' view of the broad phase).
   int last_candidates() const { return last_candidates_; }
@@ -52,7 +53,8 @@ class CpuBodyContact {
  private:
   BodyContactTables tab_;
   std::vector<T> inv_mass_;      // nnode
-  T tol_ = T(0), cell_ = T(1);
+  T cell_ = T(1);
+  std::vector<T> body_tol_;  // per body (pair_tolerance, half_margin_of)
   // per step scratch
   std::vector<T> x_;             // 3 x nnode positions at t (surface nodes only), interleaved
   std::vector<T> box_;           // 6 per body: lo, hi
@@ -67,7 +69,6 @@ class CpuBodyContact {
   std::vector<std::uint8_t> facing_;  // per candidate: faces its node (body_contact.h, faces_some), this step
   std::vector<T> around_;        // scratch: the cross products of the triangles around one node
   std::vector<int> surf_index_;  // nnode: position in surf, -1 inside
-  T half_margin_ = T(0);
   bool lists_valid_ = false, lists_bodies_ = false, lists_self_ = false;
   long rebuilds_ = 0;
   void rebuild(const T* X0, const T* u, bool bodies, bool self);

@@ -18,10 +18,13 @@ struct BodyContactTables {
   // Per surface node (CSR over surf): the boundary triangles it is a corner of, ascending
   // (the faces around it, body_contact.h: opposed).
   std::vector<int> surf_tri_start, surf_tri;
-  // Contact thickness: a node up to tol behind a triangle is pushed back (an earlier step's
+  // Contact thickness, per body: a node up to a pair's tolerance (pair_tolerance: the
+  // smaller of its two bodies') behind a triangle is pushed back (an earlier step's
   // residual penetration); deeper means it is on the other side of a thin part, or not this
-  // triangle's. A tenth of the mean boundary edge (residual penetrations measured at
-  // ~0.1 um in the shipped scenes). It also inflates the broad phase's boxes.
+  // triangle's. A tenth of the body's mean boundary edge (residual penetrations measured at
+  // ~0.1 um in the shipped scenes).
+  std::vector<double> body_tol;
+  // The largest body tolerance: it inflates the broad phase's boxes (no pair's is larger).
   double tol = 0;
   // Grid cell: between the mean and the longest boundary edge (fewest entries scanned on
   // the coarse tori).
@@ -32,10 +35,11 @@ struct BodyContactTables {
 BodyContactTables build_body_contact_tables(const TetMesh& m);
 
 // The most triangles one bucket of a hash grid of `buckets` (a power of two) buckets holds
-// with the mesh at rest (X: 3 per node, interleaved), each triangle's box inflated by
-// `inflate` and entered once per bucket, every triangle in (the GPU grid's rule,
-// tled_contact.cu contact_grid_kernel). What the GPU's bucket lists are sized from.
-int fullest_bucket_at_rest(const BodyContactTables& t, const std::vector<double>& X, unsigned buckets, double inflate);
+// with the mesh at rest (X: 3 per node, interleaved), each triangle's box inflated by its
+// body's triangle_inflation_of and entered once per bucket, every triangle in (the GPU
+// grid's rule, tled_contact.cu contact_grid_kernel). What the GPU's bucket lists are sized
+// from.
+int fullest_bucket_at_rest(const BodyContactTables& t, const std::vector<double>& X, unsigned buckets);
 
 // The cross products of the boundary triangles around surface node surf[s] (x: positions,
 // 3 per node, interleaved), in the tables' order, into out (body_contact.h, faces_some).

@@ -38,13 +38,14 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
   for (int f = 0; f < t.ntri(); ++f) {
     const int a = t.tri[3 * f], b = t.tri[3 * f + 1], c = t.tri[3 * f + 2];
     const double *xa = &x[3 * a], *xb = &x[3 * b], *xc = &x[3 * c];
+    const int body = t.tri_body[f];
+    const double grow = t.body_tol[body];  // no pair with this triangle has a larger tolerance
     double box[6];
     for (int k = 0; k < 3; ++k) {
-      box[k] = std::min(xa[k], std::min(xb[k], xc[k])) - t.tol;
-      box[3 + k] = std::max(xa[k], std::max(xb[k], xc[k])) + t.tol;
+      box[k] = std::min(xa[k], std::min(xb[k], xc[k])) - grow;
+      box[3 + k] = std::max(xa[k], std::max(xb[k], xc[k])) + grow;
     }
     if (!grid_box(box, inv_h)) continue;
-    const int body = t.tri_body[f];
     for (long long ix = grid_cell(box[0], inv_h); ix <= grid_cell(box[3], inv_h); ++ix)
       for (long long iy = grid_cell(box[1], inv_h); iy <= grid_cell(box[4], inv_h); ++iy)
         for (long long iz = grid_cell(box[2], inv_h); iz <= grid_cell(box[5], inv_h); ++iz) {
@@ -54,7 +55,8 @@ double min_body_gap(const BodyContactTables& t, const std::vector<double>& x, co
             const bool own = t.node_body[p] == body;
             if (own ? !self || on_triangle(p, a, b, c) : !bodies) continue;
             TriangleProjection<double> tp;
-            if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -t.tol, tp) || tp.d > t.tol) continue;
+            const double tol = pair_tolerance(t.body_tol.data(), t.node_body[p], body);
+            if (!project_onto_triangle(&x[3 * p], xa, xb, xc, -tol, tp) || tp.d > tol) continue;
             if (!own) {
               const std::vector<double>& near_p = around.at(p);
               double cross[3];

@@ -1,5 +1,6 @@
 #include "sim/scene/simulation.h"
 
+#include "sim/contact/body_contact.h"
 #include "sim/contact/body_gap.h"
 
 #include <algorithm>
@@ -18,6 +19,8 @@
 #include "sim/solver/step_params.h"
 
 namespace softtled {
+
+static_assert(kMaxBodies <= kBodyContactMaxBodies, "the GPU contact kernels hold one tolerance per body by value");
 
 namespace {
 bool same_pose(const PlaneSpec& a, const PlaneSpec& b) {

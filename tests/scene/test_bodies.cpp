@@ -735,6 +735,36 @@ TEST(Bodies, CubesStackedFaceToFaceStayStacked) {
   EXPECT_GT(d.min_gap, -1e-9);
 }
 
+// Two 2 mm cubes side by side, touching, in zero gravity at rest, with a coarse 300 mm
+// one-element box far away (a probe's scene): the cubes stay at rest. With one contact
+// tolerance for the scene (a tenth of the mean edge over every body: 11 mm here) each
+// cube's top nodes lay within it behind the other's bottom face, facing it, and were
+// pushed 2 mm down: a NaN within a millisecond. Each pair now takes the smaller of its
+// two bodies' tolerances (pair_tolerance).
+TEST_P(BodyContactOnEachBackend, TouchingSmallBodiesBesideACoarseOneStayAtRest) {
+  const Scene s = parse_scene(
+      "units = \"mm\"\n[[body]]\nshape = \"box\"\nsize = [2,2,2]\ndivisions = [2,2,2]\nposition = [-1,0,0]\n"
+      "[[body]]\nshape = \"box\"\nsize = [2,2,2]\ndivisions = [2,2,2]\nposition = [1,0,0]\n"
+      "[[body]]\nshape = \"box\"\nsize = [300,300,300]\ndivisions = [1,1,1]\nposition = [0,400,0]\n"
+      "[material]\nE = 20000.0\nnu = 0.4\n[damping]\nalpha = 0.0\n[gravity]\ng = [0,0,0]\n[floor]\nenabled = false\n"
+      "[contact]\nmode = \"coulomb\"\nmu = 0.5\n",
+      "touching cubes");
+  const BodyContactTables tab = build_body_contact_tables(Simulation(s, "cpu").mesh());
+  ASSERT_EQ(tab.body_tol.size(), 3u);
+  EXPECT_GT(tab.body_tol[2], 2e-3) << "the coarse box's own tolerance exceeds the cubes' size";
+  EXPECT_LT(tab.body_tol[0], 0.2e-3);
+  Simulation sim(s, backend());
+  sim.advance_to(0.01);
+  const Diagnostics d = sim.diagnostics();
+  double moved = 0;
+  for (int b = 0; b < 2; ++b)
+    moved = std::max({moved, std::fabs(d.body_centroid[3 * b] - (2 * b - 1) * 1e-3), std::fabs(d.body_centroid[3 * b + 1]),
+                      std::fabs(d.body_centroid[3 * b + 2])});
+  std::printf("%s: cubes' centroids moved %.3g m, KE %.3g J after 10 ms\n", backend().c_str(), moved, d.ke);
+  EXPECT_LT(moved, 1e-9);
+  EXPECT_LT(d.ke, 1e-20);
+}
+
 // The same cubes with the upper one 1.3 mm and 0.7 mm off centre, alpha = 10 (the probe's
 // second scene): held by Coulomb friction it must not creep (it crept 41 um/s sideways).
 TEST(Bodies, OffsetStackHeldByFrictionDoesNotCreep) {

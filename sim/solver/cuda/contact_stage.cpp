@@ -1,11 +1,21 @@
 #include "sim/solver/cuda/contact_stage.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace softtled::cuda {
 
+ContactGridSize contact_grid_size(const BodyContactTables& t, const std::vector<double>& X) {
+  ContactGridSize g;
+  while (g.buckets < 8u * unsigned(std::max(1, t.ntri()))) g.buckets <<= 1;
+  const int fullest = fullest_bucket_at_rest(t, X, g.buckets);
+  g.bucket_cap = std::max(kContactBucketCap, (2 * fullest + 31) / 32 * 32);
+  return g;
+}
+
 template <class T>
-void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector<double>& X,
+void DeviceContactStage<T>::upload(const BodyContactTables& t, ContactGridSize grid,
                                    const std::vector<int>& node_new, const std::vector<int>& node_old) {
   const int n = t.nnode;
   std::vector<int> surf(t.surf.size()), tri(t.tri.size()), node_body(n);
@@ -13,18 +23,8 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   for (std::size_t k = 0; k < tri.size(); ++k) tri[k] = node_new[t.tri[k]];
   for (int i = 0; i < n; ++i) node_body[i] = t.node_body[node_old[i]];
   const int nsurf = int(surf.size()), nt = t.ntri();
-  // Buckets: 8 per triangle, a power of two (a triangle's swept box covers ~8 cells).
-  unsigned buckets = 1;
-  while (buckets < 8u * unsigned(std::max(1, nt))) buckets <<= 1;
-  // Triangles per bucket: twice the fullest bucket at rest (boxes inflated as the kernels'
-  // are, by the tolerance and half the margin; counted in double, where a float run's cells
-  // round a little differently: the factor 2 covers that and deformation), at least
-  // kContactBucketCap, in warps. Every bucket gets that size: one dense spot sizes them all
-  // (README "Limits"). A
-  // one-element plate (2.5 mm triangles, 0.5 mm sides) within a 3.3 mm cell overflowed a
-  // fixed 128 at its first step and stopped the run as an internal error.
-  const int fullest = fullest_bucket_at_rest(t, X, buckets, 1.5 * t.tol);
-  const int cap = std::max(kContactBucketCap, (2 * fullest + 31) / 32 * 32);
+  const unsigned buckets = grid.buckets;
+  const int cap = grid.bucket_cap;
   const std::size_t slots = std::size_t(std::max(1, nsurf)) * kContactCandCap;
   surf_.upload(surf);
   tri_.upload(tri);
@@ -61,8 +61,9 @@ void DeviceContactStage<T>::upload(const BodyContactTables& t, const std::vector
   v.node_body = node_body_.data();
   v.surf_tri_start = surf_tri_start_.data();
   v.surf_tri = surf_tri_.data();
-  v.tol = T(t.tol);
-  v.half_margin = T(0.5) * v.tol;  // the CPU's boxes (body_contact_cpu.cpp)
+  if (t.nbody > kBodyContactMaxBodies)
+    throw std::logic_error("body contact (GPU): more than " + std::to_string(kBodyContactMaxBodies) + " bodies");
+  for (int b = 0; b < t.nbody; ++b) v.body_tol[b] = T(t.body_tol[b]);
   v.inv_h = 1.0 / double(T(t.cell));
   v.mask = buckets - 1;
   v.bucket_count = bucket_count_.data();

@@ -14,6 +14,21 @@
 
 namespace softtled::cuda {
 
+// The GPU grid's size, from the mesh at rest (host code, computed once at construction so
+// the solver need not keep the rest positions until contact first turns on).
+struct ContactGridSize {
+  unsigned buckets = 1;  // a power of two: 8 per triangle (a triangle's swept box covers ~8 cells)
+  int bucket_cap = 0;    // triangles per bucket
+};
+// Triangles per bucket: twice the fullest bucket at rest (boxes inflated as the kernels'
+// are, by the tolerance and half the margin; counted in double, where a float run's cells
+// round a little differently: the factor 2 covers that and deformation), at least
+// kContactBucketCap, in warps. Every bucket gets that size: one dense spot sizes them all
+// (README "Limits"). A one-element plate (2.5 mm triangles, 0.5 mm sides) within a 3.3 mm
+// cell overflowed a fixed 128 at its first step and stopped the run as an internal error.
+// X: the rest positions (3 per node, the mesh's order).
+ContactGridSize contact_grid_size(const BodyContactTables& t, const std::vector<double>& X);
+
 template <class T>
 class DeviceContactStage {
  public:
@@ -21,8 +36,7 @@ class DeviceContactStage {
   // The tables on the device (once; the caller has synchronised and dropped its graphs):
   // node_new / node_old the solver's renumbering. The triangles and the surface-node order
   // stay the mesh's: the CPU's key order (body_contact.h).
-  // X: the rest positions (3 per node, the mesh's order), which size the grid's buckets.
-  void upload(const BodyContactTables& t, const std::vector<double>& X, const std::vector<int>& node_new,
+  void upload(const BodyContactTables& t, ContactGridSize grid, const std::vector<int>& node_new,
               const std::vector<int>& node_old);
   // Which pairs the kernels test; lists kept for other kinds of pairs are rebuilt
   // (a stream-ordered write of the rebuild flag).

@@ -245,7 +245,7 @@ class CudaSolver final : public CudaSolverApi {
     health_.fill_zero();
 
     contact_tables_ = build_body_contact_tables(mesh);
-    rest_x_ = mesh.X;
+    contact_grid_ = contact_grid_size(contact_tables_, mesh.X);
 
     set_exec_mode(opt.mode);
     set_node_lanes(opt.node_lanes);
@@ -282,7 +282,7 @@ class CudaSolver final : public CudaSolverApi {
       if (!contact_.ready()) {
         SOFTTLED_CUDA_CHECK(cudaStreamSynchronize(stream_));
         clear_graphs();  // the first tables: new pointers in the kernel arguments
-        contact_.upload(contact_tables_, rest_x_, perm_.node_new, perm_.node_old);
+        contact_.upload(contact_tables_, contact_grid_, perm_.node_new, perm_.node_old);
       }
       contact_.set_pairs(params_.body_contact && contact_tables_.nbody >= 2, params_.self_contact, stream_);
     }
@@ -1046,7 +1046,7 @@ class CudaSolver final : public CudaSolverApi {
   BodyContactTables contact_tables_;  // original numbering
   ObstacleGrids<T, DeviceBuffer<T>> grids_;  // mesh obstacles' distance values (hold_grids)
   DeviceContactStage<T> contact_;  // allocated when a contact stage is first switched on
-  std::vector<double> rest_x_;      // the mesh's rest positions (3 per node): they size the contact grid
+  ContactGridSize contact_grid_;    // the contact grid's buckets and their size, from the mesh at rest
   mutable DeviceBuffer<double> energy_, partials_, energy_sum_;
   mutable DeviceBuffer<T> energy_vol_;  // strain_energy's T4ANP element volumes
   // Snapshot slots (begin_snapshot): pinned copies of u, du, contact; the strain energy

@@ -57,11 +57,13 @@ __global__ void contact_check_kernel(const TetMeshView<T> m, const BodyContactVi
   const int s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= c.nsurf) return;
   T lo[3], hi[3];
-  swept_box(m, u, du, c.surf[s], lo, hi);
+  const int i = c.surf[s];
+  swept_box(m, u, du, i, lo, hi);
   const T* nb = c.node_box + 6 * s;
+  const T m2 = half_margin_of(c.body_tol[c.node_body[i]]);
   bool inside = true;
   for (int k = 0; k < 3; ++k)  // (NaN fails it: a non-finite state rebuilds, and is then left out)
-    inside = inside && lo[k] >= nb[k] - c.half_margin && hi[k] <= nb[3 + k] + c.half_margin;
+    inside = inside && lo[k] >= nb[k] - m2 && hi[k] <= nb[3 + k] + m2;
   if (!inside) atomicOr(c.rebuild, 1u);
 }
 
@@ -82,7 +84,9 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
       b[3 + k] = hi[k] > b[3 + k] ? hi[k] : b[3 + k];
     }
   }
-  for (int k = 0; k < 3; ++k) b[k] -= c.tol + c.half_margin, b[3 + k] += c.tol + c.half_margin;
+  const int body = c.tri_body[t];
+  const T grow = triangle_inflation_of(c.body_tol[body]);
+  for (int k = 0; k < 3; ++k) b[k] -= grow, b[3 + k] += grow;
   for (int k = 0; k < 6; ++k) c.tri_box[6 * t + k] = b[k];
   if (!grid_box(b, c.inv_h)) {
     c.tri_box[6 * t] = T(NAN);  // never meets a box
@@ -95,7 +99,6 @@ __global__ void contact_grid_kernel(const TetMeshView<T> m, const BodyContactVie
     atomicOr(c.overflow, kContactOverflowCells);
     return;
   }
-  const int body = c.tri_body[t];
   unsigned done[kContactMaxCells];  // the buckets this triangle is in so far
   int nd = 0;
   for (long long ix = x0; ix <= x1; ++ix)
@@ -134,7 +137,8 @@ __global__ void contact_cand_kernel(const TetMeshView<T> m, const BodyContactVie
   swept_box(m, u, du, i, nb, nb + 3);
   if (lane == 0)
     for (int k = 0; k < 6; ++k) c.node_box[6 * s + k] = nb[k];
-  for (int k = 0; k < 3; ++k) nb[k] -= c.half_margin, nb[3 + k] += c.half_margin;
+  const T m2 = half_margin_of(c.body_tol[bi]);
+  for (int k = 0; k < 3; ++k) nb[k] -= m2, nb[3 + k] += m2;
   if (grid_box(nb, c.inv_h)) {
     const long long x0 = grid_cell(nb[0], c.inv_h), x1 = grid_cell(nb[3], c.inv_h);
     const long long y0 = grid_cell(nb[1], c.inv_h), y1 = grid_cell(nb[4], c.inv_h);
@@ -248,8 +252,9 @@ __global__ void contact_pairs_kernel(const TetMeshView<T> m, const BodyContactVi
         d[a][k] = du[k * n + j[a]];
         x[a][k] = m.X0[k * n + j[a]] + (u[k * n + j[a]] - d[a][k]);
       }
+    const T tol = pair_tolerance(c.body_tol, c.node_body[i], c.tri_body[t]);
     const NodeTriangleCorrection<T> r = node_triangle_contact(x[0], d[0], c.pair_facing[slot] != 0, x[1], d[1], x[2],
-                                                              d[2], x[3], d[3], c.tol, mode, mu);
+                                                              d[2], x[3], d[3], tol, mode, mu);
     c.pair_state[slot] = r.state;
     if (r.state == kFree) continue;
     T* corr = c.pair_corr + std::size_t(slot) * kPairCorrValues;

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "sim/contact/body_contact.h"
 #include "sim/core/body_view.h"
 #include "sim/fem/central_difference.h"
 #include "sim/fem/neo_hookean.h"
@@ -240,7 +241,7 @@ struct BodyContactView {
   const int* node_body = nullptr;   // nnode
   const int* surf_tri_start = nullptr;  // nsurf + 1: the boundary triangles around each surface node (CSR)
   const int* surf_tri = nullptr;    // in triangle order (body_contact_tables.h)
-  T tol = T(0), half_margin = T(0);
+  T body_tol[kBodyContactMaxBodies] = {};  // per body (pair_tolerance, half_margin_of)
   double inv_h = 1;                 // 1 / grid cell
   unsigned mask = 0;                // buckets - 1 (a power of two)
   unsigned* bucket_count = nullptr; // buckets
