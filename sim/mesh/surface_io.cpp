@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -367,6 +368,40 @@ SurfaceMesh parse_off(const std::string& data, const std::string& name) {
   return s;
 }
 
+namespace {
+
+bool is_control(char ch) { return ch != '\n' && ch != '\r' && ch != '\t' && ((ch >= 0 && ch < 32) || ch == 127); }
+
+std::size_t first_control_byte(const std::string& d) {
+  const auto it = std::find_if(d.begin(), d.end(), is_control);
+  return it == d.end() ? std::string::npos : std::size_t(it - d.begin());
+}
+
+// The text starts with "solid" (any case, after a byte order mark and white space) and has a
+// "facet" before byte `end`: an ASCII STL, not a binary one whose header says "solid".
+bool starts_like_ascii_stl(const std::string& d, std::size_t end) {
+  std::string head = d.substr(0, std::min(end, d.size()));
+  std::transform(head.begin(), head.end(), head.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  const std::size_t p = head.find_first_not_of(" \t\r\n", has_bom(head) ? 3 : 0);
+  return p != std::string::npos && head.compare(p, 5, "solid") == 0 && head.find("facet", p + 5) != std::string::npos;
+}
+
+// Where the text of an ASCII STL ends: the whole file, or, when only control bytes follow
+// its "endsolid" (from byte `control` on: a DOS end-of-file mark Ctrl-Z, NUL padding), the
+// byte before them. npos when the control bytes are inside the text: not an ASCII STL.
+// Such a file was read as binary and refused as a size mismatch of 1818521189 triangles.
+std::size_t ascii_stl_end(const std::string& d, std::size_t control) {
+  if (control == std::string::npos) return d.size();
+  for (std::size_t i = control; i < d.size(); ++i)
+    if (!is_control(d[i]) && !std::isspace(static_cast<unsigned char>(d[i]))) return std::string::npos;
+  if (!starts_like_ascii_stl(d, control)) return std::string::npos;
+  std::string tail = d.substr(0, control);
+  std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return tail.rfind("endsolid") != std::string::npos ? control : std::string::npos;
+}
+
+}  // namespace
+
 SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
   // STL stores triangle soup; vertices are merged by exact coordinates.
   std::vector<double> soup;
@@ -406,11 +441,20 @@ SurfaceMesh parse_stl(const std::string& data, const std::string& name) {
                         (data.size() < need ? "the file is truncated or its count wrong"
                                             : "more than one record's worth of bytes follows them: the count is wrong or the file corrupt"));
     };
-    const bool looks_binary = data.size() >= 84 && std::any_of(data.begin(), data.end(), [](char ch) {
-      return ch != '\n' && ch != '\r' && ch != '\t' && ((ch >= 0 && ch < 32) || ch == 127);
-    });
+    const std::size_t control = first_control_byte(data);
+    const std::size_t text_end = ascii_stl_end(data, control);
+    const bool looks_binary = data.size() >= 84 && control != std::string::npos && text_end == std::string::npos;
+    if (looks_binary && starts_like_ascii_stl(data, control)) {
+      std::ostringstream o;  // a text STL with a stray byte, most likely: say so, and where
+      o << name << ":" << 1 + std::count(data.begin(), data.begin() + long(control), '\n')
+        << ": starts like an ASCII STL ('solid', then facets), but byte " << control << " is a control byte (0x" << std::hex
+        << std::setw(2) << std::setfill('0') << int(static_cast<unsigned char>(data[control]))
+        << "), which text does not have; read as a binary STL its size does not match its triangle count";
+      throw InputError(o.str());
+    }
     if (looks_binary) throw size_mismatch();
-    std::istringstream lines(has_bom(data) ? data.substr(3) : data);
+    const std::string text = data.substr(0, text_end);  // without trailing control bytes
+    std::istringstream lines(has_bom(text) ? text.substr(3) : text);
     std::string line, tok;
     int lineno = 0;
     bool started = false;

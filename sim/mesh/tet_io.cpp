@@ -17,6 +17,48 @@ namespace {
 // Faces of tet (0,1,2,3) oriented outward for a positive tet (as tet_mesh.cpp).
 const int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
+// Nodes and tets in import_tet_soup's messages: the 0-based position in file order, and the
+// file's own number where the reader gave one (TetSoup::node_number), which is what a user
+// can search the file for.
+struct SoupNames {
+  const TetSoup& s;
+  static std::string list(const std::vector<long long>& v) {  // "1", "1 and 2", "1, 2 and 3"
+    std::string o;
+    for (std::size_t i = 0; i < v.size(); ++i) o += (i == 0 ? "" : i + 1 == v.size() ? " and " : ", ") + std::to_string(v[i]);
+    return o;
+  }
+  // " (Gmsh node tags 505 and 527)", or "" when the file numbers its nodes from 0 in order.
+  std::string node_numbers(const std::vector<long long>& nodes, const char* open = " (") const {
+    if (s.node_number.empty()) return "";
+    std::vector<long long> v;
+    for (long long i : nodes) v.push_back(s.node_number[std::size_t(i)]);
+    return open + s.node_numbering + (v.size() > 1 ? "s " : " ") + list(v) + ")";
+  }
+  // "tet 48 (0-based, file order)", or "tet 48 (0-based; Gmsh element tag 148)".
+  std::string tet(long e) const {
+    if (s.tet_number.empty()) return "tet " + std::to_string(e) + " (0-based, file order)";
+    return "tet " + std::to_string(e) + " (0-based; " + s.tet_numbering + " " +
+           std::to_string(s.tet_number[std::size_t(e)]) + ")";
+  }
+  // A second tet in a message that named the first with tet(): "tet 50 (Gmsh element tag 150)".
+  std::string other_tet(long e) const {
+    if (s.tet_number.empty()) return "tet " + std::to_string(e);
+    return "tet " + std::to_string(e) + " (" + s.tet_numbering + " " + std::to_string(s.tet_number[std::size_t(e)]) + ")";
+  }
+  std::string node(long i) const {  // "node 5 (0-based, file order)", "node 5 (0-based; Gmsh node tag 505)"
+    return "node " + std::to_string(i) + (s.node_number.empty() ? " (0-based, file order)" : node_numbers({i}, " (0-based; "));
+  }
+  std::string short_node(long i) const { return "node " + std::to_string(i) + node_numbers({i}); }
+  std::string node_pair(long a, long b) const {
+    return "nodes " + std::to_string(a) + " and " + std::to_string(b) +
+           (s.node_number.empty() ? " (0-based, file order)" : node_numbers({a, b}, " (0-based; "));
+  }
+  std::string face(const std::array<int, 3>& k) const {
+    return "face (" + std::to_string(k[0]) + ", " + std::to_string(k[1]) + ", " + std::to_string(k[2]) + ")" +
+           node_numbers({k[0], k[1], k[2]});
+  }
+};
+
 }  // namespace
 
 long TetSoup::skipped_count() const {
@@ -49,6 +91,17 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
     rep.skipped_kinds += (rep.skipped_kinds.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
   const long nnode = long(soup.X.size() / 3), ntet = long(soup.tet.size() / 4);
   if (soup.X.size() % 3 != 0 || soup.tet.size() % 4 != 0) throw InputError(name + ": internal: partial node or tet");
+  if ((!soup.node_number.empty() && long(soup.node_number.size()) != nnode) ||
+      (!soup.tet_number.empty() && long(soup.tet_number.size()) != ntet))
+    throw InputError(name + ": internal: node or tet numbers do not match the counts");
+  // Numbers equal to the 0-based file order (a TetGen mesh from 0, a .vtu of tets only) add
+  // nothing to a message.
+  for (std::vector<long long>* v : {&soup.node_number, &soup.tet_number}) {
+    long long i = 0;
+    while (i < (long long)v->size() && (*v)[std::size_t(i)] == i) ++i;
+    if (i == (long long)v->size()) v->clear();
+  }
+  const SoupNames names{soup};
   if (ntet == 0)
     throw InputError(name + ": no tetrahedra (empty mesh" +
                      (rep.skipped > 0 ? "; skipped " + std::to_string(rep.skipped) + " other elements: " + rep.skipped_kinds
@@ -58,8 +111,8 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
   for (long i = 0; i < nnode; ++i)
     for (int k = 0; k < 3; ++k)
       if (!std::isfinite(soup.X[3 * i + k]))
-        throw InputError(name + ": node " + std::to_string(i) + " (0-based, file order) has a NaN or infinite coordinate");
-  const auto tet_name = [&](long e) { return "tet " + std::to_string(e) + " (0-based, file order)"; };
+        throw InputError(name + ": " + names.node(i) + " has a NaN or infinite coordinate");
+  const auto tet_name = [&](long e) { return names.tet(e); };
   // Indices in range, no node twice in a tet.
   for (long e = 0; e < ntet; ++e) {
     const int* t = &soup.tet[4 * e];
@@ -69,7 +122,7 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
                          std::to_string(nnode));
       for (int b = 0; b < a; ++b)
         if (t[a] == t[b])
-          throw InputError(name + ": " + tet_name(e) + " uses node " + std::to_string(t[a]) + " twice (degenerate)");
+          throw InputError(name + ": " + tet_name(e) + " uses " + names.short_node(t[a]) + " twice (degenerate)");
     }
   }
   // Coincident nodes: two distinct nodes (both used by tets) at exactly the same
@@ -93,7 +146,7 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
       if (X[3 * a] == X[3 * b] && X[3 * a + 1] == X[3 * b + 1] && X[3 * a + 2] == X[3 * b + 2]) {
         std::ostringstream o;
         o.precision(17);
-        o << name << ": nodes " << a << " and " << b << " (0-based, file order) are distinct nodes at the same position ("
+        o << name << ": " << names.node_pair(a, b) << " are distinct nodes at the same position ("
           << X[3 * a] << ", " << X[3 * a + 1] << ", " << X[3 * a + 2]
           << "): tets that should share a node use copies of it (a crack, a tet soup or a doubled mesh)";
         throw InputError(o.str());
@@ -140,7 +193,7 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
     std::sort(keys.begin(), keys.end());
     for (long i = 1; i < ntet; ++i)
       if (keys[i].first == keys[i - 1].first)
-        throw InputError(name + ": " + tet_name(keys[i - 1].second) + " and tet " + std::to_string(keys[i].second) +
+        throw InputError(name + ": " + tet_name(keys[i - 1].second) + " and " + names.other_tet(keys[i].second) +
                          " have the same nodes (duplicate tets)");
   }
   // Faces: at most two tets per face, and two tets on opposite sides of it (all tets are
@@ -167,12 +220,12 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
       std::size_t j = i + 1;
       while (j < faces.size() && faces[j].k == faces[i].k) ++j;
       const auto& k = faces[i].k;
-      const std::string face = "face (" + std::to_string(k[0]) + ", " + std::to_string(k[1]) + ", " + std::to_string(k[2]) + ")";
+      const std::string face = names.face(k);
       if (j - i > 2)
         throw InputError(name + ": " + face + " is shared by " + std::to_string(j - i) + " tets (" + tet_name(faces[i].e) +
-                         ", tet " + std::to_string(faces[i + 1].e) + ", ...); at most 2 may share a face");
+                         ", " + names.other_tet(faces[i + 1].e) + ", ...); at most 2 may share a face");
       if (j - i == 2 && faces[i].even == faces[i + 1].even)
-        throw InputError(name + ": " + tet_name(faces[i].e) + " and tet " + std::to_string(faces[i + 1].e) +
+        throw InputError(name + ": " + tet_name(faces[i].e) + " and " + names.other_tet(faces[i + 1].e) +
                          " overlap: they lie on the same side of their shared " + face);
       i = j;
     }
@@ -191,7 +244,7 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
     for (int k = 0; k < 3; ++k) X[3 * n + k] = soup.X[3 * std::size_t(old_of_new[n]) + k];
   for (int& v : soup.tet) v = new_of_old[v];
   TetMesh m = make_tet_mesh(std::move(X), std::move(soup.tet));  // boundary as for TetGen's meshes
-  const std::string bad = boundary_manifold_problem(m, [&](int v) { return "node " + std::to_string(old_of_new[v]); });
+  const std::string bad = boundary_manifold_problem(m, [&](int v) { return names.short_node(old_of_new[v]); });
   if (!bad.empty()) throw InputError(name + ": " + bad + " (nodes 0-based, in file order)");
   check_tet_boundary_overlap(m, name);
   if (report) *report = rep;
@@ -231,11 +284,30 @@ bool is_tet_file_extension(const std::string& path) {
   return e == "msh" || e == "vtu" || e == "node" || e == "ele" || e == "mesh";
 }
 
+namespace {
+// A TetGen mesh's .node and .ele paths for a path to either: the one given as it is, the
+// other with its extension in the same case (all capitals, a capital first, else lower
+// case: M.NODE -> M.ELE, m.Node -> m.Ele). Lower-casing it read M.node and M.ele for M.NODE.
+std::array<std::string, 2> tetgen_pair(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::string ext = path.substr(dot + 1);
+  const bool node = lower_ext(path) == "node";
+  std::string other = node ? "ele" : "node";
+  const auto upper = [](unsigned char c) { return char(std::toupper(c)); };
+  if (std::none_of(ext.begin(), ext.end(), [](unsigned char c) { return std::islower(c); }))
+    std::transform(other.begin(), other.end(), other.begin(), upper);
+  else if (std::isupper(static_cast<unsigned char>(ext[0])))
+    other[0] = upper(static_cast<unsigned char>(other[0]));
+  const std::string sibling = path.substr(0, dot + 1) + other;
+  return node ? std::array<std::string, 2>{path, sibling} : std::array<std::string, 2>{sibling, path};
+}
+}  // namespace
+
 std::vector<std::string> tet_file_paths(const std::string& path) {
   const std::string ext = lower_ext(path);
   if (ext != "node" && ext != "ele") return {path};
-  const std::string base = path.substr(0, path.size() - ext.size() - 1);
-  return {base + ".node", base + ".ele"};
+  const auto pair = tetgen_pair(path);
+  return {pair[0], pair[1]};
 }
 
 namespace {
@@ -244,6 +316,16 @@ namespace {
 std::string without_bom(std::string d) {
   if (has_bom(d)) d.erase(0, 3);
   return d;
+}
+// One file of a TetGen pair; a missing sibling says which name was looked for and why.
+std::string read_tetgen_file(const std::string& file, const std::string& given, std::uint64_t max_bytes) {
+  if (file == given) return read_input_file(file, max_bytes);
+  try {
+    return read_input_file(file, max_bytes);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (the TetGen file that goes with " + given +
+                     ": the same name, the other extension in the same case)");
+  }
 }
 }  // namespace
 
@@ -257,10 +339,10 @@ TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits, TetI
   }
   TetSoup soup;
   if (ext == "node" || ext == "ele") {
-    const std::string base = path.substr(0, path.size() - ext.size() - 1);
-    const std::string node = without_bom(read_input_file(base + ".node", limits.max_bytes));
-    const std::string ele = without_bom(read_input_file(base + ".ele", limits.max_bytes));
-    soup = parse_tetgen(node, ele, base, max_tets);
+    const auto files = tetgen_pair(path);
+    const std::string node = without_bom(read_tetgen_file(files[0], path, limits.max_bytes));
+    const std::string ele = without_bom(read_tetgen_file(files[1], path, limits.max_bytes));
+    soup = parse_tetgen(node, ele, files[0], files[1], max_tets);
   } else {
     const std::string data = without_bom(read_input_file(path, limits.max_bytes));
     if (ext == "msh") soup = parse_msh(data, path, max_tets);

@@ -3,7 +3,8 @@
 //   .msh          Gmsh 2.2 and 4.1, ASCII and binary (tet_io_msh.cpp)
 //   .vtu          VTK UnstructuredGrid, ASCII, inline base64 and appended raw or base64
 //                 data, uncompressed (tet_io_vtu.cpp)
-//   .node / .ele  TetGen, either path given, the sibling found (tet_io_tetgen.cpp)
+//   .node / .ele  TetGen, either path given, the sibling's extension in the same case
+//                 (M.NODE -> M.ELE; tet_io_tetgen.cpp)
 //   .mesh         MEDIT / INRIA ASCII, Vertices and Tetrahedra (tet_io_medit.cpp)
 // Small readers of our own rather than libgmsh or libvtk: we need only nodes and linear
 // tets, and every input has to pass the same caps and checks (README, "Scene format").
@@ -38,6 +39,13 @@ struct TetSoup {
   std::vector<double> X;          // 3 x nnode, interleaved, in file order
   std::vector<int> tet;           // 4 x ntet, 0-based indices into X, file order
   std::map<std::string, long> skipped;  // element kind ("triangle", "Gmsh type 15", ...) -> count
+  // The file's own numbers of the nodes and tets, for import_tet_soup's messages: a 0-based
+  // position among the tets cannot be found in a file whose tags start at 100 or whose
+  // triangles come first. Empty: the file numbers them in file order from 0 (none to add).
+  std::vector<long long> node_number;  // nnode, or empty
+  std::vector<long long> tet_number;   // ntet, or empty
+  std::string node_numbering;          // what node_number is: "Gmsh node tag", ".node point"
+  std::string tet_numbering;           // "Gmsh element tag", "VTK cell", ".ele tet"
   long skipped_count() const;
 };
 
@@ -61,7 +69,8 @@ TetMesh load_tet_mesh(const std::string& path, const TetFileLimits& limits = {},
 
 // Whether load_tet_mesh knows the extension of this path.
 bool is_tet_file_extension(const std::string& path);
-// The files load_tet_mesh reads for path: a TetGen .node or .ele path reads both.
+// The files load_tet_mesh reads for path: a TetGen .node or .ele path reads both (the
+// sibling with its extension in the case of the given one), .node first.
 std::vector<std::string> tet_file_paths(const std::string& path);
 
 TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* report = nullptr);
@@ -71,7 +80,9 @@ TetMesh import_tet_soup(TetSoup soup, const std::string& name, TetImportReport* 
 TetSoup parse_msh(const std::string& data, const std::string& name, long max_tets = kMaxTetFileCount);
 TetSoup parse_vtu(const std::string& data, const std::string& name, long max_tets = kMaxTetFileCount);
 TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std::string& name,
-                     long max_tets = kMaxTetFileCount);
+                     long max_tets = kMaxTetFileCount);  // messages name NAME.node and NAME.ele
+TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std::string& node_name,
+                     const std::string& ele_name, long max_tets = kMaxTetFileCount);
 TetSoup parse_medit(const std::string& data, const std::string& name, long max_tets = kMaxTetFileCount);
 
 // Overlap check of import_tet_soup, InputError naming the file when it fails:

@@ -64,6 +64,16 @@ class Cursor {
     }
     return false;
   }
+  // Whether only white space and comments are left (a short last line is a truncated file).
+  bool at_end() const {
+    Cursor rest = *this;
+    return !rest.more();
+  }
+  // For formats of one entry a line, a line short of a number (on_this_line() false): read
+  // on, the next line's first number was taken and the message named the next line.
+  [[noreturn]] void fail_short_line(const std::string& what) const {
+    fail(at_end() ? "file ends early (truncated?): " + what : what);
+  }
   // Moves past the end of the current line.
   void skip_line() {
     while (pos_ < end_ && d_[pos_] != '\n') ++pos_;

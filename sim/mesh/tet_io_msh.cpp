@@ -81,6 +81,9 @@ class MshReader {
     }
     if (!nodes) c_.fail("no $Nodes section");
     if (!elements) c_.fail("no $Elements section");
+    soup_.node_number = std::move(tags_);
+    soup_.node_numbering = "Gmsh node tag";
+    soup_.tet_numbering = "Gmsh element tag";
     return std::move(soup_);
   }
 
@@ -137,6 +140,32 @@ class MshReader {
     if (long(soup_.tet.size() / 4) >= max_tets_)
       c_.fail("more than " + std::to_string(max_tets_) + " tets (the tet budget, mesh.max_tets)");
     for (int a = 0; a < 4; ++a) soup_.tet.push_back(node_index(tags[a], element));
+    soup_.tet_number.push_back(element);
+  }
+
+  // ASCII: the next number of element `tag`'s line. Each element is one line, as Gmsh
+  // writes it: read on, a line short of a number took the next line's first, and the
+  // message named the next line and another problem.
+  long long field(long long tag, const std::string& what, long long lo, long long hi) {
+    if (!c_.on_this_line()) c_.fail_short_line("element " + std::to_string(tag) + ": the line ends before its " + what);
+    return c_.integer(lo, hi, "element " + std::to_string(tag) + ": " + what);
+  }
+  // ASCII: the 4 nodes of tet `tag`, all on its line and no more. ntags (v2; -1: v4): the
+  // tags before them, named in the message, as a wrong tag count shifts the nodes.
+  void ascii_tet(long long tag, long long ntags) {
+    const auto after = [&] {
+      return ntags < 0 ? std::string() : " (after the " + std::to_string(ntags) + " tag" + (ntags == 1 ? "" : "s") +
+                                              " its tag count declares)";
+    };
+    long long nodes[4];
+    for (int a = 0; a < 4; ++a) {
+      if (!c_.on_this_line())
+        c_.fail_short_line("element " + std::to_string(tag) + ": a 4-node tet with " + std::to_string(a) + " node" +
+                           (a == 1 ? "" : "s") + after());
+      nodes[a] = c_.integer(1, INT64_MAX, "element " + std::to_string(tag) + ": node");
+    }
+    if (c_.on_this_line()) c_.fail("element " + std::to_string(tag) + ": a 4-node tet with more than 4 nodes" + after());
+    add_tet(nodes, tag);
   }
 
   // An element of another type, read to its end and counted: its node count must be its
@@ -182,7 +211,7 @@ class MshReader {
 
   void nodes_v4() {
     if (binary_) c_.skip_line();
-    const long long nblock = header("$Nodes: block count");
+    const long long nblock = header("$Nodes: block count", true);
     const long long n = header("$Nodes: node count");
     header("$Nodes: smallest tag");
     header("$Nodes: largest tag");
@@ -191,7 +220,7 @@ class MshReader {
     soup_.X.reserve(3 * std::size_t(n));
     tags_.reserve(std::size_t(n));
     for (long long b = 0; b < nblock; ++b) {
-      const long long dim = small("entity dimension", 0, 3);
+      const long long dim = small("entity dimension", 0, 3, true);
       small("entity tag", INT32_MIN, INT32_MAX);
       const bool parametric = small("parametric flag", 0, 1) == 1;
       const long long m = header("$Nodes: nodes in the block");
@@ -248,14 +277,12 @@ class MshReader {
     }
     for (long long i = 0; i < n; ++i) {
       const long long tag = c_.integer(1, INT64_MAX, "$Elements: element tag");
-      const long long type = c_.integer(1, 100000, "element " + std::to_string(tag) + ": type");
-      const long long ntags = c_.integer(0, 1000, "element " + std::to_string(tag) + ": tag count");
-      for (long long j = 0; j < ntags; ++j) c_.integer(INT64_MIN, INT64_MAX, "element " + std::to_string(tag) + ": tag");
+      const long long type = field(tag, "type", 1, 100000);
+      const long long ntags = field(tag, "tag count", 0, 1000);
+      for (long long j = 0; j < ntags; ++j)
+        field(tag, "tag " + std::to_string(j + 1) + " of " + std::to_string(ntags), INT64_MIN, INT64_MAX);
       if (type == 4) {
-        long long nodes[4];
-        for (long long& v : nodes) v = c_.integer(1, INT64_MAX, "element " + std::to_string(tag) + ": node");
-        if (c_.on_this_line()) c_.fail("element " + std::to_string(tag) + ": a 4-node tet with more than 4 nodes");
-        add_tet(nodes, tag);
+        ascii_tet(tag, ntags);
       } else {
         skip_ascii_element(type, tag);
       }
@@ -264,7 +291,7 @@ class MshReader {
 
   void elements_v4() {
     if (binary_) c_.skip_line();
-    const long long nblock = header("$Elements: block count");
+    const long long nblock = header("$Elements: block count", true);
     const long long n = header("$Elements: element count");
     header("$Elements: smallest tag");
     header("$Elements: largest tag");
@@ -272,7 +299,7 @@ class MshReader {
     tet_io::check_count(c_, nblock, n + 1, binary_ ? 20 : 8, "$Elements: block count");
     long long done = 0;
     for (long long b = 0; b < nblock; ++b) {
-      small("entity dimension", 0, 3);
+      small("entity dimension", 0, 3, true);
       small("entity tag", INT32_MIN, INT32_MAX);
       const long long type = small("element type", 1, 100000);
       const long long m = header("$Elements: elements in the block");
@@ -292,11 +319,7 @@ class MshReader {
           if (type == 4) add_tet(nodes, tag);
           else ++soup_.skipped[gmsh_kind(type)];
         } else if (type == 4) {
-          const long long tag = c_.integer(1, INT64_MAX, "$Elements: element tag");
-          long long nodes[4];
-          for (long long& v : nodes) v = c_.integer(1, INT64_MAX, "element " + std::to_string(tag) + ": node");
-          if (c_.on_this_line()) c_.fail("element " + std::to_string(tag) + ": a 4-node tet with more than 4 nodes");
-          add_tet(nodes, tag);
+          ascii_tet(c_.integer(1, INT64_MAX, "$Elements: element tag"), -1);
         } else {
           skip_ascii_element(type, c_.integer(1, INT64_MAX, "$Elements: element tag"));
         }
@@ -306,8 +329,14 @@ class MshReader {
     if (done != n) c_.fail("$Elements: the blocks hold " + std::to_string(done) + " elements, " + std::to_string(n) + " declared");
   }
 
-  // A count or tag of the 4.1 headers (size_t in binary).
-  long long header(const char* what) {
+  // ASCII 4.1 header lines are read whole: a number after the line's first must be on it
+  // (read on, a short line took the next line's first number and the message named that line).
+  void on_header_line(const char* what, bool first) {
+    if (!binary_ && !first && !c_.on_this_line()) c_.fail_short_line(std::string(what) + " missing: the line ends early");
+  }
+  // A count or tag of the 4.1 headers (size_t in binary); first: the line's first number.
+  long long header(const char* what, bool first = false) {
+    on_header_line(what, first);
     if (binary_) {
       const std::uint64_t v = c_.binary<std::uint64_t>(what);
       if (v > std::uint64_t(INT64_MAX / 4)) c_.fail(std::string(what) + " " + std::to_string(v) + " out of range");
@@ -316,7 +345,8 @@ class MshReader {
     return c_.integer(0, INT64_MAX / 4, what);
   }
   // An int of the 4.1 block headers.
-  long long small(const char* what, long long lo, long long hi) {
+  long long small(const char* what, long long lo, long long hi, bool first = false) {
+    on_header_line(what, first);
     if (binary_) {
       const long long v = c_.binary<int>(what);
       if (v < lo || v > hi) c_.fail(std::string(what) + " " + std::to_string(v) + " out of range");

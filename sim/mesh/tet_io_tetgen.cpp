@@ -6,9 +6,26 @@
 
 namespace softtled {
 
+namespace {
+// TetGen writes one point or tet a line and reads them so: every number of an entry must be
+// on the line of its number (read on, a line short of a point took the next tet's number
+// and was named at the next line, or as a truncated file at the last line).
+void need_on_line(tet_io::Cursor& c, const std::string& entry, long long have, long long want, const char* what) {
+  if (!c.on_this_line())
+    c.fail_short_line(entry + ": " + std::to_string(have) + " of its " + std::to_string(want) + " " + what + " on its line");
+}
+std::string count(long long n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
+}  // namespace
+
 TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std::string& name, long max_tets) {
+  return parse_tetgen(node, ele, name + ".node", name + ".ele", max_tets);
+}
+
+TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std::string& node_name,
+                     const std::string& ele_name, long max_tets) {
   TetSoup soup;
-  const std::string node_name = name + ".node", ele_name = name + ".ele";
+  soup.node_numbering = ".node point";
+  soup.tet_numbering = ".ele tet";
   tet_io::Cursor n(node, node_name, 0, std::string::npos, '#');
   if (!n.more()) n.fail("empty file (the point count is missing)");
   const long long npoint = n.integer(0, kMaxTetFileCount, "point count");
@@ -18,6 +35,7 @@ TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std:
   const long long nmark = n.integer(0, 1, "boundary marker flag");
   tet_io::check_count(n, npoint, kMaxTetFileCount, std::size_t(8 + 2 * (nattr + nmark)), "point count");
   soup.X.reserve(3 * std::size_t(npoint));
+  soup.node_number.reserve(std::size_t(npoint));
   long long base = 0;
   for (long long i = 0; i < npoint; ++i) {
     const long long idx = n.integer(0, INT64_MAX, "point number");
@@ -27,8 +45,19 @@ TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std:
     } else if (idx != base + i) {
       n.fail("point number " + std::to_string(idx) + " where " + std::to_string(base + i) + " was expected (points are numbered consecutively)");
     }
-    for (int k = 0; k < 3; ++k) soup.X.push_back(n.number("point coordinate"));
-    for (long long k = 0; k < nattr + nmark; ++k) n.number("point attribute or marker");
+    soup.node_number.push_back(idx);
+    const std::string point = "point " + std::to_string(idx);
+    for (int k = 0; k < 3; ++k) {
+      need_on_line(n, point, k, 3, "coordinates");
+      soup.X.push_back(n.number("point coordinate"));
+    }
+    for (long long k = 0; k < nattr + nmark; ++k) {
+      need_on_line(n, point, k, nattr + nmark, "attributes and markers (the header's counts)");
+      n.number("point attribute or marker");
+    }
+    if (n.on_this_line())
+      n.fail(point + ": more numbers on its line than 3 coordinates, " + count(nattr, "attribute") + " and " +
+             count(nmark, "marker"));
   }
   if (n.more()) n.fail("data after the last point ('" + std::string(n.peek().substr(0, 40)) + "')");
 
@@ -42,17 +71,25 @@ TetSoup parse_tetgen(const std::string& node, const std::string& ele, const std:
   if (ntet > max_tets) e.fail(std::to_string(ntet) + " tets, above the tet budget of " + std::to_string(max_tets) + " (mesh.max_tets)");
   tet_io::check_count(e, ntet, kMaxTetFileCount, std::size_t(10 + 2 * eattr), "tet count");
   soup.tet.reserve(4 * std::size_t(ntet));
+  soup.tet_number.reserve(std::size_t(ntet));
   for (long long t = 0; t < ntet; ++t) {
     const long long idx = e.integer(0, INT64_MAX, "tet number");
     if (t == 0 && idx > 1) e.fail("the first tet is numbered " + std::to_string(idx) + " (0 or 1 expected)");
+    soup.tet_number.push_back(idx);
+    const std::string tet = "tet " + std::to_string(idx);
     for (int a = 0; a < 4; ++a) {
-      const long long v = e.integer(INT64_MIN, INT64_MAX, "tet " + std::to_string(idx) + ": point number");
+      if (!e.on_this_line()) e.fail_short_line(tet + ": a 4-node tet with " + count(a, "point number") + " on its line");
+      const long long v = e.integer(INT64_MIN, INT64_MAX, tet + ": point number");
       if (v < base || v >= base + npoint)
         e.fail("tet " + std::to_string(idx) + " refers to point " + std::to_string(v) + ", not in " + node_name + " (" +
                std::to_string(base) + ".." + std::to_string(base + npoint - 1) + ")");
       soup.tet.push_back(int(v - base));
     }
-    for (long long k = 0; k < eattr; ++k) e.number("tet attribute");
+    for (long long k = 0; k < eattr; ++k) {
+      need_on_line(e, tet, k, eattr, "attributes (the header's count)");
+      e.number("tet attribute");
+    }
+    if (e.on_this_line()) e.fail(tet + ": more numbers on its line than 4 point numbers and " + count(eattr, "attribute"));
   }
   if (e.more()) e.fail("data after the last tet ('" + std::string(e.peek().substr(0, 40)) + "')");
   return soup;

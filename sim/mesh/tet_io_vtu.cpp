@@ -164,19 +164,25 @@ class VtuReader {
     const Array pa = array(ab, ae);
     if (pa.components != 3) x_.fail("Points have " + std::to_string(pa.components) + " components (3 expected)");
     TetSoup soup;
+    soup.tet_numbering = "VTK cell";  // the cell's index among all cells, what ParaView shows
     soup.X = values<double>(pa, 3 * npoint, "Points");
     // Cells: connectivity, offsets, types by name.
     if (!x_.find_tag("Cells", pe, x_.xml_end, sb, se)) x_.fail("no <Cells>");
     const std::size_t cells_end = x_.find_end("Cells", se);
-    Array conn, offs, types;
+    Array cell_arrays[3];  // connectivity, offsets, types
+    const char* cell_names[3] = {"connectivity", "offsets", "types"};
     bool has[3] = {false, false, false};
     for (std::size_t p = se; x_.find_tag("DataArray", p, cells_end, ab, ae); p = ae) {
       const Array a = array(ab, ae);
-      if (a.name == "connectivity") conn = a, has[0] = true;
-      else if (a.name == "offsets") offs = a, has[1] = true;
-      else if (a.name == "types") types = a, has[2] = true;
+      for (int k = 0; k < 3; ++k)
+        if (a.name == cell_names[k]) {
+          // Which one a reader takes is not said anywhere: the later one was used silently.
+          if (has[k]) x_.fail("<Cells> has two DataArrays named '" + a.name + "' (one is expected)");
+          cell_arrays[k] = a, has[k] = true;
+        }
     }
     if (!has[0] || !has[1] || !has[2]) x_.fail("<Cells> needs the DataArrays connectivity, offsets and types");
+    const Array &conn = cell_arrays[0], &offs = cell_arrays[1], &types = cell_arrays[2];
     const std::vector<long long> ty = values<long long>(types, ncell, "types");
     std::vector<long long> off = values<long long>(offs, -1, "offsets");
     if (off.size() == std::size_t(ncell) + 1 && !off.empty() && off[0] == 0) off.erase(off.begin());  // VTK 9's layout
@@ -198,6 +204,7 @@ class VtuReader {
             x_.fail("cell " + std::to_string(c) + " refers to point " + std::to_string(n) + " of " + std::to_string(npoint));
           soup.tet.push_back(int(n));
         }
+        soup.tet_number.push_back(c);
       } else {
         // Skipped, but not unread: a cell of a fixed-size type with another node count, or
         // on a point the file does not have, is corruption (a 4-node "wedge" was skipped
@@ -289,6 +296,9 @@ class VtuReader {
     std::vector<T> out;
     if (a.format == "ascii") {
       Cursor c(x_.d, x_.name, a.content_b, a.content_e);
+      long long lo = INT64_MIN, hi = INT64_MAX;
+      int_range(a.type, lo, hi);
+      const std::string what_type = std::string(what) + " (" + a.type + ")";
       if (count >= 0) {
         tet_io::check_count(c, count, 4 * (long long)kMaxTetFileCount, 2, what);
         out.reserve(std::size_t(count));
@@ -296,7 +306,7 @@ class VtuReader {
       while (c.more()) {
         if (count >= 0 && (long long)out.size() == count) c.fail(std::string(what) + ": more than " + std::to_string(count) + " values");
         if (std::is_floating_point<T>::value) out.push_back(T(c.number(what)));
-        else out.push_back(T(c.integer(INT64_MIN, INT64_MAX, what)));
+        else out.push_back(T(c.integer(lo, hi, what_type)));
         if ((long long)out.size() > 4 * (long long)kMaxTetFileCount) c.fail(std::string(what) + ": too many values");
       }
     } else {
@@ -310,6 +320,19 @@ class VtuReader {
     if (count >= 0 && (long long)out.size() != count)
       x_.fail(std::string(what) + ": " + std::to_string(out.size()) + " values, " + std::to_string(count) + " expected");
     return out;
+  }
+
+  // The values of an integer DataArray type: an ASCII value outside them is not of the
+  // declared type (types 266 declared UInt8 was skipped as "VTK cell type 266"; a binary
+  // UInt8 cannot hold it). UInt64 stops at INT64_MAX, far above any count or index.
+  static void int_range(const std::string& t, long long& lo, long long& hi) {
+    if (t == "Int8") lo = INT8_MIN, hi = INT8_MAX;
+    else if (t == "UInt8") lo = 0, hi = UINT8_MAX;
+    else if (t == "Int16") lo = INT16_MIN, hi = INT16_MAX;
+    else if (t == "UInt16") lo = 0, hi = UINT16_MAX;
+    else if (t == "Int32") lo = INT32_MIN, hi = INT32_MAX;
+    else if (t == "UInt32") lo = 0, hi = UINT32_MAX;
+    else if (t == "UInt64") lo = 0;
   }
 
   template <class T>
@@ -353,7 +376,6 @@ class VtuReader {
   std::string binary_block(const Array& a, const char* what) {
     const std::string& d = x_.d;
     const std::size_t hb = header_bytes_;
-    const std::size_t hchars = (hb + 2) / 3 * 4;  // the header as its own base64 block
     std::string_view text;
     if (a.format == "appended" && !appended_base64_) {
       const std::size_t p = appended_ + std::size_t(a.offset);
@@ -371,22 +393,19 @@ class VtuReader {
     } else {
       text = std::string_view(d.data() + a.content_b, a.content_e - a.content_b);
     }
-    // Strip white space, then either two blocks (header padded, then data: VTK) or one.
+    // White space stripped, decoded whole: the header and the data are either one base64
+    // stream or two (the header padded to a block of its own, as VTK writes them), and the
+    // decoder starts afresh after padding, so both read alike. Telling them apart by a '='
+    // where a separate header's padding would be took a 1-byte array's own padding
+    // ("AQAAAAo=": 4 header bytes and 0x0a) for a header block and read no data.
     std::string s;
     s.reserve(text.size());
     for (char c : text)
       if (!Cursor::space(c)) s.push_back(c);
-    if (s.size() < hchars) x_.fail(std::string(what) + ": binary data shorter than its header");
-    const std::string header = base64_decode(std::string_view(s).substr(0, hchars), x_);
-    if (header.size() < hb) x_.fail(std::string(what) + ": bad binary header");
-    const std::uint64_t n = read_header(header.data());
-    std::string data;
-    if (hb % 3 != 0 && s[hchars - 1] == '=') data = base64_decode(std::string_view(s).substr(hchars), x_);
-    else {
-      data = base64_decode(s, x_);
-      if (data.size() < hb) x_.fail(std::string(what) + ": bad binary header");
-      data.erase(0, hb);
-    }
+    std::string data = base64_decode(s, x_);
+    if (data.size() < hb) x_.fail(std::string(what) + ": binary data shorter than its header");
+    const std::uint64_t n = read_header(data.data());
+    data.erase(0, hb);
     if (n > data.size()) x_.fail(std::string(what) + ": binary data ends early (" + std::to_string(n) + " bytes declared, " +
                                  std::to_string(data.size()) + " present)");
     data.resize(std::size_t(n));

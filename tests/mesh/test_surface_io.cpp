@@ -337,6 +337,32 @@ TEST(SurfaceFiles, MessagesSayWhatIsWrong) {
   EXPECT_NE(far.find("far.obj:1: '1e400' is NaN or infinite"), std::string::npos) << far;
 }
 
+TEST(SurfaceFiles, AsciiStlWithTrailingControlBytesLoads) {
+  // A Ctrl-Z (0x1a, DOS's end-of-file mark) or NUL padding after "endsolid": the file was
+  // taken for binary and refused, "header declares 1818521189 triangles".
+  std::string stl = "solid t\n";
+  const double P[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& f : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}}) {
+    stl += " facet normal 0 0 0\n  outer loop\n";
+    for (int k : f) stl += "   vertex " + std::to_string(P[k][0]) + " " + std::to_string(P[k][1]) + " " + std::to_string(P[k][2]) + "\n";
+    stl += "  endloop\n endfacet\n";
+  }
+  stl += "endsolid t\n";
+  const SurfaceMesh ref = parse_stl(stl, "ref.stl");
+  for (const std::string& tail : {std::string("\x1a"), std::string(1, '\0'), std::string("\r\n\x1a\n"), std::string(100, '\0')}) {
+    const SurfaceMesh s = parse_stl(stl + tail, "z.stl");
+    EXPECT_EQ(s.xyz, ref.xyz) << tail.size();
+    EXPECT_EQ(s.tri, ref.tri) << tail.size();
+  }
+  // A control byte inside the text is named, with its offset and line.
+  std::string stray = stl;
+  stray.insert(stray.find("outer loop"), "\x1a");
+  const std::string e = parse_error_of_stl(stray);
+  EXPECT_NE(e.find("a.stl:3: starts like an ASCII STL ('solid', then facets), but byte " + std::to_string(stray.find('\x1a')) +
+                   " is a control byte (0x1a), which text does not have"),
+            std::string::npos) << e;
+}
+
 TEST(SurfaceFiles, VerticesNoFaceUsesAreDropped) {
   // A 1 m cube whose file also lists a vertex on a face, one inside, one on an edge and
   // one far away that no face uses: they reached TetGen as points to mesh (an interior

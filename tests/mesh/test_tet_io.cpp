@@ -106,7 +106,7 @@ std::string with_header(const std::string& data) {
 
 // The mesh as a .vtu with binary data: "inline" (base64, header and data as two blocks, as
 // VTK writes them, UInt32 header), "inline_joint" (one block), "raw" (appended raw, UInt64
-// header) or "appended64" (appended base64).
+// header), "appended64" (appended base64) or "appended64_joint" (appended, one block each).
 std::string binary_vtu(const TetMesh& m, const std::string& mode) {
   std::vector<std::int64_t> conn(m.tet.begin(), m.tet.end()), offs;
   std::vector<std::uint8_t> types(m.ntet(), 10);
@@ -128,6 +128,7 @@ std::string binary_vtu(const TetMesh& m, const std::string& mode) {
     } else {
       o << "<DataArray " << head[i] << " format=\"appended\" offset=\"" << appended.size() << "\"/>\n";
       if (u64) appended += with_header<std::uint64_t>(arrays[i]);
+      else if (mode == "appended64_joint") appended += base64(with_header<std::uint32_t>(arrays[i]));
       else appended += base64(with_header<std::uint32_t>(arrays[i]).substr(0, 4)) + base64(arrays[i]);
     }
   };
@@ -395,6 +396,23 @@ TEST(TetIo, BadFilesAreRefusedNamingTheProblem) {
        "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4 8</DataArray>"
        "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 13</DataArray></Cells></Piece></UnstructuredGrid></VTKFile>",
        "cell 1: a wedge with 4 nodes (6 expected)"},
+      // 266 is no UInt8: it was skipped as "VTK cell type 266".
+      {"types_266.vtu",
+       "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\"><Points>"
+       "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points><Cells>"
+       "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>"
+       "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4</DataArray>"
+       "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">266</DataArray></Cells></Piece></UnstructuredGrid></VTKFile>",
+       "types (UInt8): '266' is not an integer in 0..255"},
+      // Two connectivity arrays: the later one was used, silently.
+      {"two_connectivity.vtu",
+       "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\"><Points>"
+       "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points><Cells>"
+       "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>"
+       "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 3 2</DataArray>"
+       "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4</DataArray>"
+       "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells></Piece></UnstructuredGrid></VTKFile>",
+       "<Cells> has two DataArrays named 'connectivity' (one is expected)"},
   };
   write_file(tmp_dir() + "/dim2.ele", "0 4 0\n");
   write_file(tmp_dir() + "/nul.ele", "0 4 0\n");
@@ -578,4 +596,132 @@ TEST(TetIo, OverlapCheckCostOnALargeBoundary) {
   secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("overlap check of %d boundary triangles: %.2f s\n", m2.nbtri(), secs);
   EXPECT_LT(secs, 4.0);  // about 1 s measured; loose for a shared machine
+}
+
+TEST(TetIo, TetgenSiblingKeepsTheCaseOfTheGivenExtension) {
+  // M.NODE read M.node and M.ele, another mesh, when they lay beside it (and failed with
+  // "U.node: cannot open file" when they did not): the extension was lower-cased.
+  const std::string d = tmp_dir() + "/case/";
+  std::filesystem::create_directories(d);
+  const std::string cube_node = "8 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 1 1 0\n4 0 0 1\n5 1 0 1\n6 0 1 1\n7 1 1 1\n";
+  const std::string cube_ele = "6 4 0\n0 0 1 3 7\n1 0 1 7 5\n2 0 4 5 7\n3 0 4 7 6\n4 0 2 6 7\n5 0 2 7 3\n";
+  const std::string one_node = "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n", one_ele = "1 4 0\n0 0 1 2 3\n";
+  for (const char* base : {"M", "m"}) {  // the cube in the given case, one tet in lower case
+    write_file(d + base + ".node", one_node);
+    write_file(d + base + ".ele", one_ele);
+  }
+  write_file(d + "M.NODE", cube_node);
+  write_file(d + "M.ELE", cube_ele);
+  write_file(d + "m.Node", cube_node);
+  write_file(d + "m.Ele", cube_ele);
+  for (const char* f : {"M.NODE", "M.ELE", "m.Node", "m.Ele"}) EXPECT_EQ(load_tet_mesh(d + f).ntet(), 6) << f;
+  EXPECT_EQ(load_tet_mesh(d + "M.node").ntet(), 1);
+  EXPECT_EQ(tet_file_paths(d + "M.ELE"), (std::vector<std::string>{d + "M.NODE", d + "M.ELE"}));
+  EXPECT_EQ(tet_file_paths(d + "m.Node"), (std::vector<std::string>{d + "m.Node", d + "m.Ele"}));
+  // No sibling in the same case: the name looked for, and why that one.
+  write_file(d + "U.NODE", cube_node);
+  write_file(d + "U.ele", cube_ele);
+  const std::string e = load_error(d + "U.NODE");
+  EXPECT_NE(e.find(d + "U.ELE: cannot open file: No such file or directory (the TetGen file that goes with " + d +
+                   "U.NODE: the same name, the other extension in the same case)"),
+            std::string::npos) << e;
+}
+
+TEST(TetIo, VtuBinaryArraysOfOneTwoAndThreeBytesInBothLayouts) {
+  // A 1-byte array after a UInt32 header in one base64 stream, "AQAAAAo=", ends in '=' where
+  // a separately encoded header's padding would be: it was taken for a header block with no
+  // data after it ("types: binary data ends early (1 bytes declared, 0 present)").
+  for (int n = 1; n <= 3; ++n) {
+    const std::string base = tmp_dir() + "/bytes" + std::to_string(n);
+    write_file(base + ".mesh", medit(kCube, std::vector<std::array<int, 4>>(kKuhn.begin(), kKuhn.begin() + n)));
+    const TetMesh a = load_tet_mesh(base + ".mesh");
+    ASSERT_EQ(a.ntet(), n);  // types: n bytes of UInt8
+    for (const char* mode : {"inline", "inline_joint", "appended64", "appended64_joint"}) {
+      SCOPED_TRACE(std::string(mode) + ", " + std::to_string(n) + "-byte types");
+      write_file(base + "_" + mode + ".vtu", binary_vtu(a, mode));
+      expect_same(a, load_tet_mesh(base + "_" + mode + ".vtu"));
+    }
+  }
+  const std::string one = binary_vtu(load_tet_mesh(tmp_dir() + "/bytes1.mesh"), "inline_joint");
+  EXPECT_NE(one.find("AQAAAAo="), std::string::npos) << "the probe's types array";
+}
+
+TEST(TetIo, ElementLinesShortOfANumberAreNamedAtTheirLine) {
+  // A tet line with 3 nodes was read on into the next line: "element 1: a 4-node tet with
+  // more than 4 nodes" at the next line, or '$EndElements' read as a node; TetGen said
+  // "file ends early" for its last line. Lines 14 and 15 hold the two elements.
+  const std::string v2 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n"
+                         "$EndNodes\n$Elements\n2\n";
+  // Lines 19 and 20 hold the elements; line 17 the header.
+  const std::string v4 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n"
+                         "0 0 1\n$EndNodes\n$Elements\n";
+  const std::string node5 = "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 0 0 -1\n";
+  write_file(tmp_dir() + "/short_last.node", node5);
+  write_file(tmp_dir() + "/short_mid.node", node5);
+  write_file(tmp_dir() + "/short_point.ele", "1 4 0\n0 0 1 2 3\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"short_first.msh", v2 + "1 4 2 0 1 1 2 3\n2 4 2 0 1 1 3 2 5\n$EndElements\n"},
+      {"short_last.msh", v2 + "1 4 2 0 1 1 2 3 4\n2 4 2 0 1 1 3 2\n$EndElements\n"},
+      {"wrong_tag_count.msh", v2 + "1 4 3 0 1 1 2 3 4\n2 4 2 0 1 1 3 2 5\n$EndElements\n"},
+      {"no_tag_count.msh", v2 + "1 4\n2 0 1 1 2 3 4\n$EndElements\n"},
+      {"short_v4.msh", v4 + "1 2 1 2\n3 1 4 2\n1 1 2 3\n2 1 2 4 3\n$EndElements\n"},
+      {"short_header_v4.msh", v4 + "1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n"},
+      {"short_last.ele", "2 4 0\n0 0 1 2 3\n1 0 2 1\n"},
+      {"short_mid.ele", "2 4 0\n0 0 1 2\n1 0 2 1 4\n"},
+      {"short_point.node", "4 3 0 0\n0 0 0 0\n1 1 0\n2 0 1 0\n3 0 0 1\n"},
+  };
+  const char* expected[] = {
+      "short_first.msh:14: element 1: a 4-node tet with 3 nodes",
+      "short_last.msh:15: element 2: a 4-node tet with 3 nodes",
+      "wrong_tag_count.msh:14: element 1: a 4-node tet with 3 nodes (after the 3 tags its tag count declares)",
+      "no_tag_count.msh:14: element 1: the line ends before its tag count",
+      "short_v4.msh:19: element 1: a 4-node tet with 3 nodes",
+      "short_header_v4.msh:17: $Elements: largest tag missing: the line ends early",
+      "short_last.ele:3: file ends early (truncated?): tet 1: a 4-node tet with 3 point numbers on its line",
+      "short_mid.ele:2: tet 0: a 4-node tet with 3 point numbers on its line",
+      "short_point.node:3: point 1: 2 of its 3 coordinates on its line",
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string e = error_of(cases[i].first, cases[i].second);
+    EXPECT_NE(e.find(expected[i]), std::string::npos) << e;
+  }
+}
+
+TEST(TetIo, ImportMessagesNameTheFilesOwnNumbers) {
+  // Node tags from 500, element tags from 100 after 5 line elements (Gmsh), triangles before
+  // the tets (VTK): "tet 48 (0-based, file order)" and "nodes 5 and 27" were not to be found
+  // in the file.
+  std::string e = load_error(data_dir() + "tags_coincident.msh");
+  EXPECT_NE(e.find("tags_coincident.msh: nodes 5 and 27 (0-based; Gmsh node tags 550 and 7777) are distinct nodes at the "
+                   "same position (10, 5, 0)"),
+            std::string::npos) << e;
+  e = load_error(data_dir() + "tags_degenerate.msh");
+  EXPECT_NE(e.find("tags_degenerate.msh: tet 48 (0-based; Gmsh element tag 148) is degenerate"), std::string::npos) << e;
+  e = load_error(data_dir() + "cells_mixed.vtu");
+  EXPECT_NE(e.find("cells_mixed.vtu: tet 48 (0-based; VTK cell 58) is degenerate"), std::string::npos) << e;
+  // TetGen numbering from 1: the .node's point numbers, the .ele's tet numbers.
+  std::string node = "9 3 0 0\n";
+  for (std::size_t i = 0; i < kCube.size(); ++i)
+    node += std::to_string(i + 1) + " " + std::to_string(kCube[i][0]) + " " + std::to_string(kCube[i][1]) + " " +
+            std::to_string(kCube[i][2]) + "\n";
+  node += "9 1 0 0\n";  // a copy of point 2
+  auto ele = [](std::vector<std::array<int, 4>> tets) {
+    std::string s = std::to_string(tets.size()) + " 4 0\n";
+    for (std::size_t t = 0; t < tets.size(); ++t)
+      s += std::to_string(t + 1) + " " + std::to_string(tets[t][0]) + " " + std::to_string(tets[t][1]) + " " +
+           std::to_string(tets[t][2]) + " " + std::to_string(tets[t][3]) + "\n";
+    return s;
+  };
+  std::vector<std::array<int, 4>> crack = kKuhn;
+  crack[1] = {1, 9, 8, 6};  // tet 2 on the copy of point 2
+  write_file(tmp_dir() + "/from1.node", node);
+  e = error_of("from1.ele", ele(crack));
+  EXPECT_NE(e.find("from1.ele: nodes 1 and 8 (0-based; .node points 2 and 9) are distinct nodes at the same position (1, 0, 0)"),
+            std::string::npos) << e;
+  std::vector<std::array<int, 4>> twice = kKuhn;
+  twice.push_back({8, 4, 2, 1});  // tet 7: tet 1 again
+  write_file(tmp_dir() + "/twice1.node", node);
+  e = error_of("twice1.ele", ele(twice));
+  EXPECT_NE(e.find("twice1.ele: tet 0 (0-based; .ele tet 1) and tet 6 (.ele tet 7) have the same nodes (duplicate tets)"),
+            std::string::npos) << e;
 }
