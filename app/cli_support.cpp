@@ -65,7 +65,11 @@ void install_stop_signals() {
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESTART;
+  // No SA_RESTART: a write blocked on a reader that does not read (run --csv FIFO, --csv -
+  // into a stalled pipe) returns EINTR and the stop is seen (OutputFile); restarted, it
+  // blocked until a second signal ended the program without its closing line. Blocking
+  // calls elsewhere retry EINTR (TetGen's pipe, ffmpeg's, waitpid).
+  sa.sa_flags = 0;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: stop as for SIGTERM
@@ -75,6 +79,58 @@ void install_stop_signals() {
 }
 
 int stop_signal() { return int(g_stop); }
+
+namespace {
+extern "C" void on_abrupt_signal(int sig) {
+  remove_on_abrupt_exit();  // temporaries being written, ffmpeg's process group
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);  // delivered when the handler returns (blocked in it): the program dies of it
+}
+}  // namespace
+
+void install_abrupt_exit_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_abrupt_signal;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGPIPE, SIGQUIT, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU}) {
+    struct sigaction old {};
+    // An ignored signal stays ignored (`trap '' PIPE`: a closed pipe is then EPIPE, exit 5).
+    if (sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_DFL) sigaction(sig, &sa, nullptr);
+  }
+}
+
+std::string json_string(const std::string& s) {
+  std::string o = "\"";
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == '"' || c == '\\') {
+      o += '\\', o += char(c), ++i;
+    } else if (c < 0x20 || c == 0x7f) {  // control characters: \n, \t, \r, else \u00XX
+      char u[8];
+      std::snprintf(u, sizeof u, "\\u%04x", c);
+      o += c == '\n' ? "\\n" : c == '\t' ? "\\t" : c == '\r' ? "\\r" : u, ++i;
+    } else if (c < 0x80) {
+      o += char(c), ++i;
+    } else {
+      // A well-formed UTF-8 sequence is copied (no overlong form, surrogate or code point
+      // above U+10FFFF, RFC 3629); any other byte becomes U+FFFD.
+      const std::size_t len = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+      bool ok = len > 0 && i + len <= s.size();
+      for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
+      if (ok && len > 2) {
+        const unsigned char c1 = static_cast<unsigned char>(s[i + 1]);
+        ok = !(c == 0xe0 && c1 < 0xa0) && !(c == 0xed && c1 > 0x9f) && !(c == 0xf0 && c1 < 0x90) &&
+             !(c == 0xf4 && c1 > 0x8f);
+      }
+      if (ok) {
+        o.append(s, i, len), i += len;
+      } else {
+        o += "\xef\xbf\xbd", ++i;
+      }
+    }
+  }
+  return o + "\"";
+}
 
 namespace {
 int g_stdout_errno = 0;

@@ -41,6 +41,16 @@ void install_stop_signals();
 int stop_signal();  // 0, SIGINT, SIGTERM or SIGHUP
 inline bool stop_requested() { return stop_signal() != 0; }
 int exit_code_for_signal(int sig);
+// The signals whose default action ends the program at once, not a stop (SIGPIPE: standard
+// output's reader gone; SIGQUIT, SIGALRM, SIGUSR1/2, SIGXCPU): the temporaries being written
+// are removed and ffmpeg's process group killed first (abrupt_exit.h), then the program dies
+// of the same signal (141 for SIGPIPE, as before). A signal ignored at start stays ignored.
+void install_abrupt_exit_signals();
+
+// A JSON string literal of s (RFC 8259): quote, backslash and control characters escaped,
+// a byte that is not part of well-formed UTF-8 replaced by U+FFFD, so a scene path with a
+// newline or a Latin-1 byte still gives valid JSON.
+std::string json_string(const std::string& s);
 
 // Flushes standard output and remembers the reason of its first failed write,
 // which a later fflush no longer reports: progress printed by long

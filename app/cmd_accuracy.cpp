@@ -237,17 +237,12 @@ Command add_accuracy_command(CLI::App& app) {
       csv_stream->flush();
     }
     std::vector<std::string> rows;
-    auto write_csv = [&] {
-      if (csv_stream) {
-        csv_stream->write(rows.back() + "\n");
-        csv_stream->flush();
-        return;
-      }
+    auto csv_text = [&] {
       std::string text = header + "\n";
       for (const auto& r : rows) text += r + "\n";
-      write_file_atomic(csv_path, text);
+      return text;
     };
-    auto write_md = [&] {
+    auto md_text = [&] {
       std::ostringstream md;
       md << "# Speed for accuracy\n\nScene `" << o->scene << "`, backend " << backend << ", t_end " << o->t_end
          << " s; reference " << o->ref << " (double, T4ANP, lambda " << o->ref_lambda
@@ -261,12 +256,28 @@ Command add_accuracy_command(CLI::App& app) {
         for (const auto& f : split(r)) md << " " << f << " |";
         md << "\n";
       }
-      write_file_atomic(md_path, md.str());
+      return md.str();
     };
+    // The two files hold the same rows: accuracy.md's temporary is complete before the CSV
+    // takes the row (written first, a full disk under accuracy.md had left the CSV a row
+    // ahead), and is renamed after it; only that rename failing leaves them apart, and the
+    // message then says so.
     auto add_row = [&](const std::string& row) {
       rows.push_back(row);
-      write_csv();
-      write_md();
+      OutputFile md(md_path, OutputFile::kAtomic);
+      md.write(md_text());
+      md.finish();
+      if (csv_stream) {
+        csv_stream->write(row + "\n");
+        csv_stream->flush();
+      } else {
+        write_file_atomic(csv_path, csv_text());
+      }
+      try {
+        md.commit();
+      } catch (const ResourceError& e) {
+        throw ResourceError(std::string(e.what()) + " (" + csv_path + " has this row, " + md_path + " not)");
+      }
       std::fputs((row + "\n").c_str(), stdout);
       flush_stdout();
     };

@@ -351,15 +351,6 @@ Result measure(const Scene& sc, const std::string& label, const Opts& o, long st
   return r;
 }
 
-std::string json_str(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
 std::string json_stats(const Stats& s) {
   char b[256];
   std::snprintf(b, sizeof b, "{\"median\": %.5g, \"min\": %.5g, \"max\": %.5g, \"p10\": %.5g, \"p90\": %.5g}", s.median, s.min,
@@ -370,8 +361,9 @@ std::string json_stats(const Stats& s) {
 std::string json_result(const Result& r, double copy_gbs) {
   std::ostringstream j;
   char b[512];
-  j << "{\"label\": " << json_str(r.label) << ", \"backend\": " << json_str(r.backend) << ", \"device\": " << json_str(r.device)
-    << ", \"precision\": " << json_str(r.precision) << ", \"mode\": " << json_str(r.mode);
+  j << "{\"label\": " << json_string(r.label) << ", \"backend\": " << json_string(r.backend)
+    << ", \"device\": " << json_string(r.device) << ", \"precision\": " << json_string(r.precision)
+    << ", \"mode\": " << json_string(r.mode);
   std::snprintf(b, sizeof b,
                 ", \"tets\": %d, \"nodes\": %d, \"surface_nodes\": %d, \"dt_us\": %.6g, \"steps\": %ld, \"samples\": %d, "
                 "\"us_per_step\": ",
@@ -396,7 +388,7 @@ std::string json_result(const Result& r, double copy_gbs) {
   if (!r.modes.empty()) {
     j << ", \"modes_us_per_step\": {";
     for (std::size_t i = 0; i < r.modes.size(); ++i)
-      j << (i ? ", " : "") << json_str(r.modes[i].first) << ": " << json_stats(r.modes[i].second);
+      j << (i ? ", " : "") << json_string(r.modes[i].first) << ": " << json_stats(r.modes[i].second);
     j << "}";
   }
   j << "}";
@@ -563,7 +555,8 @@ Command add_bench_command(CLI::App& app) {
     }
     if (!o->json.empty()) {
       std::ostringstream f;
-      f << "{\"scene\": " << json_str(o->scene) << ", \"copy_GBps\": " << copy_gbs << ",\n \"result\": " << json_result(main, copy_gbs);
+      f << "{\"scene\": " << json_string(o->scene) << ", \"copy_GBps\": " << copy_gbs
+        << ",\n \"result\": " << json_result(main, copy_gbs);
       if (!rows.empty()) {
         f << ",\n \"sweep\": [";
         for (std::size_t i = 0; i < rows.size(); ++i) f << (i ? ",\n  " : "\n  ") << json_result(rows[i], copy_gbs);

@@ -119,6 +119,19 @@ Command add_mesh_command(CLI::App& app) {
       if (!o->vtu.empty()) paths.push_back({o->vtu, "--vtu", true});
       check_distinct_paths(paths);
     }
+    // SIGINT/SIGTERM/SIGHUP as in run: TetGen's child is killed at once (the InputError it
+    // then throws is reported as the stop), the files are written whole or not at all, and
+    // a line says which were (killed by the signal, a partial m.vtu.tmp was left, no word).
+    install_stop_signals();
+    std::vector<std::string> wrote;
+    auto stopped = [&] {
+      std::string w;
+      for (std::size_t i = 0; i < wrote.size(); ++i)
+        w += (i == 0 ? "" : i + 1 < wrote.size() ? ", " : " and ") + wrote[i];
+      std::fprintf(stderr, "softtled: stopped by signal %d; wrote %s\n", stop_signal(),
+                   w.empty() ? "nothing (files already there stay as they were)" : w.c_str());
+      return exit_code_for_signal(stop_signal());
+    };
     const TetgenOptions topt = scene_tetgen_options(s);
     // Each body meshed by itself, as the Simulation does, then one mesh of the bodies.
     std::vector<SurfaceMesh> surfaces;
@@ -135,12 +148,14 @@ Command add_mesh_command(CLI::App& app) {
         try {
           parts.push_back(tetrahedralize_surface(surfaces.back(), topt));
         } catch (const InputError& e) {  // name the scene (or surface) the mesh came from
+          if (stop_requested()) return stopped();  // TetGen's child killed by the stop
           throw InputError((o->surface.empty() ? s.source : "--surface " + o->surface) + ": " + e.what());
         }
       }
       rho_scale.push_back(s.body_rho(b) / s.rho);
       E_scale.push_back(s.body_E(b) / s.E);
     }
+    if (stop_requested()) return stopped();  // a tet file read, or a surface meshed, before TetGen saw it
     const TetMesh m = parts.size() == 1 ? parts[0] : concat_bodies(parts, rho_scale, E_scale);
     // TetGen's switches where TetGen meshed some body ("" where every body was a tet file).
     bool meshed = false;
@@ -152,7 +167,7 @@ Command add_mesh_command(CLI::App& app) {
     if (o->json) {
       std::printf("{");
       print_json_fields(rows.back());
-      std::printf(", \"tetgen_switches\": \"%s\"", switches.c_str());
+      std::printf(", \"tetgen_switches\": %s", json_string(switches).c_str());
       if (rows.size() > 1) {
         std::printf(", \"bodies\": [");
         for (std::size_t b = 0; b + 1 < rows.size(); ++b) {
@@ -171,8 +186,25 @@ Command add_mesh_command(CLI::App& app) {
       if (rows.size() == 1) print_list(rows[0], s);
       else print_rows(rows, s);
     }
-    if (!o->write.empty()) write_tetgen_files(m, o->write);
-    if (!o->vtu.empty()) write_vtu(o->vtu, m, nullptr, 1.0, {neo_hookean_from_E_nu<double>(s.E, s.nu)});
+    // A stop between the files leaves the rest unwritten; one during a write lets it finish
+    // (a second signal removes its temporary: abrupt_exit.h), unless the write waits for a
+    // FIFO's reader: that one is given up (StoppedWhileWaiting).
+    try {
+      if (!o->write.empty()) {
+        if (stop_requested()) return stopped();
+        write_tetgen_files(m, o->write);
+        wrote.push_back(o->write + ".node");
+        wrote.push_back(o->write + ".ele");
+      }
+      if (!o->vtu.empty()) {
+        if (stop_requested()) return stopped();
+        write_vtu(o->vtu, m, nullptr, 1.0, {neo_hookean_from_E_nu<double>(s.E, s.nu)});
+        wrote.push_back(o->vtu);
+      }
+    } catch (const StoppedWhileWaiting&) {
+      return stopped();
+    }
+    if (stop_requested()) return stopped();
     return 0;
   };
 }

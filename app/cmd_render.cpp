@@ -1,6 +1,8 @@
 // `softtled render`: headless frames of a scene at given simulation times, one PNG each,
 // or a video of a time range (--video, encoded by ffmpeg: video_encoder.h), through an EGL
 // offscreen context (no window system; never calls glfwInit).
+#include <sys/stat.h>
+
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cmath>
@@ -8,8 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
-#include <set>
 #include <sstream>
 
 #include "app/cli_support.h"
@@ -172,12 +174,23 @@ Command add_render_command(CLI::App& app) {
     const Scene s = load_scene(o->scene, o->set);
     if (is_video) {  // the video, or a frame, onto the scene or a file it reads
       check_not_scene_input(s, "--scene", {o->video, "--video", true});
-    } else {  // an input named as a frame is: is it that frame, in --out?
-      std::set<std::string> names;
-      for (double t : h.times) names.insert(frame_file_name(h.stem, t));
-      for (const PathUse& in : scene_inputs(s, "--scene")) {
-        const std::string name = std::filesystem::path(in.path).filename().string();
-        if (names.count(name)) check_distinct_paths({in, {h.out_dir + "/" + name, "--out", true}});
+    } else {
+      // Each PNG and its NAME.tmp against every input, by device and inode or resolved path:
+      // matched by file name only, a frame name in --out that is a symlink to the scene had
+      // the scene replaced by a PNG, and a scene named like a frame's NAME.tmp was removed as
+      // a leftover temporary. Two frames one file (a symlink to another frame) are refused too.
+      const std::vector<PathUse> inputs = scene_inputs(s, "--scene");
+      std::map<std::pair<dev_t, ino_t>, std::string> existing;
+      for (double t : h.times) {
+        std::vector<PathUse> paths = inputs;
+        paths.push_back({h.out_dir + "/" + frame_file_name(h.stem, t), "--out", true});
+        check_distinct_paths(paths);
+        struct stat st;
+        if (::stat(paths.back().path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+        const auto [it, added] = existing.emplace(std::make_pair(st.st_dev, st.st_ino), paths.back().path);
+        if (!added)
+          throw InputError("--out " + it->second + " and --out " + paths.back().path +
+                           " are the same file: the second frame would overwrite the first");
       }
     }
     if (!is_video) {

@@ -27,19 +27,21 @@
 int main(int argc, char** argv) {
   using namespace softtled;
   // One error line, at most ~2 KB: the messages quote the user's values (quoted() shortens
-  // them where they are built), and this catches any that do not (a 3 MB key name).
-  auto error = [](const char* what) {
-    const std::string m = what;
-    constexpr std::size_t kMax = 2000;
-    if (m.size() <= kMax)
-      std::fprintf(stderr, "softtled: error: %s\n", m.c_str());
-    else
-      std::fprintf(stderr, "softtled: error: %s... (message cut: %zu characters)\n", m.substr(0, kMax).c_str(), m.size());
+  // them where they are built), and this catches any that do not (a 3 MB key name). The
+  // middle goes, not the end: the reason comes last ("PATH: ...: File name too long"), and
+  // a path near PATH_MAX is longer than the whole budget.
+  auto shortened = [](const std::string& m) {
+    constexpr std::size_t kHead = 1000, kTail = 1000;
+    if (m.size() <= kHead + kTail) return m;
+    return m.substr(0, kHead) + " ... (" + std::to_string(m.size() - kHead - kTail) + " characters cut) ... " +
+           m.substr(m.size() - kTail);
   };
+  auto error = [&](const char* what) { std::fprintf(stderr, "softtled: error: %s\n", shortened(what).c_str()); };
   // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the checked writers
   // report (exit 5, the CSV cut back to its last row) instead of SIGXFSZ killing the program
   // with half-written files.
   std::signal(SIGXFSZ, SIG_IGN);
+  install_abrupt_exit_signals();  // SIGPIPE, SIGQUIT, ...: no temporary or ffmpeg outlives the program
   guard_stderr_of_files(true);
   // A standard stream started closed (`>&-`, `2>&-`) would let the first file opened take
   // its descriptor, and the summary or the log would be written into that CSV. Each closed
@@ -55,10 +57,9 @@ int main(int argc, char** argv) {
                "5 resource (out of memory, disk full or write error, no display/EGL), 129/130/143 stopped by\n"
                "SIGHUP/SIGINT/SIGTERM, 141 standard output's reader gone (SIGPIPE)."};
   app.require_subcommand(1);
-  app.failure_message([](const CLI::App*, const CLI::Error& e) {
-    const std::string m = e.what();  // CLI11 quotes the argument it refuses: shortened as above
-    return "softtled: error: " + (m.size() <= 2000 ? m : m.substr(0, 2000) + "... (message cut)") +
-           "\nRun with --help for more information.\n";
+  app.failure_message([shortened](const CLI::App*, const CLI::Error& e) {
+    // CLI11 quotes the argument it refuses: shortened as above
+    return "softtled: error: " + shortened(e.what()) + "\nRun with --help for more information.\n";
   });
   app.set_version_flag("--version", "softtled " SOFTTLED_VERSION);
   app.add_flag("-v,--verbose", g_verbose, "print notices (e.g. why backend auto chose the CPU)");
@@ -92,6 +93,9 @@ int main(int argc, char** argv) {
   auto stdout_failed = [](int earlier = 0) {
     flush_stdout();
     if (!std::ferror(stdout)) return false;
+    // A write into a stalled pipe interrupted by the stop signal (no SA_RESTART): the stop
+    // is the outcome, with its exit code, not a write error.
+    if (stop_requested() && (stdout_errno() ? stdout_errno() : earlier) == EINTR) return false;
     const int e = stdout_errno() ? stdout_errno() : earlier;
     std::fprintf(stderr, "softtled: error: standard output: write failed%s%s\n", e ? ": " : "", e ? std::strerror(e) : "");
     return true;

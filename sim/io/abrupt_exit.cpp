@@ -18,6 +18,9 @@ struct FileSlot {
 };
 FileSlot g_files[kSlots];
 std::atomic<pid_t> g_groups[kSlots];  // 0: free
+// The process the table belongs to. A forked child (TetGen's) inherits the table and the
+// handlers: dying of SIGPIPE there, it must not remove the parent's temporaries or kill ffmpeg.
+const pid_t g_owner = ::getpid();
 static_assert(std::atomic<int>::is_always_lock_free && std::atomic<pid_t>::is_always_lock_free,
               "the handler reads these atomics: they must be lock-free");
 }  // namespace
@@ -52,6 +55,7 @@ void untrack_abrupt_exit_group(int slot) {
 }
 
 void remove_on_abrupt_exit() {
+  if (::getpid() != g_owner) return;
   for (auto& g : g_groups) {
     const pid_t p = g.load();
     if (p > 0) ::kill(-p, SIGKILL);

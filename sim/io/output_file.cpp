@@ -5,11 +5,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <tuple>
 #include <utility>
 
 #include "sim/core/input_error.h"
@@ -31,7 +33,9 @@ std::string atomic_target(const std::string& path) {
 
 OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
   if (path_ == "-" && mode == kDirect) {
-    f_ = stdout;
+    std::fflush(stdout);  // what stdio holds goes first: from here on standard output is written with write(2)
+    fd_ = STDOUT_FILENO;
+    stdout_ = true;
     return;
   }
   // Atomic only for a regular file or a new name: a device (/dev/null, /dev/full) or FIFO
@@ -63,16 +67,17 @@ OutputFile::OutputFile(std::string path, Mode mode) : path_(std::move(path)) {
                                             " s (start its reader first)"
                                       : std::string(std::strerror(e))));
     const int flags = ::fcntl(fd, F_GETFL);
-    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0 || !(f_ = ::fdopen(fd, "wb"))) {
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0) {
       e = errno;
       ::close(fd);
       throw ResourceError(open_path + ": cannot write: " + std::strerror(e));
     }
+    fd_ = fd;
     return;
   }
-  f_ = std::fopen(open_path.c_str(), "wb");
-  if (!f_) throw ResourceError(open_path + ": cannot write: " + std::strerror(errno));
-  if (::fstat(fileno(f_), &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
+  fd_ = ::open(open_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw ResourceError(open_path + ": cannot write: " + std::strerror(errno));
+  if (::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode)) regular_ = true;
 }
 
 void OutputFile::drop_temporary(bool remove) {
@@ -126,57 +131,76 @@ void OutputFile::open_temporary(int mode) {
   if (mode >= 0) ::fchmod(fd, mode_t(mode));
   const int flags = ::fcntl(fd, F_GETFL);
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  f_ = ::fdopen(fd, "wb");
-  if (!f_) {
-    const int e = errno;
-    ::close(fd);
-    drop_temporary(true);
-    throw ResourceError(path_ + ": cannot write: " + std::strerror(e));
-  }
+  fd_ = fd;
 }
 
 OutputFile::~OutputFile() {
-  if (f_ && f_ != stdout) std::fclose(f_);
+  if (fd_ >= 0 && !stdout_) ::close(fd_);
   drop_temporary(true);
 }
 
-void OutputFile::fail(const char* what) {
+void OutputFile::fail(const char* what, bool stopped) {
   const int e = errno;
-  std::string msg = (f_ == stdout ? std::string("standard output") : path_) + ": " + what + (e ? std::string(": ") + std::strerror(e) : std::string());
-  if (f_ && f_ != stdout) std::fclose(f_);  // may write more of the buffer: cut back after it
-  f_ = nullptr;
+  std::string msg = (stdout_ ? std::string("standard output") : path_) + ": " + what +
+                    (e && !stopped ? std::string(": ") + std::strerror(e) : std::string());
+  if (fd_ >= 0 && !stdout_) ::close(fd_);
+  fd_ = -1;
+  buf_.clear();
   drop_temporary(true);
   if (regular_ && ::truncate(path_.c_str(), off_t(flushed_)) != 0)
     msg += std::string(" (and it could not be cut back to its last complete record: ") + std::strerror(errno) + ")";
   regular_ = false;
+  if (stopped) throw StoppedWhileWaiting(msg);
   throw ResourceError(msg);
 }
 
+void OutputFile::write_all(const char* data, std::size_t n) {
+  // A stop signal interrupts a write that waits for its reader (no SA_RESTART): EINTR, or
+  // a short count where part was taken before it (a pipe or FIFO blocks until all of it is,
+  // else). Given up then, as the command is stopping; any other signal's is retried.
+  constexpr const char* kStopped = "stopped while the write waited for its reader to read";
+  while (n > 0) {
+    const ssize_t w = ::write(fd_, data, n);
+    if (w >= 0) {
+      data += w, n -= std::size_t(w);
+      if (n > 0 && stop_request_pending()) fail(kStopped, true);
+      continue;
+    }
+    if (errno == EINTR && stop_request_pending()) fail(kStopped, true);
+    if (errno != EINTR) fail("write failed");
+  }
+}
+
 void OutputFile::write(const char* data, std::size_t n) {
-  if (!f_) throw ResourceError(path_ + ": write after close");
-  errno = 0;
+  if (fd_ < 0) throw ResourceError(path_ + ": write after close");
+  // Buffered up to kBuffer bytes, as stdio buffered (a writer may hand a record over in
+  // pieces); a piece that large goes out at once, not copied.
+  constexpr std::size_t kBuffer = 1 << 16;
   written_ += (long long)n;
-  if (n && std::fwrite(data, 1, n, f_) != n) fail("write failed");
+  if (buf_.size() + n > kBuffer) {
+    write_all(buf_.data(), buf_.size());
+    buf_.clear();
+    if (n >= kBuffer) return write_all(data, n);
+  }
+  buf_.append(data, n);
 }
 
 void OutputFile::flush() {
-  if (!f_) return;
-  errno = 0;
-  if (std::fflush(f_) != 0 || std::ferror(f_)) fail("write failed");
+  if (fd_ < 0) return;
+  write_all(buf_.data(), buf_.size());
+  buf_.clear();
   flushed_ = written_;
 }
 
 void OutputFile::finish() {
-  if (!f_) return;
+  if (fd_ < 0) return;
   flush();
-  if (f_ == stdout) {
-    f_ = nullptr;
-    return;
-  }
-  errno = 0;
-  std::FILE* f = f_;
-  f_ = nullptr;
-  if (std::fclose(f) != 0) {
+  const int fd = fd_;
+  fd_ = -1;
+  if (stdout_) return;
+  // close(2) reports a deferred write error (NFS, a full quota); EINTR there has closed the
+  // descriptor all the same (Linux).
+  if (::close(fd) != 0 && errno != EINTR) {
     const int e = errno;
     drop_temporary(true);
     throw ResourceError(path_ + ": write failed: " + std::strerror(e));
@@ -255,6 +279,17 @@ std::string parent_of(const std::string& path) {
 }  // namespace
 
 namespace {
+// A path the command creates must fit PATH_MAX with its terminating NUL: a longer one
+// (NAME.tmp of a 4093-character NAME, a frame in a 4080-character --vtu directory) passed the
+// checks and failed with "File name too long" when it was opened, after the work (exit 5).
+// what: the file, as the message names it.
+void check_path_length(std::size_t length, const std::string& where, const std::string& what) {
+  if (length < std::size_t(PATH_MAX)) return;
+  throw InputError(where + what + " would be a path of " + std::to_string(length) +
+                   " characters, above the system's limit of " + std::to_string(PATH_MAX - 1) +
+                   " (File name too long); give a shorter path");
+}
+
 // PATH.tmp, which an atomic output is written to first, must be a name the directory can
 // hold and not be taken by anything but a regular file: a 253-character name, or a
 // directory or FIFO called PATH.tmp, failed the command after its work (exit 5).
@@ -266,6 +301,7 @@ void check_temporary_name(const std::string& output, const std::string& where) {
   if (long(name.size()) + 4 > max)
     throw InputError(where + "a name of " + std::to_string(name.size()) + " characters; with the .tmp it is written under " +
                      "first it must fit the directory's " + std::to_string(max));
+  check_path_length(path.size() + 4, where, "the NAME.tmp it is written to first");
   struct stat st;
   const std::string tmp = path + ".tmp";
   if (::lstat(tmp.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
@@ -361,11 +397,26 @@ bool comparable(const PathUse& u) {
   if (::stat(p.c_str(), &st) == 0) return S_ISREG(st.st_mode) || (u.output_dir && S_ISDIR(st.st_mode));
   return true;
 }
-std::string absolute_of(const std::string& p) {
+// The absolute path of the file p names once every symlink on the way is followed, a
+// dangling last one's too (a write through it creates the file it names: `--csv c.csv`
+// where c.csv -> v/frame_00002.vtu, not there yet, is that frame).
+std::string resolved(const std::string& p) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  std::filesystem::path a = std::filesystem::weakly_canonical(std::filesystem::absolute(p, ec), ec);
-  if (ec) a = std::filesystem::absolute(p, ec).lexically_normal();
-  std::string s = a.string();
+  fs::path cur = fs::absolute(p, ec);
+  if (ec) return p;
+  for (int hops = 0; hops < 40; ++hops) {  // 40: the kernel's own limit on links followed
+    fs::path c = fs::weakly_canonical(cur, ec);
+    cur = ec ? cur.lexically_normal() : c;
+    struct stat st;
+    if (::lstat(cur.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) break;  // weakly_canonical leaves only a dangling one
+    std::string target(PATH_MAX, '\0');
+    const ssize_t n = ::readlink(cur.c_str(), target.data(), target.size());
+    if (n <= 0) break;
+    target.resize(std::size_t(n));
+    cur = fs::path(target).is_absolute() ? fs::path(target) : cur.parent_path() / target;
+  }
+  std::string s = cur.string();
   while (s.size() > 1 && s.back() == '/') s.pop_back();
   return s;
 }
@@ -374,34 +425,61 @@ bool same_file(const std::string& a, const std::string& b) {
   const bool ea = ::stat(a.c_str(), &sa) == 0, eb = ::stat(b.c_str(), &sb) == 0;
   if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   if (ea != eb) return false;
-  return absolute_of(a) == absolute_of(b);
+  return resolved(a) == resolved(b);
 }
-// A file a directory output writes (series.pvd, frame_*.vtu, their .tmp, and a first
+// A name a directory output writes (series.pvd, frame_*.vtu, their .tmp, and a first
 // frame staged as .new beside an earlier series': VtuSeries::add).
-bool written_in_dir(const std::string& file, const std::string& dir) {
-  const std::filesystem::path f(file);
-  const std::string name = f.filename().string();
+bool series_name(const std::string& name) {
   std::string base = name;
   for (const char* suffix : {".tmp", ".new"})
     if (base.size() > 4 && base.compare(base.size() - 4, 4, suffix) == 0) base.resize(base.size() - 4);
-  const bool owned = base == "series.pvd" ||
-                     (base.rfind("frame_", 0) == 0 && base.size() > 4 && base.compare(base.size() - 4, 4, ".vtu") == 0);
-  if (!owned) return false;
-  const std::string parent = f.parent_path().string();
-  return same_file(parent.empty() ? "." : parent, dir);
+  return base == "series.pvd" ||
+         (base.rfind("frame_", 0) == 0 && base.size() > 4 && base.compare(base.size() - 4, 4, ".vtu") == 0);
 }
+// The series file of dir that file is, by the name given or by the file it resolves to
+// (a symlink elsewhere naming dir/frame_00001.vtu), or "" when it is none.
+std::string written_in_dir(const std::string& file, const std::string& dir) {
+  for (const std::string& f : {file, resolved(file)}) {
+    const std::filesystem::path fp(f);
+    const std::string parent = fp.parent_path().string();
+    if (series_name(fp.filename().string()) && same_file(parent.empty() ? "." : parent, dir)) return f;
+  }
+  return "";
+}
+// The files dir holds under the names its series writes: each is replaced or removed by
+// the run, so none may be (a hard link to) an input or another output.
+std::vector<std::string> series_entries(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+    if (series_name(e.path().filename().string())) out.push_back(e.path().string());
+  return out;
+}
+// The longest name a series writes in its directory: frame_%05zu (up to 1e8 + 1 output
+// times: 9 digits), a body's _bK (kMaxBodies = 32 in scene.h), and .new.tmp when staged
+// beside an earlier frame of that name (VtuSeries::add).
+constexpr const char* kLongestSeriesName = "frame_100000000_b31.vtu.new.tmp";
 }  // namespace
 
 void check_series_dir(const std::string& path, const std::string& what) {
   check_output_dir(path, what);
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(path, ec)) {
-    const std::string f = e.path().string();
+  check_path_length(path.size() + 1 + std::strlen(kLongestSeriesName), what + " " + path + ": ",
+                    std::string("a file the series writes there (up to ") + kLongestSeriesName + ")");
+  // Never written through a symlink: an atomic write replaces the file a link names (the
+  // scene, when DIR/series.pvd -> ../scene.toml), and the frames an earlier index lists
+  // are removed.
+  for (const std::string& f : series_entries(path)) {
     struct stat st;
-    if (written_in_dir(f, path) && ::stat(f.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-      throw InputError(what + " " + path + ": " + f + " is not a regular file (" +
-                       (S_ISDIR(st.st_mode) ? "a directory" : "a special file") +
-                       "), and the series writes a file of that name; move it away");
+    if (::lstat(f.c_str(), &st) != 0 || S_ISREG(st.st_mode)) continue;
+    std::string kind = S_ISDIR(st.st_mode) ? "a directory" : "a special file";
+    if (S_ISLNK(st.st_mode)) {
+      std::string target(PATH_MAX, '\0');
+      const ssize_t n = ::readlink(f.c_str(), target.data(), target.size());
+      target.resize(n > 0 ? std::size_t(n) : 0);
+      kind = "a symbolic link to " + target + ", which the series would write through";
+    }
+    throw InputError(what + " " + path + ": " + f + " is not a regular file (" + kind +
+                     "), and the series writes a file of that name; move it away");
   }
 }
 
@@ -422,10 +500,9 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
       // text, flushed at exit, would land in the finished output.
       if (hit.empty() && u.output && !u.output_dir && !u.in_place && is_stream(atomic_target(u.path) + ".tmp"))
         hit = atomic_target(u.path) + ".tmp";
-      std::error_code ec;
       if (u.output_dir)
-        for (const auto& e : std::filesystem::directory_iterator(u.path, ec))
-          if (written_in_dir(e.path().string(), u.path) && is_stream(e.path().string())) hit = e.path().string();
+        for (const std::string& e : series_entries(u.path))
+          if (is_stream(e)) hit = e;
       if (hit.empty()) continue;
       keep_stderr_out_of(so);
       throw InputError(u.what + " " + u.path + ": " + stream + " goes to " + hit + ", which " +
@@ -437,21 +514,29 @@ void check_distinct_paths(const std::vector<PathUse>& paths) {
       const PathUse &a = paths[i], &b = paths[j];
       if (i == j || !a.output || !comparable(a) || !comparable(b)) continue;
       const std::string both = a.what + " " + a.path + " and " + b.what + " " + b.path;
-      // A replaced file is written to PATH.tmp first (write_file_atomic): that name is
-      // taken too.
-      if (!a.output_dir && !a.in_place && same_file(a.path + ".tmp", b.path))
-        throw InputError(both + ": " + a.what + " is written to " + a.path + ".tmp first, which is " +
-                         (b.output ? "the other output" : "the input"));
+      const std::string other = b.output ? "the other output" : "the input";
+      // A replaced file is written to PATH.tmp first (write_file_atomic), beside a
+      // symlink's target: that name is taken too.
+      if (!a.output_dir && !a.in_place && same_file(atomic_target(a.path) + ".tmp", b.path))
+        throw InputError(both + ": " + a.what + " is written to " + atomic_target(a.path) + ".tmp first, which is " +
+                         other);
       if (b.output && j < i) continue;
       if (same_file(a.path, b.path))
         throw InputError(both + " are the same file: the " + (b.output ? "second output would overwrite the first"
                                                                         : "output would overwrite the input"));
-      if (a.output_dir && !b.output_dir && written_in_dir(b.path, a.path))
-        throw InputError(both + ": " + a.what + " writes " + std::filesystem::path(b.path).filename().string() +
-                         " in that directory, overwriting " + (b.output ? "the other output" : "the input"));
-      if (b.output_dir && !a.output_dir && written_in_dir(a.path, b.path))
-        throw InputError(both + ": " + b.what + " writes " + std::filesystem::path(a.path).filename().string() +
-                         " in that directory, overwriting the other output");
+      // A directory output's files: those of its names already there, by device and inode
+      // (a hard link to the scene), and any of its names the other path is or resolves to.
+      for (const auto& [dir, file, file_is] : {std::tuple<const PathUse*, const PathUse*, std::string>{&a, &b, other},
+                                               {&b, &a, "the other output"}}) {
+        if (!dir->output_dir || file->output_dir) continue;
+        std::string hit = written_in_dir(file->path, dir->path);
+        if (hit.empty())
+          for (const std::string& e : series_entries(dir->path))
+            if (same_file(e, file->path)) hit = e;
+        if (!hit.empty())
+          throw InputError(both + ": " + dir->what + " writes " + std::filesystem::path(hit).filename().string() +
+                           " in that directory, overwriting " + file_is);
+      }
     }
 }
 

@@ -6,7 +6,6 @@
 // naming the file and the OS reason ("out.csv: write failed: No space left on device").
 // A kDirect regular file that fails is cut back to its size at the last successful
 // flush(): a writer that flushes after each record (run --csv) never leaves a partial one.
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -20,8 +19,10 @@ struct ResourceError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The wait for an output FIFO's reader ended by the process-wide stop request
-// (sim/core/stop_request.h): the command was stopped, not short of a resource.
+// A wait on an output's reader ended by the process-wide stop request
+// (sim/core/stop_request.h): a FIFO's reader not opening it, or a pipe's or FIFO's reader
+// not reading (the write blocked until the stop signal interrupted it). The command was
+// stopped, not short of a resource.
 struct StoppedWhileWaiting : ResourceError {
   using ResourceError::ResourceError;
 };
@@ -38,9 +39,14 @@ class OutputFile {
   // device or FIFO is written in place). The replaced file's permissions carry over, and a
   // symlink at PATH stays one (its target is replaced). A PATH.tmp that is not a regular
   // file (a directory, FIFO or symlink) is never written through: ResourceError.
+  //
+  // Written with write(2), not stdio: a write blocked on a reader that does not read (a
+  // pipe, a FIFO) returns EINTR when a stop signal arrives (install_stop_signals sets no
+  // SA_RESTART), and is then given up with StoppedWhileWaiting where a stop was requested
+  // (stdio's fwrite drops its buffer on EINTR, so it could not be retried otherwise).
   enum Mode { kDirect, kAtomic };
   OutputFile(std::string path, Mode mode = kDirect);
-  ~OutputFile();  // without close(): a kAtomic temporary is removed
+  ~OutputFile();  // without close(): what was not flush()ed is dropped, a kAtomic temporary removed
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
 
@@ -50,16 +56,19 @@ class OutputFile {
   void close();  // finish(), then commit()
   void finish();  // flush and close (checked); a kAtomic temporary is complete but not renamed yet
   void commit();  // kAtomic: renames the temporary onto PATH (a symlink's target: the link stays)
-  bool is_stdout() const { return f_ == stdout; }
+  bool is_stdout() const { return stdout_; }
   const std::string& path() const { return path_; }
 
  private:
-  [[noreturn]] void fail(const char* what);
-  void open_temporary(int mode);  // kAtomic: target_ and tmp_ set, f_ open on tmp_; mode < 0: a new file
+  [[noreturn]] void fail(const char* what, bool stopped = false);
+  void write_all(const char* data, std::size_t n);  // to fd_, every byte
+  void open_temporary(int mode);  // kAtomic: target_ and tmp_ set, fd_ open on tmp_; mode < 0: a new file
   void drop_temporary(bool remove);  // forget tmp_ (renamed, or removed when remove)
   int abrupt_slot_ = -1;             // tmp_ in abrupt_exit.h's table
   std::string path_, tmp_, target_;
-  std::FILE* f_ = nullptr;
+  std::string buf_;  // written, not yet handed to the OS
+  int fd_ = -1;
+  bool stdout_ = false;   // "-": fd_ is standard output's, never closed here
   bool regular_ = false;  // kDirect onto a regular file: cut back on failure
   long long written_ = 0, flushed_ = 0;  // bytes handed to write(), and at the last good flush
 };
@@ -93,7 +102,7 @@ void check_streams_not_into(const std::string& path, const std::string& what);
 // an existing file is writable. "-" (standard output) passes when allow_stdout. An
 // existing regular file also needs a writable directory (write_file_atomic writes PATH.tmp
 // there) unless in_place (OutputFile kDirect); then PATH.tmp must fit the directory's name
-// length and not be anything but a regular file.
+// length and PATH_MAX, and not be anything but a regular file.
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout = false,
                        bool in_place = false);
 
@@ -106,17 +115,22 @@ struct PathUse {
   bool output_dir = false;
   bool in_place = false;  // an output written where it is (a CSV), not through PATH.tmp
 };
-// InputError naming both flags when an output is the same file as an input or as another
-// output (same device and inode, or the same absolute path once symlinks are resolved, for
-// a file not there yet), or is one of the files a directory output writes. "-", empty paths
-// and existing non-regular files (/dev/null, /dev/full, FIFOs) are not compared.
+// InputError naming both flags when an output, or the PATH.tmp it is written to first, is
+// the same file as an input or as another output (same device and inode, or the same
+// absolute path once symlinks are resolved, a dangling one's too, for a file not there
+// yet), or when a file a directory output writes (series.pvd, frame_*.vtu) is one: by the
+// other path's name or resolved path, and by device and inode for those names already in
+// the directory. "-", empty paths and existing non-regular files (/dev/null, /dev/full,
+// FIFOs) are not compared.
 void check_distinct_paths(const std::vector<PathUse>& paths);
 // InputError unless path is a writable directory or can be created as one (its nearest
 // existing ancestor is a writable directory).
 void check_output_dir(const std::string& path, const std::string& what);
 // check_output_dir for a VTU series' directory (vtu_writer.h), and none of the names the
 // series writes there (series.pvd, frame_*.vtu, their .tmp and .new) is taken by anything
-// but a regular file: a directory named series.pvd failed the run after meshing (exit 5).
+// but a regular file: a directory named series.pvd failed the run after meshing (exit 5),
+// and a symlink there had the series write through it (onto the scene it named). The
+// longest of those paths must fit PATH_MAX.
 void check_series_dir(const std::string& path, const std::string& what);
 
 }  // namespace softtled
