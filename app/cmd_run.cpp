@@ -121,12 +121,19 @@ Command add_run_command(CLI::App& app) {
     }
     char damping_bound[64] = "";  // named where it is the bound that holds (Simulation::set_params)
     if (ts.dt_cr == ts.dt_alpha) std::snprintf(damping_bound, sizeof damping_bound, ", 2/alpha = %.4g us", ts.dt_alpha * 1e6);
+    // The adaptive step's dt_cr is the live estimate (the element's own operator, T4ANP's
+    // averaged pressure included), not one of the rest bounds beside it (of the T4
+    // stiffness): named so, or a T4ANP run read "dt_cr = 182.7 us (Le/c = 22.49 us,
+    // 2/omega_max = 83.17 us)".
+    const char* bound_names = s.dt_adaptive ? "live 2/omega_max; at rest, T4: Le/c = %.4g us, 2/omega_max = %.4g us%s"
+                                            : "Le/c = %.4g us, 2/omega_max = %.4g us%s";
+    char bounds[200];
+    std::snprintf(bounds, sizeof bounds, bound_names, ts.dt_le * 1e6, ts.dt_eigen * 1e6, damping_bound);
     std::fprintf(stderr,
                  "mesh: %d nodes, %d tets, %zu surface nodes; c = %.3g m/s, Le_min = %.4g mm\n"
-                 "dt_cr = %.4g us (Le/c = %.4g us, 2/omega_max = %.4g us%s), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
+                 "dt_cr = %.4g us (%s), dt = %.4g us = %.2f dt_cr; backend %s, %s\n",
                  sim.mesh().nnode(), sim.mesh().ntet(), sim.mesh().surface_nodes.size(), ts.c, ts.min_Le * 1e3,
-                 ts.dt_cr * 1e6, ts.dt_le * 1e6, ts.dt_eigen * 1e6,
-                 damping_bound,
+                 ts.dt_cr * 1e6, bounds,
                  ts.dt * 1e6, ts.dt / ts.dt_cr,
                  sim.backend().c_str(), precision_name(s.precision));
     const int t_dec = time_decimals(dt);

@@ -122,6 +122,30 @@ TEST_P(AdaptiveRun, TimeDtMaxCapsTheStep) {
   EXPECT_GT(sim.dt_max_used(), 0.9 * 2e-5 / std::exp2(1.0 / softtled::AdaptiveStep::kRungsPerOctave));
 }
 
+// A live call that leaves the step's bounds as they are keeps the step and its live bound
+// (a probe's finds): a no-op set_params put dt_cr back to its rest value until the next
+// estimate, and an alpha whose 2/alpha is far above the step re-estimated it. An alpha
+// whose bound cuts the step still shortens it at once.
+TEST(AdaptiveLive, CallsThatLeaveTheBoundsKeepTheStepAndItsLiveBound) {
+  Simulation sim(load_scene(assets_dir() + "/scenes/torus_coarse.toml", {"time.dt=adaptive"}), "cpu");
+  sim.advance_to(0.03);
+  const double dt = sim.params().dt, dt_cr = sim.time_step().dt_cr;
+  ASSERT_GT(sim.time_step().dt_live, 0);
+  ASSERT_NE(dt_cr, sim.time_step().dt_eigen) << "the live bound differs from the rest one here";
+  sim.set_params(sim.params());
+  EXPECT_EQ(sim.time_step().dt_cr, dt_cr) << "a no-op call changed the live bound";
+  EXPECT_EQ(sim.params().dt, dt);
+  PhysicsParams p = sim.params();
+  p.alpha = 10.5;  // 2/alpha = 0.19 s
+  sim.set_params(p);
+  EXPECT_EQ(sim.params().dt, dt);
+  EXPECT_EQ(sim.time_step().dt_cr, dt_cr);
+  p.alpha = 2.0 / dt;  // 2/alpha = dt: lambda 2/alpha is below the step
+  sim.set_params(p);
+  EXPECT_LT(sim.params().dt, dt);
+  EXPECT_EQ(sim.time_step().dt_cr, 2.0 / p.alpha);
+}
+
 // ---- the extremes of test_extremes.cpp with the adaptive step ----
 
 class AdaptiveExtremes : public OnEachBackend {};
