@@ -8,6 +8,17 @@ namespace softtled {
 
 namespace {
 
+// Triangle f's box at rest (X: 3 per node, interleaved), inflated by `inflate` on every side.
+void triangle_box_at_rest(const BodyContactTables& t, const std::vector<double>& X, int f, double inflate, double b[6]) {
+  for (int k = 0; k < 3; ++k) b[k] = INFINITY, b[3 + k] = -INFINITY;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) {
+      const double x = X[3 * std::size_t(t.tri[3 * f + c]) + k];
+      b[k] = std::min(b[k], x - inflate);
+      b[3 + k] = std::max(b[3 + k], x + inflate);
+    }
+}
+
 // The shallowest depth, per body, at which a surface node lies behind a boundary triangle
 // of its own body at rest, within that body's tolerance, its foot inside the triangle, and
 // facing it (some triangle around the node opposed to it, body_contact.h: opposed): the
@@ -21,14 +32,8 @@ std::vector<double> facing_depth_at_rest(const BodyContactTables& t, const std::
   };
   std::unordered_map<long long, std::vector<int>> grid;
   for (int f = 0; f < t.ntri(); ++f) {
-    double b[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-    const double tol = t.body_tol[t.tri_body[f]];
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 3; ++k) {
-        const double x = X[3 * std::size_t(t.tri[3 * f + c]) + k];
-        b[k] = std::min(b[k], x - tol);
-        b[3 + k] = std::max(b[3 + k], x + tol);
-      }
+    double b[6];
+    triangle_box_at_rest(t, X, f, t.body_tol[t.tri_body[f]], b);
     if (!grid_box(b, inv_h)) continue;
     for (long long ix = grid_cell(b[0], inv_h); ix <= grid_cell(b[3], inv_h); ++ix)
       for (long long iy = grid_cell(b[1], inv_h); iy <= grid_cell(b[4], inv_h); ++iy)
@@ -114,14 +119,8 @@ int fullest_bucket_at_rest(const BodyContactTables& t, const std::vector<double>
   std::vector<unsigned> seen;
   const double inv_h = 1.0 / t.cell;
   for (int f = 0; f < t.ntri(); ++f) {
-    double b[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
-    const double inflate = triangle_inflation_of(t.body_tol[t.tri_body[f]]);
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 3; ++k) {
-        const double x = X[3 * std::size_t(t.tri[3 * f + c]) + k];
-        b[k] = std::min(b[k], x - inflate);
-        b[3 + k] = std::max(b[3 + k], x + inflate);
-      }
+    double b[6];
+    triangle_box_at_rest(t, X, f, triangle_inflation_of(t.body_tol[t.tri_body[f]]), b);
     if (!grid_box(b, inv_h)) continue;
     seen.clear();
     for (long long ix = grid_cell(b[0], inv_h); ix <= grid_cell(b[3], inv_h); ++ix)
