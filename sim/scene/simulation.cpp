@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "sim/core/body_view.h"
+#include "sim/core/exact_number.h"
 #include "sim/fem/step_health.h"
 #include "sim/mesh/mesh_cache.h"
 #include "sim/scene/closing_speeds.h"
@@ -130,6 +131,11 @@ Simulation::Simulation(const Scene& scene, const std::string& backend) : scene_(
                     scene_.allow_unstable ? " (running anyway: time.allow_unstable = true)"
                                           : ", or set time.allow_unstable = true to run anyway");
       if (!scene_.allow_unstable) throw InputError(scene_.source + ": " + buf);
+      // The range set_params holds every step to (checked there on the clamped step only):
+      // time.dt = 2000 s ran with allow_unstable until an element turned inside out.
+      if (!(requested <= 1e3))
+        throw InputError(scene_.source + ": time.dt = " + exact_number(requested) +
+                         " s is outside [1e-15, 1000] s, also with time.allow_unstable");
       std::fprintf(stderr, "warning: %s\n", buf);
       params_.dt = requested;  // the user insisted: run at the requested step
       ts_.dt = requested;

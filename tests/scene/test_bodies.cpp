@@ -404,10 +404,10 @@ TEST_P(BodyContactOnEachBackend, ABlockSlidesOverAnotherBodyAsOverARigidBox) {
 }
 
 // The scaling scene (bench/bodies_scaling.sh): ten rings falling onto each other. Through
-// the first 0.1 s (each ring lands on the one below, up to 628 nodes in contact) no node
+// the first 0.1 s (each ring lands on the one below, up to 631 nodes in contact) no node
 // goes halfway to the contact tolerance into another ring (a node deeper than the
-// tolerance would be lost by the node-triangle rule; measured 0.044 mm of 0.159), nor
-// 0.05 mm into the floor.
+// tolerance would be lost by the node-triangle rule; measured 0.0003 mm), nor 0.05 mm
+// into the floor.
 TEST(Bodies, TorusPileFallsWithoutInterpenetration) {
   Scene s = asset("torus_pile.toml", {"time.duration=0.1"});
   Simulation sim(s, "cpu");

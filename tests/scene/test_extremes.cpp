@@ -76,6 +76,10 @@ TEST_P(Extremes, StepAboveCriticalIsRefusedOrDiagnosed) {
     EXPECT_NE(msg.find("above the stability limit"), std::string::npos) << msg;
     for (double v : sim.state().u) ASSERT_TRUE(std::isfinite(v)) << "rollback left NaN";
   }
+  // Not beyond the range every step is held to, though (2000 s ran until an element
+  // turned inside out).
+  EXPECT_THROW(Simulation(box_on_floor("[time]\nallow_unstable = true\ndt = 2000.0\nduration = 1e5\n"), backend()),
+               InputError);
   // The same dt set live (viewer) is clamped, with a warning.
   Simulation live(box_on_floor(""), backend());
   PhysicsParams p = live.params();
