@@ -18,8 +18,9 @@ namespace softtled {
 // torus, 2/3 of a sphere's radius, a slab's thickness.
 std::vector<double> body_depths(const TetMesh& m);
 // InputError naming both velocities when two bodies (with body contact on) are, at their
-// initial velocities, on a collision course before t_end (approaching, their bounding
-// spheres meeting on the straight relative path) and a step of dt moves them by more than
+// initial velocities, on a collision course before t_end (bounding spheres apart at the
+// start meeting on the straight relative path; spheres that overlap already, a surface
+// node of one entering the other's surface on it) and a step of dt moves them by more than
 // the thinner one's depth against each other. t_end: time.duration for `run`, the last
 // frame for `render`, infinity where stepping has no end (the viewer, Python).
 void check_closing_speeds(const Scene& s, const TetMesh& m, double dt, double t_end);

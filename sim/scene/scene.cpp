@@ -814,6 +814,22 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     if (law_has_negative_energy(s.body_nu(i), s.body_model(i)))
       r.fail(b.own_law() ? b.key + ".material" : "material.nu", negative_energy_law_why());
   }
+  // A [material] key that every body overrides is used by no body: said, as the unused
+  // contact and floor keys are below (a probe's material.E under two bodies' own E changed
+  // nothing, silently).
+  using Owns = bool (*)(const BodyDesc&);
+  const std::pair<const char*, Owns> own_keys[] = {{"E", [](const BodyDesc& b) { return b.own_E > 0; }},
+                                                   {"rho", [](const BodyDesc& b) { return b.own_rho > 0; }},
+                                                   {"nu", [](const BodyDesc& b) { return b.own_nu > -2; }},
+                                                   {"model", [](const BodyDesc& b) { return b.own_model >= 0; }},
+                                                   {"element", [](const BodyDesc& b) { return b.own_element >= 0; }}};
+  for (const auto& [k, owns] : own_keys) {
+    bool every = true;
+    for (int i = 0; i < s.body_count(); ++i) every = every && owns(s.body(i));
+    if (every && r.get(std::string("material.") + k))
+      std::fprintf(stderr, "warning: %s: material.%s is not used: every body overrides it with its own [body.material] "
+                   "%s\n", s.source.c_str(), k, k);
+  }
   // One body: its [body.material] overrides [material], and no other body keeps [material],
   // so the body's values become the scene's. The stable step, the solver and the panel's
   // live material all read those (the per-body scales exist only for several bodies, so

@@ -12,6 +12,7 @@
 #include "sim/contact/mesh_sdf.h"
 #include "sim/contact/obstacle_shapes.h"
 #include "sim/core/body_view.h"
+#include "sim/io/body_split.h"
 #include "sim/mesh/surface_generators.h"
 #include "sim/mesh/surface_io.h"
 #include "sim/mesh/tet_io.h"
@@ -341,6 +342,32 @@ void check_body_outside_planes(const Scene& s, const TetMesh& m, const std::vect
 }
 
 namespace {
+std::string of_body(const TetMesh& m, int b) { return m.nbody() > 1 ? " of body[" + std::to_string(b) + "]" : ""; }
+}  // namespace
+
+std::string node_name(const TetMesh& m, int i) {
+  const int b = m.body_of_node(i);
+  return "node " + std::to_string(i - body_range(m, b).node_begin) + of_body(m, b);
+}
+
+std::string element_name(const TetMesh& m, int e) {
+  const int b = m.body_of_tet(e);
+  return "element " + std::to_string(e - body_range(m, b).tet_begin) + of_body(m, b);
+}
+
+std::string nodes_name(const TetMesh& m, std::initializer_list<int> nodes) {
+  const int b = m.body_of_node(*nodes.begin());
+  const int first = body_range(m, b).node_begin;
+  std::string s = "nodes ";
+  std::size_t k = 0;
+  for (int i : nodes) {
+    if (k++ > 0) s += k == nodes.size() ? " and " : ", ";
+    s += std::to_string(i - first);
+  }
+  return s + of_body(m, b);
+}
+
+namespace {
 // The body's surface edges (each once, a < b) as segments, and each edge's body.
 void surface_edges(const TetMesh& m, std::vector<std::array<int, 2>>& nodes, std::vector<std::array<double, 6>>& seg,
                    std::vector<int>& body) {
@@ -365,14 +392,13 @@ struct BodyPoint {
   int a, b, c;
 };
 
-std::string describe(const BodyPoint& p) {
+// The point in messages, by its body's own numbers (node_name).
+std::string describe(const TetMesh& m, const BodyPoint& p) {
   switch (p.kind) {
-    case 0: return "node " + std::to_string(p.a);
-    case 1: return "the midpoint of the surface edge between nodes " + std::to_string(p.a) + " and " + std::to_string(p.b);
-    case 2:
-      return "the centre of the surface triangle of nodes " + std::to_string(p.a) + ", " + std::to_string(p.b) + " and " +
-             std::to_string(p.c);
-    default: return "the centre of element " + std::to_string(p.a);
+    case 0: return node_name(m, p.a);
+    case 1: return "the midpoint of the surface edge between " + nodes_name(m, {p.a, p.b});
+    case 2: return "the centre of the surface triangle of " + nodes_name(m, {p.a, p.b, p.c});
+    default: return "the centre of " + element_name(m, p.a);
   }
 }
 
@@ -483,8 +509,7 @@ std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, in
   auto face = [&](int f) {
     const int* t = &m.boundary_tri[3 * f];
     body = m.body_of_node(t[0]);
-    return "the surface triangle of nodes " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + " and " +
-           std::to_string(t[2]);
+    return "the surface triangle of " + nodes_name(m, {t[0], t[1], t[2]});
   };
   if (o.shape != kObstacleMesh) {
     for (int f = 0; f < m.nbtri(); ++f) {
@@ -518,8 +543,7 @@ std::string surface_through_obstacle(const TetMesh& m, const ObstacleSpec& o, in
   const SegmentTriangleHit h = first_crossing(seg, std::vector<int>(seg.size(), 0), tri, std::vector<int>(tri.size(), 1));
   if (h.segment >= 0) {
     body = seg_body[h.segment];
-    return "the surface edge between nodes " + std::to_string(nodes[h.segment][0]) + " and " +
-           std::to_string(nodes[h.segment][1]) + " crosses it";
+    return "the surface edge between " + nodes_name(m, {nodes[h.segment][0], nodes[h.segment][1]}) + " crosses it";
   }
   std::vector<std::array<double, 6>> edges;  // the mesh's edges, each once
   for (int t = 0; t < sm.ntri(); ++t)
@@ -572,7 +596,7 @@ void check_body_not_inside_mesh(const Scene& s, const TetMesh& m, const Obstacle
     if (generalized_winding_number(sm, q) < 0.5) continue;  // outside: so is the rest of this body
     char buf[320];
     std::snprintf(buf, sizeof buf, ": %s starts inside this mesh obstacle (%s is %.4g mm inside); move %s.position or the obstacle",
-                  body_name(p->body).c_str(), describe(*p).c_str(), dist * 1e3, s.body(p->body).key.c_str());
+                  body_name(p->body).c_str(), describe(m, *p).c_str(), dist * 1e3, s.body(p->body).key.c_str());
     throw InputError(key + buf);
   }
 }
@@ -604,7 +628,7 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
       const std::string who = body_name(deepest->body);
       char buf[320];
       std::snprintf(buf, sizeof buf, ": %s starts inside this %s obstacle (%s is %.4g mm inside); move %s.position or the obstacle",
-                    who.c_str(), obstacle_shape_name(obstacles[o].shape), describe(*deepest).c_str(), -worst * 1e3,
+                    who.c_str(), obstacle_shape_name(obstacles[o].shape), describe(m, *deepest).c_str(), -worst * 1e3,
                     s.body(deepest->body).key.c_str());
       throw InputError(key + buf);
     }
@@ -644,8 +668,8 @@ void check_body_outside_obstacles(const Scene& s, const TetMesh& m, const std::v
     const std::array<int, 2> hit = first_point_in_element(m, boundary, xs, std::vector<int>(xs.size(), -1));
     if (hit[0] >= 0) {
       const int b = m.body_of_node(m.tet[4 * hit[0]]);
-      throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + what[hit[1]] + " lies in element " +
-                       std::to_string(hit[0]) + "); move " + s.body(b).key + ".position or the obstacle");
+      throw InputError(key + ": the obstacle starts inside " + body_name(b) + " (" + what[hit[1]] + " lies in " +
+                       element_name(m, hit[0]) + "); move " + s.body(b).key + ".position or the obstacle");
     }
     int body = 0;
     const std::string cut = surface_through_obstacle(m, ob, body);
@@ -689,9 +713,9 @@ void check_surfaces_apart(const Scene& s, const TetMesh& m, const OverlapWording
   if (h.segment < 0) return;
   const std::string& a = s.body(seg_body[h.segment]).key;
   const std::string& b = s.body(tri_body[h.triangle]).key;
-  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (the surface edge between nodes " +
-                   std::to_string(nodes[h.segment][0]) + " and " + std::to_string(nodes[h.segment][1]) + " of " + a +
-                   " crosses a surface triangle of " + b + "); " + w.advice(a, b));
+  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (the surface edge between " +
+                   nodes_name(m, {nodes[h.segment][0], nodes[h.segment][1]}) + " crosses a surface triangle of " + b +
+                   "); " + w.advice(a, b));
 }
 
 // A point of one body strictly inside an element of another. A surface node is not
@@ -734,8 +758,8 @@ void check_points_outside_bodies(const Scene& s, const TetMesh& m, const Overlap
   const BodyPoint& p = near[hit[1]];
   const std::string& a = s.body(p.body).key;
   const std::string& b = s.body(m.tet_body[hit[0]]).key;
-  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (" + describe(p) + " of " + a +
-                   " lies in element " + std::to_string(hit[0]) + " of " + b + "); " + w.advice(a, b));
+  throw InputError(w.prefix + a + " and " + b + " overlap " + w.when + " (" + describe(m, p) + " lies in " +
+                   element_name(m, hit[0]) + "); " + w.advice(a, b));
 }
 
 }  // namespace

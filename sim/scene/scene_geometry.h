@@ -4,6 +4,7 @@
 // fixed) and the tracked nodes.
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,14 @@ std::vector<ObstacleSpec> scene_obstacles(const Scene& s);
 // The inverse for the slope: the angle [deg] by which `slope` is turned from the floor
 // normal about z (a slope that turns as a kinematic plane).
 double slope_angle_deg(const Scene& s, const PlaneSpec& slope);
+
+// How messages name node i, element e, or nodes a, b (, c) of one body of m: with several
+// bodies by their numbers in that body's own VTU file (body_split.h: body_range, each body
+// from 0), then the body, "node 24 of body[1]" (m numbers all bodies' nodes in one run,
+// which a user cannot find in any output); in a one-body mesh by the mesh's numbers.
+std::string node_name(const TetMesh& m, int i);
+std::string element_name(const TetMesh& m, int e);
+std::string nodes_name(const TetMesh& m, std::initializer_list<int> nodes);  // "nodes 3 and 4 of body[1]"
 
 // NodeFlag per node: kNodeContact on the boundary (or every node, contact.nodes = "all"),
 // kNodeFixed inside a [[fixed]] selector. InputError when a selector selects no node;

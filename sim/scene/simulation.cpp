@@ -936,6 +936,12 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
     if (const std::string beta = stiffness_damping_cause(params_.beta, damping_speed(), ts_.min_Le); !beta.empty())
       f->cause = beta + "; or " + f->cause;
   if (f && !unstable_dt) f->cause = fast_obstacle_cause(params_.obstacles, c_min_) + f->cause;
+  // T4ANP takes neo_hookean only (set_params refuses stable_neo_hookean with it), so the
+  // advice of that model says what else it needs (a probe followed it and was refused).
+  bool anp = params_.element == kT4ANP;
+  for (const BodyLaw& l : resolved_laws(params_)) anp = anp || l.element == kT4ANP;
+  if (f && anp && f->cause.find("stable_neo_hookean") != std::string::npos)
+    f->cause += " (stable_neo_hookean with material.element = \"T4\": T4ANP takes neo_hookean only)";
   // (Measured at the last healthy check: a diverged state's positions say nothing.)
   if (f)
     if (const std::string fp = float_rounding_cause(last_good_); !fp.empty()) f->cause = fp + "; or " + f->cause;

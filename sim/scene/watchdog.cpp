@@ -2,6 +2,7 @@
 
 #include "sim/fem/step_health.h"
 #include "sim/fem/mesh_kinematics.h"
+#include "sim/scene/scene_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,18 +20,21 @@ int first_element_of(const TetMesh& m, int node) {
   return -1;
 }
 
+// Nodes and elements are named by their body's own numbers (node_name): those of its VTU
+// file, where the user looks for them.
 WatchdogFinding non_finite(const TetMesh& m, int node, bool unstable_dt) {
   const int element = first_element_of(m, node);
-  return {"node " + std::to_string(node) + " (element " + std::to_string(element) + ") has a NaN/Inf displacement",
+  return {node_name(m, node) + " (" + (element >= 0 ? element_name(m, element) : "element -1") +
+              ") has a NaN/Inf displacement",
           element, unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
 }
 
-WatchdogFinding inverted(int e, double J, bool unstable_dt) {
-  char buf[160];
+WatchdogFinding inverted(const TetMesh& m, int e, double J, bool unstable_dt) {
+  char buf[200];
   if (J > 0)  // element_volume_ok: zero to the run's precision
-    std::snprintf(buf, sizeof buf, "element %d has collapsed flat (J = %.3g, zero to rounding)", e, J);
+    std::snprintf(buf, sizeof buf, "%s has collapsed flat (J = %.3g, zero to rounding)", element_name(m, e).c_str(), J);
   else
-    std::snprintf(buf, sizeof buf, "element %d is inverted (J = %.3g)", e, J);
+    std::snprintf(buf, sizeof buf, "%s is inverted (J = %.3g)", element_name(m, e).c_str(), J);
   return {buf, e,
           unstable_dt ? kDtCause
                       : "the load crushes elements inside out; use material.model = \"stable_neo_hookean\", a stiffer "
@@ -39,18 +43,18 @@ WatchdogFinding inverted(int e, double J, bool unstable_dt) {
 
 // ke: the node's kinetic energy in s, or < 0 where only the device saw it (at some step).
 WatchdogFinding too_fast(const TetMesh& m, int node, double ke, const Watchdog::SpeedTest& sp, bool unstable_dt) {
-  char buf[300];
+  char buf[340];
   const double bound = sp.node_energy_max;
   if (ke >= 0)
     std::snprintf(buf, sizeof buf,
-                  "node %d moves faster than the scene's energy allows (1/2 m |v|^2 = %.3g J, above %.3g J = %g x "
+                  "%s moves faster than the scene's energy allows (1/2 m |v|^2 = %.3g J, above %.3g J = %g x "
                   "the energy scale)",
-                  node, ke, bound, kNodeEnergyFactor);
+                  node_name(m, node).c_str(), ke, bound, kNodeEnergyFactor);
   else
     std::snprintf(buf, sizeof buf,
-                  "node %d moved faster than the scene's energy allows (1/2 m |v|^2 above %.3g J = %g x the energy "
+                  "%s moved faster than the scene's energy allows (1/2 m |v|^2 above %.3g J = %g x the energy "
                   "scale, at a step since the last check)",
-                  node, bound, kNodeEnergyFactor);
+                  node_name(m, node).c_str(), bound, kNodeEnergyFactor);
   return {buf, first_element_of(m, node),
           unstable_dt ? kDtCause : "numerical blow-up; try a smaller lambda or the stable_neo_hookean model"};
 }
@@ -61,7 +65,7 @@ std::optional<WatchdogFinding> device_finding(const TetMesh& m, const HostState&
                                               const Watchdog::SpeedTest& sp, bool unstable_dt) {
   if (dev.bits & kHealthNonFinite) return non_finite(m, std::max(dev.node, 0), unstable_dt);
   if ((dev.bits & kHealthInverted) && dev.element >= 0)
-    return inverted(dev.element, mesh_element_J(m, s.u, dev.element), unstable_dt);
+    return inverted(m, dev.element, mesh_element_J(m, s.u, dev.element), unstable_dt);
   if (dev.bits & kHealthSpeed) return too_fast(m, std::max(dev.node, 0), -1, sp, unstable_dt);
   return std::nullopt;
 }
@@ -79,7 +83,7 @@ std::optional<WatchdogFinding> Watchdog::scan(const TetMesh& m, const HostState&
   for (int e = 0; e < m.ntet(); ++e)
     if (models[models.size() == 1 ? 0 : std::size_t(m.tet_body[e])] == kTaylorNeoHookean)
       if (const Mat3<double> F = mesh_element_F(m, &s.u, e); !element_volume_ok(F, eps_))
-        return inverted(e, volume_ratio(F), unstable_dt);
+        return inverted(m, e, volume_ratio(F), unstable_dt);
   // The speed test: the device's node_step_ok (step_health.h), in double.
   if (speed.mass && std::isfinite(speed.node_energy_max) && speed.dt > 0) {
     const double bound = speed_du2_bound<double>(speed.node_energy_max, speed.dt);

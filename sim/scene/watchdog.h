@@ -16,8 +16,8 @@
 namespace softtled {
 
 struct WatchdogFinding {
-  std::string problem;  // what is wrong, e.g. "element 12 is inverted (J = -0.3)"
-  int element = -1;     // the element concerned, -1 when none
+  std::string problem;  // what is wrong, e.g. "element 12 is inverted (J = -0.3)" (of body[i]: node_name)
+  int element = -1;     // the element concerned (the whole mesh's number), -1 when none
   std::string cause;    // the likely cause and what to do
 };
 

@@ -288,6 +288,27 @@ TEST_P(Extremes, CrushedFlatStopsWhateverTheCheckCadence) {
   }
 }
 
+// The same crush under T4ANP: the watchdog's advice of stable_neo_hookean says that it
+// needs material.element = "T4" (T4ANP takes neo_hookean only; a probe followed the advice
+// and was refused), and T4's advice stays as it was.
+TEST(Extremes, CrushAdviceNamesWhatStableNeoHookeanNeedsUnderT4ANP) {
+  for (const std::string element : {"T4ANP", "T4"}) {
+    Simulation sim(parse_scene("units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 10, 10]\ndivisions = [2, 2, 2]\n"
+                               "[material]\nnu = 0.3\nelement = \"" + element + "\"\n[floor]\npoint = [0, -5, 0]\n"
+                               "[gravity]\ng = [0, -1e6, 0]\n",
+                               "crush"),
+                   "cpu");
+    try {
+      sim.advance(14, 1);
+      ADD_FAILURE() << element << ": the crushed cube ran on";
+    } catch (const SimulationDiverged& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("stable_neo_hookean"), std::string::npos) << what;
+      EXPECT_EQ(what.find("T4ANP takes neo_hookean only") != std::string::npos, element == "T4ANP") << what;
+    }
+  }
+}
+
 // Float rounds a position |x| to |x| 2^-24: a 10 mm cube 10 km from the origin rested
 // (9,990 m up) 0.45 mm above the floor it was reported in contact with (exit 0). It says so at the
 // start; at the origin, or in double, it does not.
