@@ -32,13 +32,7 @@ Command add_plot_command(CLI::App& app) {
     check_output_file(o->out, "--out");
     check_streams_not_into(o->csv, "csv");
     check_distinct_paths({{o->csv, "csv"}, {o->out, "--out", true}});
-    // A file it creates or replaces is named for what it holds (a device or FIFO is
-    // written in place, whatever its name).
-    std::error_code ec;
-    const auto st = std::filesystem::status(o->out, ec);
-    const std::string ext = std::filesystem::path(o->out).extension().string();
-    if ((!std::filesystem::exists(st) || std::filesystem::is_regular_file(st)) && ext != ".png" && ext != ".PNG")
-      throw InputError("--out " + o->out + ": plot writes a PNG; give a name ending in .png");
+    check_png_name(o->out, "--out");
     const CsvTable table = read_csv_table(o->csv);
     std::vector<PlotPanel> panels;
     try {

@@ -41,6 +41,7 @@ std::string render_png(Simulation& sim, const std::string& path, const PngOption
     throw InputError("render_png: color '" + o.color + "': use shaded, displacement, contact or von_mises");
   check_output_file(path, "render_png");
   check_not_scene_input(sim.scene(), "the scene", {path, "render_png", true});
+  check_png_name(path, "render_png:");
 #ifdef SOFTTLED_PY_RENDER
   HeadlessOptions h;
   h.times = {sim.time()};  // the current state: render_headless takes no step for it

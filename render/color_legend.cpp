@@ -8,7 +8,10 @@ namespace softtled {
 
 std::string legend_number(double v, double min, double max) {
   const double m = std::max(std::fabs(min), std::fabs(max));
-  const int decimals = m > 0 && std::isfinite(m) ? std::clamp(3 - int(std::floor(std::log10(m))), 0, 6) : 3;
+  // (log10 nudged up by 1e-6, more than a float's rounding: its 0.1 is 0.0999999975 and
+  // would have been given a fifth decimal, "0.10000")
+  const int decimals =
+      m > 0 && std::isfinite(m) ? std::clamp(3 - int(std::floor(std::log10(m) + 1e-6)), 0, 6) : 3;
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   std::string s = buf;

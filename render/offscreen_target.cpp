@@ -14,6 +14,11 @@ OffscreenTarget::OffscreenTarget(int w, int h, int samples) : w_(w), h_(h) {
   glGenRenderbuffers(1, &color_);
   glBindRenderbuffer(GL_RENDERBUFFER, color_);
   glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, w, h);
+  // The count it gave, which the log reports: an implementation may round a request up
+  // (llvmpipe made 1, 2 and 3 samples 4, and the log said "MSAA 1").
+  GLint given = samples_;
+  glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_SAMPLES, &given);
+  samples_ = given;
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_);
   glGenRenderbuffers(1, &depth_);
   glBindRenderbuffer(GL_RENDERBUFFER, depth_);

@@ -103,6 +103,10 @@ def test_every_path_argument_takes_os_pathlike(tmp_path):
     # render_png: the path is taken (its checks run) whether or not EGL is there
     with pytest.raises(softtled.InputError, match="render_png"):
         sim.render_png(tmp_path / "no_such_dir" / "x.png", width=64, height=64)
+    # it writes a PNG, so its name says so (x.jpg was written as a PNG), as plot --out's
+    with pytest.raises(softtled.InputError, match="ending in .png"):
+        sim.render_png(tmp_path / "x.jpg", width=64, height=64)
+    assert not (tmp_path / "x.jpg").exists()
     if softtled.HAVE_RENDER:
         try:
             sim.render_png(tmp_path / "s.png", width=64, height=64)

@@ -323,6 +323,15 @@ void check_no_nul(const std::string& path, const std::string& what) {
     throw InputError((what.empty() ? "" : what + " ") + path.substr(0, nul) + "...: the path holds a NUL byte");
 }
 
+void check_png_name(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if ((!std::filesystem::exists(st) || std::filesystem::is_regular_file(st)) && ext != ".png")
+    throw InputError(what + " " + path + ": this writes a PNG; give a name ending in .png");
+}
+
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout, bool in_place) {
   if (path == "-" && allow_stdout) return;
   if (path == "-")

@@ -103,6 +103,12 @@ void check_streams_not_into(const std::string& path, const std::string& what);
 // existing regular file also needs a writable directory (write_file_atomic writes PATH.tmp
 // there) unless in_place (OutputFile kDirect); then PATH.tmp must fit the directory's name
 // length and PATH_MAX, and not be anything but a regular file.
+// A PNG the command creates or replaces is named for what it holds: unless path is a
+// device or FIFO (written in place, whatever its name), it must end in .png (any case).
+// Throws InputError "WHAT PATH: ..." (plot's --out, the Python module's render_png, which
+// wrote a PNG named x.jpg).
+void check_png_name(const std::string& path, const std::string& what);
+
 void check_output_file(const std::string& path, const std::string& what, bool allow_stdout = false,
                        bool in_place = false);
 

@@ -33,7 +33,7 @@ check 5 "No space left on device" "$exe" plot "$csv" --out /dev/full
 check 0 "rows ->" "$exe" plot "$csv" --out /dev/null
 [ -c /dev/null ] || bad "/dev/null is no longer a device"
 # A file plot creates is named for its contents (it wrote PNG data into x.jpg).
-check 2 "plot writes a PNG; give a name ending in .png" "$exe" plot "$csv" --out "$out/x.jpg"
+check 2 "writes a PNG; give a name ending in .png" "$exe" plot "$csv" --out "$out/x.jpg"
 [ -e "$out/x.jpg" ] && bad "plot: x.jpg written"
 
 # 3. plot --out a FIFO: written in place (a reader gets the PNG), still a FIFO afterwards

@@ -170,6 +170,10 @@ TEST(Legend, NumbersShowFourSignificantDigitsOfTheRange) {
   EXPECT_EQ(legend_number(0, 0, 7.9087), "0.000");
   EXPECT_EQ(legend_number(12.345, 0, 12.345), "12.35");
   EXPECT_EQ(legend_number(0.1, 0, 0.1), "0.1000");
+  // The rest state's floor of the |u| map is 1e-4f m, 0.0999999975 mm: four digits too
+  // (a probe's legend read "0.10000").
+  const double floor_mm = double(1e-4f) * 1e3;
+  EXPECT_EQ(legend_number(floor_mm, 0, floor_mm), "0.1000");
   EXPECT_EQ(legend_number(-0.00001, -1, 1), "0.000");
 }
 
