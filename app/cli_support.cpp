@@ -68,7 +68,8 @@ void install_stop_signals() {
   // No SA_RESTART: a write blocked on a reader that does not read (run --csv FIFO, --csv -
   // into a stalled pipe) returns EINTR and the stop is seen (OutputFile); restarted, it
   // blocked until a second signal ended the program without its closing line. Blocking
-  // calls elsewhere retry EINTR (TetGen's pipe, ffmpeg's, waitpid).
+  // calls elsewhere retry EINTR (TetGen's pipe, ffmpeg's, waitpid); stdio does not, so
+  // messages written to a stalled stdout or stderr while a stop is under way may be lost.
   sa.sa_flags = 0;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);

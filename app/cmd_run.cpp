@@ -169,6 +169,7 @@ Command add_run_command(CLI::App& app) {
       if (o->csv.empty()) return;
       csv = std::make_unique<OutputFile>(o->csv);
       csv->write(csv_header(int(sim.tracked_nodes().size()), sim.mesh().nbody()));
+      csv->flush();  // whatever fails next (the first frame), the output holds its header
     };
     if (csv_first) open_csv();
     write_frame(sim.time(), sim.state(), sim.params().dt);

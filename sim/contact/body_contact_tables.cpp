@@ -106,11 +106,7 @@ BodyContactTables build_body_contact_tables(const TetMesh& m) {
   // tolerance is half its shallowest facing depth at rest (a node deeper than that is on
   // the other side of the thin part), which also holds for its pairs with other bodies.
   const std::vector<double> depth = facing_depth_at_rest(t, m.X, mean > 0 ? mean : 1.0);
-  t.tol = 0;
-  for (int b = 0; b < t.nbody; ++b) {
-    t.body_tol[b] = std::min(t.body_tol[b], 0.5 * depth[b]);
-    t.tol = std::max(t.tol, t.body_tol[b]);
-  }
+  for (int b = 0; b < t.nbody; ++b) t.body_tol[b] = std::min(t.body_tol[b], 0.5 * depth[b]);
   return t;
 }
 

@@ -24,8 +24,6 @@ struct BodyContactTables {
   // triangle's. A tenth of the body's mean boundary edge (residual penetrations measured at
   // ~0.1 um in the shipped scenes).
   std::vector<double> body_tol;
-  // The largest body tolerance: it inflates the broad phase's boxes (no pair's is larger).
-  double tol = 0;
   // Grid cell: between the mean and the longest boundary edge (fewest entries scanned on
   // the coarse tori).
   double cell = 1;

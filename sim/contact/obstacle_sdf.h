@@ -10,7 +10,9 @@
 //
 // Accuracy: the interpolant of a 1-Lipschitz function (an exact distance is one) differs
 // from it by at most the weighted mean distance from the point to the cell's corners,
-// i.e. at most sqrt(3)/2 cell; where the distance is linear over a cell (the cell sees
+// i.e. at most sqrt(3)/2 cell (the grid holds exact distances within kSdfExactBandCells
+// of the surface, so this holds wherever a point's cell lies in that band: every point
+// within 2.27 cells; beyond, the nodes are upper bounds of at least the band, mesh_sdf.h); where the distance is linear over a cell (the cell sees
 // one flat face only) the interpolant is exact. Its gradient is continuous inside a cell
 // and jumps across cell faces, so the normal turns in steps of a cell on a curved surface.
 #include "sim/core/sim_hd.h"

@@ -185,8 +185,8 @@ SIM_HD inline void obstacle_bound(const Obstacle<T>& o, T cb[3], T& rb) {
     rb = o.r + T(0.5) * contact_sqrt(o.e[0] * o.e[0] + o.e[1] * o.e[1] + o.e[2] * o.e[2]);
   } else if (o.shape == kObstacleMesh) {
     // The sphere around the grid's box. mesh_surface is at least |x - cb| - rb for it:
-    // inside the box each node's exact distance is (the mesh lies in the sphere) and the
-    // trilinear weights keep that (|x - cb| is convex); beyond it by the triangle
+    // inside the box each node's value is (the exact distance within mesh_sdf.h's band, an
+    // upper bound of it beyond: the mesh lies in the sphere) and the trilinear weights keep that (|x - cb| is convex); beyond it by the triangle
     // inequality from the nearest point of the box.
     T h[3], m[3];
     for (int k = 0; k < 3; ++k) {

@@ -318,8 +318,9 @@ std::string Simulation::set_params(const PhysicsParams& p) {
   // An alpha whose bound 2/alpha does not cut the step taken is such a change too: a probe's
   // alpha = 10.5 (2/alpha = 0.19 s against a 40 us step) re-estimated the step and took
   // 1528 steps where the run without it took 1559.
-  const bool alpha_keeps_step =
-      p.alpha == params_.alpha || !(p.alpha > 0) || params_.lambda * 2.0 / p.alpha >= params_.dt;
+  // (Nor may the old one have cut it: lowering an alpha that held the step down re-estimates.)
+  auto alpha_free = [&](double a) { return !(a > 0) || params_.lambda * 2.0 / a > params_.dt; };
+  const bool alpha_keeps_step = p.alpha == params_.alpha || (alpha_free(p.alpha) && alpha_free(params_.alpha));
   const bool same_step = params_.dt > 0 && params_.dt_adaptive && p.dt_adaptive && p.E == params_.E &&
                          p.nu == params_.nu && p.material_model == params_.material_model &&
                          p.element == params_.element && p.body_laws == params_.body_laws &&

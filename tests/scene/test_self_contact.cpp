@@ -107,30 +107,33 @@ FoldRun run_beam_fold(const std::vector<std::string>& set) {
 }
 }  // namespace
 
-// On its own mesh and on three others of the same beam: each a different TetGen mesh (a
-// beam 0.0001 mm wider, longer or thicker), since where a fold's crease lands on the mesh
-// decides how hard it is to hold (README "Limits").
 // A plate thinner than a tenth of its mean edge (10 x 0.4 x 10 mm, one element thick, a
 // probe's scene): with contact.self at rest, in zero gravity, nothing moves. With the
 // tolerance a tenth of the mean edge its top nodes lay within it behind its bottom face,
 // facing it, and the first step folded an element flat; the body's tolerance is now half
 // its shallowest facing depth at rest (body_contact_tables.cpp).
-TEST(SelfContact, APlateThinnerThanTheToleranceStaysAtRest) {
+class SelfContactOnEachBackend : public OnEachBackend {};
+SOFTTLED_ON_EACH_BACKEND(SelfContactOnEachBackend);
+
+TEST_P(SelfContactOnEachBackend, APlateThinnerThanTheToleranceStaysAtRest) {
   const Scene s = parse_scene(
       "units = \"mm\"\n[body]\nshape = \"box\"\nsize = [10, 0.4, 10]\ndivisions = [2, 1, 2]\n[material]\nE = 20000.0\n"
       "nu = 0.4\n[damping]\nalpha = 0.0\n[gravity]\ng = [0, 0, 0]\n[floor]\nenabled = false\n[contact]\nself = true\n",
       "thin.toml", {"mesh.radius_edge=0", "mesh.keep_boundary=true"});
-  Simulation sim(s, "cpu");
+  Simulation sim(s, backend());
   const BodyContactTables tab = build_body_contact_tables(sim.mesh());
   EXPECT_LE(tab.body_tol[0], 0.2e-3 + 1e-15) << "half the plate's thickness";
   sim.advance_to(0.01);
   const Diagnostics d = sim.diagnostics();
-  std::printf("thin plate under contact.self: tolerance %.3g mm, KE %.3g J, centroid off by %.3g m after 10 ms\n",
-              tab.body_tol[0] * 1e3, d.ke, std::fabs(d.centroid[1]));
+  std::printf("%s: thin plate under contact.self: tolerance %.3g mm, KE %.3g J, centroid off by %.3g m after 10 ms\n",
+              backend().c_str(), tab.body_tol[0] * 1e3, d.ke, std::fabs(d.centroid[1]));
   EXPECT_LT(d.ke, 1e-25);
   EXPECT_LT(std::fabs(d.centroid[1]), 1e-12);
 }
 
+// On its own mesh and on three others of the same beam: each a different TetGen mesh (a
+// beam 0.0001 mm wider, longer or thicker), since where a fold's crease lands on the mesh
+// decides how hard it is to hold (README "Limits").
 TEST(SelfContact, BeamFoldDoesNotPassThroughItself) {
   const FoldRun off = run_beam_fold({"contact.self=false"});
   std::printf("beam_fold without self-contact: deepest %.4f mm (%d nodes inside)\n", off.worst * 1e3, off.inside);
