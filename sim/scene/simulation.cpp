@@ -226,10 +226,11 @@ void Simulation::warn_far_track_points() const {
     const double d = distance(&mesh_.X[3 * tracked_[j]], point);
     if (d > longest)
       std::fprintf(stderr,
-                   "warning: %s: output.track_points[%zu] = [%g, %g, %g] is %.4g mm from the nearest node (node %d), "
+                   "warning: %s: output.track_points[%zu] = [%g, %g, %g] is %.4g mm from the nearest node (%s), "
                    "farther than the longest element edge (%.4g mm): it is not on the body; its columns follow that "
                    "node\n",
-                   scene_.source.c_str(), j, q[0], q[1], q[2], d * 1e3, tracked_[j], longest * 1e3);
+                   scene_.source.c_str(), j, q[0], q[1], q[2], d * 1e3, node_name(mesh_, tracked_[j]).c_str(),
+                   longest * 1e3);
   }
 }
 

@@ -221,3 +221,19 @@ TEST(StartChecksBodies, AMaterialKeyEveryBodyOverridesIsNamed) {
                 .find("material.rho is not used: every body overrides it"),
             std::string::npos);
 }
+
+// A track point off the body names the node it follows by that body's own number too (it
+// gave the whole-mesh number, 27 or more for body[1] of two 27-node boxes).
+TEST(StartChecksBodies, AFarTrackPointNamesItsNodeByItsBodysNumber) {
+  const Scene s = parse_scene(std::string("units = \"mm\"\n[[body]]\nshape = \"box\"\nsize = [4, 4, 4]\n"
+                                          "divisions = [2, 2, 2]\nposition = [-3, 0, 0]\n[[body]]\nshape = \"box\"\n"
+                                          "size = [4, 4, 4]\ndivisions = [2, 2, 2]\nposition = [3, 0, 0]\n") +
+                                  kStill + "[output]\ntrack_points = [[40, 0, 0]]\n",
+                              "far track point");
+  ::testing::internal::CaptureStderr();
+  Simulation sim(s, "cpu");
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(log, m, std::regex("nearest node \\(node ([0-9]+) of body\\[1\\]\\)"))) << log;
+  EXPECT_LT(std::stoi(m[1]), 27) << "body[1] has 27 nodes";
+}
