@@ -174,40 +174,35 @@ std::string Simulation::stiffness_damping_warning(double beta) const {
   return w.empty() ? w : w + " (README, \"Friction on a slope\"); the run may blow up at an impact";
 }
 
-std::string Simulation::float_rounding_cause(const HostState& s) const {
-  // The same rounding grows with the displacement: a float run thrown at 10 km/s was 740 m
-  // out at 0.074 s, where u rounds to 44 um, a quarter of the smallest element edge, and
-  // was stopped as "element inverted ... the load crushes elements" (in double it ran).
-  if (scene_.precision != Precision::kFloat) return "";
+std::string Simulation::float_rounding(const HostState* s) const {
+  // In float a position |x| rounds to |x| 2^-24 (contact gaps, the planes' and obstacles'
+  // distances are taken at X0 + u): a 10 mm cube 10 km out rested 0.45 mm above the floor
+  // it was reported in contact with, and a float run thrown at 10 km/s, 740 m out at
+  // 0.074 s where u rounds to a quarter of its smallest element edge, was stopped as
+  // "element inverted ... the load crushes elements" (in double it ran). Where that
+  // rounding reaches 1 % of the smallest element, say so.
   const int n = mesh_.nnode();
+  if (scene_.precision != Precision::kFloat || n == 0) return "";
   double far = 0;
   for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) far = std::max(far, std::fabs(mesh_.X[3 * std::size_t(i) + k] + s.u[std::size_t(k) * n + i]));
+    for (int k = 0; k < 3; ++k)
+      far = std::max(far, std::fabs(mesh_.X[3 * std::size_t(i) + k] + (s ? s->u[std::size_t(k) * n + i] : 0.0)));
   const double ulp = far * std::ldexp(1.0, -24);
   if (!(ulp > 0.01 * ts_.min_Le)) return "";
   char buf[300];
   std::snprintf(buf, sizeof buf,
-                "float precision: nodes %.4g m from the origin round to %.3g mm, %.2g %% of the smallest element edge; "
-                "set solver.precision = \"double\" or keep the body near the origin",
-                far, ulp * 1e3, 100 * ulp / ts_.min_Le);
+                "float precision: nodes up to %.4g m from the origin round to %.3g mm, %.2g %% of the smallest element "
+                "edge (%.4g mm)",
+                far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
   return buf;
 }
 
 void Simulation::warn_float_far_from_origin() const {
-  // In float a position |x| rounds to |x| 2^-24 (contact gaps, the planes' and obstacles'
-  // distances are taken at X0 + u): a 10 mm cube 10 km out rested 0.45 mm above the floor
-  // it was reported in contact with. Where that rounding reaches 1 % of the smallest
-  // element, say so.
-  if (scene_.precision != Precision::kFloat || mesh_.nnode() == 0) return;
-  double far = 0;
-  for (double x : mesh_.X) far = std::max(far, std::fabs(x));
-  const double ulp = far * std::ldexp(1.0, -24);
-  if (!(ulp > 0.01 * ts_.min_Le)) return;
-  std::fprintf(stderr,
-               "warning: %s: float precision: nodes up to %.4g m from the origin round to %.3g mm, %.2g %% of the "
-               "smallest element edge (%.4g mm); contact gaps carry that error. Place the scene near the origin or "
-               "set solver.precision = \"double\"\n",
-               scene_.source.c_str(), far, ulp * 1e3, 100 * ulp / ts_.min_Le, ts_.min_Le * 1e3);
+  if (const std::string r = float_rounding(nullptr); !r.empty())
+    std::fprintf(stderr,
+                 "warning: %s: %s; contact gaps carry that error. Place the scene near the origin or set "
+                 "solver.precision = \"double\"\n",
+                 scene_.source.c_str(), r.c_str());
 }
 
 void Simulation::check_collision_courses_until(double t_end) const {
@@ -946,7 +941,8 @@ bool Simulation::check_state(const HostState& s, const Diagnostics& d, const Ste
     f->cause += " (stable_neo_hookean with material.element = \"T4\": T4ANP takes neo_hookean only)";
   // (Measured at the last healthy check: a diverged state's positions say nothing.)
   if (f)
-    if (const std::string fp = float_rounding_cause(last_good_); !fp.empty()) f->cause = fp + "; or " + f->cause;
+    if (const std::string fp = float_rounding(&last_good_); !fp.empty())
+      f->cause = fp + "; set solver.precision = \"double\" or keep the body near the origin; or " + f->cause;
   if (f) {
     // Roll back to the last healthy state so what the user sees (and can export) is sane,
     // at the step in use now: du spans that step (change_step's rescaling).

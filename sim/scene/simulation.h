@@ -191,9 +191,10 @@ class Simulation {
   std::vector<PlaneSpec> planes_at_start() const;  // the planes a reset drops the body between
   // A warning where float precision rounds node positions to 1 % of the smallest element.
   void warn_float_far_from_origin() const;
-  // Float runs: the rounding of positions X0 + u in state s where it reaches 1 % of the
-  // smallest element edge, as a watchdog cause ("" otherwise).
-  std::string float_rounding_cause(const HostState& s) const;
+  // Float runs: the rounding of the positions (the rest ones, or X0 + u of state s) where it
+  // reaches 1 % of the smallest element edge, said in words ("" otherwise): the start's
+  // warning and a watchdog cause.
+  std::string float_rounding(const HostState* s) const;
   void warn_friction_creep() const;
   void warn_thin_obstacles() const;
   void warn_far_track_points() const;
