@@ -27,10 +27,9 @@ void triangle_box_at_rest(const BodyContactTables& t, const std::vector<double>&
 std::vector<double> facing_depth_at_rest(const BodyContactTables& t, const std::vector<double>& X, double cell) {
   std::vector<double> depth(t.nbody, INFINITY);
   const double inv_h = 1.0 / cell;
-  auto key = [](long long ix, long long iy, long long iz) {
-    return (ix & 0x1fffff) | (iy & 0x1fffff) << 21 | (iz & 0x1fffff) << 42;
-  };
-  std::unordered_map<long long, std::vector<int>> grid;
+  // (as min_body_gap's: a hash collision only brings another cell's triangle to the exact test)
+  auto key = [](long long ix, long long iy, long long iz) { return grid_bucket(ix, iy, iz, 0, 0xffffffffu); };
+  std::unordered_map<unsigned, std::vector<int>> grid;
   for (int f = 0; f < t.ntri(); ++f) {
     double b[6];
     triangle_box_at_rest(t, X, f, t.body_tol[t.tri_body[f]], b);
